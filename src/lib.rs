@@ -1,2 +1,30 @@
-//! hairlod: hair simulation with automatic levels of detail.
+//! # hairlod
+//!
+//! Hair simulation with automatic levels of detail, after *Simplified Representations for Modeling
+//! Hair*: every section of hair is a patch, three clusters or five strand groups, all D-NURBS built
+//! on the same base skeleton.
+//!
+//! This crate is the one to depend on. It re-exports the workspace crates:
+//! - [`core`] (`hair-core`): skeletons, hairstyles, NURBS, representations, grooms, the procedural
+//!   head, OBJ export;
+//! - [`collide`] (`hair-collide`): swept-sphere volumes and collision queries;
+//! - [`render`] (`hair-render`): the headless wgpu renderer.
+//!
+//! ```
+//! use hairlod::{Level, Scene};
+//!
+//! let scene = Scene::preset("curly")?;
+//! let counts = scene.groom.counts();
+//! assert_eq!(counts.strand_groups, 5 * counts.sections);
+//! assert_eq!(scene.groom.level_chains(Level::Cluster).len(), 3 * counts.sections);
+//! # Ok::<(), hairlod::HairError>(())
+//! ```
+
+pub use hair_collide as collide;
 pub use hair_core as core;
+pub use hair_render as render;
+
+pub use hair_core::{
+    Frame, Groom, GroomCounts, GroomParams, HairError, HairStyle, Head, HeadParams, Level,
+    RigidTransform, Scene, SkeletonRest, StyleKind, TriangleMesh,
+};

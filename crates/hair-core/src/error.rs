@@ -35,6 +35,16 @@ pub enum HairError {
         /// The known names, comma separated.
         known: String,
     },
+    /// Reading or writing a file failed.
+    #[error("{action} {path}: {message}")]
+    Io {
+        /// What was being done (`writing`, `reading`).
+        action: &'static str,
+        /// The file.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
 }
 
 /// Result alias for `hair-core`.
@@ -42,11 +52,26 @@ pub type Result<T, E = HairError> = std::result::Result<T, E>;
 
 impl HairError {
     /// Shorthand for [`HairError::InvalidParameter`].
-    pub fn invalid(name: &'static str, value: impl std::fmt::Display, allowed: &'static str) -> Self {
+    pub fn invalid(
+        name: &'static str,
+        value: impl std::fmt::Display,
+        allowed: &'static str,
+    ) -> Self {
         HairError::InvalidParameter {
             name,
             value: value.to_string(),
             allowed,
+        }
+    }
+}
+
+impl HairError {
+    /// An [`HairError::Io`] for `path`.
+    pub fn io(action: &'static str, path: &std::path::Path, error: &std::io::Error) -> Self {
+        HairError::Io {
+            action,
+            path: path.display().to_string(),
+            message: error.to_string(),
         }
     }
 }

@@ -7,17 +7,30 @@
 //!
 //! Units are metres, seconds and kilograms; right-handed, +Y up, the face looking along +Z.
 
+pub mod dynamics;
 pub mod error;
+pub mod export;
 pub mod frame;
+pub mod groom;
+pub mod head;
+pub mod level;
 pub mod mesh;
+pub mod nurbs;
+pub mod obj;
+pub mod random;
+pub mod representation;
+pub mod scene;
 pub mod skeleton;
 pub mod style;
 pub mod transform;
-// (modules are added below as they land)
 
 pub use error::{HairError, Result};
 pub use frame::Frame;
+pub use groom::{Groom, GroomCounts, GroomParams, PRESET_NAMES, Section, StrandSet};
+pub use head::{Head, HeadParams, ScalpRoot};
+pub use level::Level;
 pub use mesh::TriangleMesh;
+pub use scene::Scene;
 pub use skeleton::SkeletonRest;
 pub use style::{HairStyle, StyleKind};
 pub use transform::RigidTransform;

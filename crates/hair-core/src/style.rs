@@ -4,7 +4,7 @@ use std::f32::consts::{FRAC_PI_2, PI};
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{require_in_range, require_positive, HairError, Result};
+use crate::error::{HairError, Result, require_in_range, require_positive};
 use crate::skeleton::ChainAngles;
 
 /// The kind of rest shape a skeleton holds.
@@ -100,13 +100,8 @@ impl HairStyle {
                 } else {
                     "curl factor"
                 };
-                let factor = require_in_range(
-                    name,
-                    self.factor_degrees,
-                    0.0,
-                    90.0,
-                    "0..=90 degrees",
-                )?;
+                let factor =
+                    require_in_range(name, self.factor_degrees, 0.0, 90.0, "0..=90 degrees")?;
                 if factor == 0.0 {
                     return Err(HairError::invalid(
                         name,

@@ -136,7 +136,8 @@ mod tests {
     use std::f32::consts::FRAC_PI_2;
 
     fn root_frame() -> Frame {
-        Frame::from_tangent_and_normal(Vec3::new(0.1, -1.0, -0.2), Vec3::new(0.0, 0.3, 1.0)).unwrap()
+        Frame::from_tangent_and_normal(Vec3::new(0.1, -1.0, -0.2), Vec3::new(0.0, 0.3, 1.0))
+            .unwrap()
     }
 
     #[test]
@@ -145,7 +146,15 @@ mod tests {
         let n = 6;
         let lengths = [0.0, 0.01, 0.02, 0.01, 0.03, 0.01];
         let mut positions = vec![Vec3::ZERO; n];
-        build_chain(Vec3::ONE, &frame, &lengths, &[0.0; 6], &[0.0; 6], &mut positions).unwrap();
+        build_chain(
+            Vec3::ONE,
+            &frame,
+            &lengths,
+            &[0.0; 6],
+            &[0.0; 6],
+            &mut positions,
+        )
+        .unwrap();
         // p_i = root + (Σ l) · t
         let total: f32 = lengths.iter().sum();
         assert!((positions[5] - (Vec3::ONE + frame.tangent * total)).length() < 1e-6);
@@ -155,16 +164,38 @@ mod tests {
     fn build_and_measure_round_trip_for_arbitrary_angles() {
         let frame = root_frame();
         let n = 12;
-        let lengths: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { 0.01 + 0.001 * i as f32 }).collect();
-        let polar: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { 0.1 + 0.12 * i as f32 % 1.4 }).collect();
-        let azimuth: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { -3.0 + 0.53 * i as f32 }).collect();
+        let lengths: Vec<f32> = (0..n)
+            .map(|i| if i == 0 { 0.0 } else { 0.01 + 0.001 * i as f32 })
+            .collect();
+        let polar: Vec<f32> = (0..n)
+            .map(|i| {
+                if i == 0 {
+                    0.0
+                } else {
+                    0.1 + 0.12 * i as f32 % 1.4
+                }
+            })
+            .collect();
+        let azimuth: Vec<f32> = (0..n)
+            .map(|i| if i == 0 { 0.0 } else { -3.0 + 0.53 * i as f32 })
+            .collect();
         let mut positions = vec![Vec3::ZERO; n];
-        build_chain(Vec3::new(0.0, 0.1, 0.0), &frame, &lengths, &polar, &azimuth, &mut positions)
-            .unwrap();
+        build_chain(
+            Vec3::new(0.0, 0.1, 0.0),
+            &frame,
+            &lengths,
+            &polar,
+            &azimuth,
+            &mut positions,
+        )
+        .unwrap();
         let measured = measure_chain(&frame, &positions).unwrap();
         for i in 1..n {
             assert!((measured.segment_lengths[i] - lengths[i]).abs() < 1e-6);
-            assert!((measured.polar_angles[i] - polar[i]).abs() < 1e-4, "node {i}");
+            assert!(
+                (measured.polar_angles[i] - polar[i]).abs() < 1e-4,
+                "node {i}"
+            );
             let wrapped = (measured.azimuth_angles[i] - azimuth[i] + std::f32::consts::PI)
                 .rem_euclid(std::f32::consts::TAU)
                 - std::f32::consts::PI;
@@ -214,7 +245,17 @@ mod tests {
     fn size_mismatch_and_degenerate_segments_are_errors() {
         let frame = root_frame();
         let mut positions = vec![Vec3::ZERO; 3];
-        assert!(build_chain(Vec3::ZERO, &frame, &[0.0; 2], &[0.0; 3], &[0.0; 3], &mut positions).is_err());
+        assert!(
+            build_chain(
+                Vec3::ZERO,
+                &frame,
+                &[0.0; 2],
+                &[0.0; 3],
+                &[0.0; 3],
+                &mut positions
+            )
+            .is_err()
+        );
         let error = measure_chain(&frame, &[Vec3::ZERO, Vec3::ZERO]).unwrap_err();
         assert!(error.to_string().contains("node 1"));
         assert!(measure_chain(&frame, &[Vec3::ZERO, Vec3::NAN]).is_err());

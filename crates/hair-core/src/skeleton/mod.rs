@@ -15,5 +15,5 @@
 mod chain;
 mod rest;
 
-pub use chain::{build_chain, measure_chain, node_frames, ChainAngles};
+pub use chain::{ChainAngles, build_chain, measure_chain, node_frames};
 pub use rest::SkeletonRest;

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::error::{HairError, Result};
 use crate::frame::Frame;
-use crate::skeleton::chain::{build_chain, ChainAngles};
+use crate::skeleton::chain::{ChainAngles, build_chain, node_frames};
 use crate::transform::RigidTransform;
 
 /// Rest lengths, rest angles and root attachments of many chains (the *model* part of skeletons).
@@ -155,17 +155,44 @@ impl SkeletonRest {
     /// chains; the result does not depend on the thread count).
     pub fn rest_positions(&self, head: &RigidTransform) -> Vec<Vec3> {
         let mut positions = vec![Vec3::ZERO; self.node_count()];
+        self.for_each_chain_mut(&mut positions, |chain, slice| {
+            self.rest_positions_of(chain, head, slice)
+        });
+        positions
+    }
+
+    /// Computes the frame at every node of every chain from `positions` (one per node, chain-major)
+    /// with the head at `head` (which carries the root frames), in parallel over chains; see
+    /// [`node_frames`]. `frames` has one entry per node.
+    pub fn node_frames_into(
+        &self,
+        head: &RigidTransform,
+        positions: &[Vec3],
+        frames: &mut [Frame],
+    ) {
+        self.for_each_chain_mut(frames, |chain, chain_frames| {
+            let root = self.world_root_frame(chain, head);
+            node_frames(&root, &positions[self.nodes(chain)], chain_frames);
+        });
+    }
+
+    /// Splits a per-node array into its chains and calls `work(chain, slice)` for each, in parallel.
+    pub fn for_each_chain_mut<T: Send>(
+        &self,
+        per_node: &mut [T],
+        work: impl Fn(usize, &mut [T]) + Sync + Send,
+    ) {
+        debug_assert_eq!(per_node.len(), self.node_count());
         let mut slices = Vec::with_capacity(self.chain_count());
-        let mut rest = positions.as_mut_slice();
+        let mut rest = per_node;
         for chain in 0..self.chain_count() {
-            let (head_slice, tail) = rest.split_at_mut(self.chain_node_count(chain));
-            slices.push((chain, head_slice));
+            let (chain_slice, tail) = rest.split_at_mut(self.chain_node_count(chain));
+            slices.push((chain, chain_slice));
             rest = tail;
         }
         slices
             .into_par_iter()
-            .for_each(|(chain, slice)| self.rest_positions_of(chain, head, slice));
-        positions
+            .for_each(|(chain, slice)| work(chain, slice));
     }
 
     /// The root frame of chain `chain` in the world, with the head at `head`.
@@ -184,15 +211,19 @@ mod tests {
         ChainAngles {
             segment_lengths: (0..n).map(|i| if i == 0 { 0.0 } else { 0.02 }).collect(),
             polar_angles: (0..n).map(|i| if i == 0 { 0.0 } else { polar }).collect(),
-            azimuth_angles: (0..n).map(|i| (i % 4) as f32 * std::f32::consts::FRAC_PI_2).collect(),
+            azimuth_angles: (0..n)
+                .map(|i| (i % 4) as f32 * std::f32::consts::FRAC_PI_2)
+                .collect(),
         }
     }
 
     #[test]
     fn offsets_index_the_flat_arrays() {
         let mut rest = SkeletonRest::default();
-        rest.push_chain(Vec3::ZERO, Frame::default(), &angles(5, 0.3)).unwrap();
-        rest.push_chain(Vec3::X, Frame::default(), &angles(3, 0.0)).unwrap();
+        rest.push_chain(Vec3::ZERO, Frame::default(), &angles(5, 0.3))
+            .unwrap();
+        rest.push_chain(Vec3::X, Frame::default(), &angles(3, 0.0))
+            .unwrap();
         assert_eq!(rest.offsets, vec![0, 5, 8]);
         assert_eq!(rest.chain_count(), 2);
         assert_eq!(rest.node_count(), 8);
@@ -224,9 +255,14 @@ mod tests {
         let mut rest = SkeletonRest::default();
         let mut bad = angles(4, 0.2);
         bad.segment_lengths[2] = -0.01;
-        let error = rest.push_chain(Vec3::ZERO, Frame::default(), &bad).unwrap_err();
+        let error = rest
+            .push_chain(Vec3::ZERO, Frame::default(), &bad)
+            .unwrap_err();
         assert!(error.to_string().contains("segment length"));
-        assert!(rest.push_chain(Vec3::ZERO, Frame::default(), &angles(1, 0.0)).is_err());
+        assert!(
+            rest.push_chain(Vec3::ZERO, Frame::default(), &angles(1, 0.0))
+                .is_err()
+        );
         let mut nan = angles(4, 0.2);
         nan.polar_angles[3] = f32::NAN;
         assert!(rest.push_chain(Vec3::ZERO, Frame::default(), &nan).is_err());

@@ -1,0 +1,111 @@
+//! `hairlod groom`: build a preset groom on the procedural head, print its counts, export OBJ.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use hairlod::core::export::{ExportOptions, export_obj};
+use hairlod::core::{GroomCounts, Level, PRESET_NAMES, Scene};
+use serde::Serialize;
+
+/// Arguments of `hairlod groom`.
+#[derive(Debug, Args)]
+pub struct GroomArgs {
+    /// Preset name: paper-curly, straight, wavy or curly.
+    #[arg(long, default_value = "paper-curly")]
+    preset: String,
+    /// Print the counts as JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Level to export: strands, clusters or patches.
+    #[arg(long, default_value = "strands")]
+    level: String,
+    /// Write the head and the chosen level as Wavefront OBJ to this file.
+    #[arg(long, value_name = "FILE.obj")]
+    export: Option<PathBuf>,
+    /// Curve samples per skeleton segment in the export (strands as polylines, surfaces along the
+    /// hair).
+    #[arg(long, default_value_t = 4)]
+    samples_per_segment: usize,
+}
+
+#[derive(Serialize)]
+struct GroomReport<'a> {
+    preset: &'a str,
+    style: &'a str,
+    hair_length_m: f32,
+    section_width_m: f32,
+    #[serde(flatten)]
+    counts: GroomCounts,
+}
+
+/// Runs `hairlod groom`.
+pub fn run(args: &GroomArgs) -> Result<()> {
+    let level: Level = args.level.parse()?;
+    let scene = Scene::preset(&args.preset).with_context(|| {
+        format!(
+            "could not build preset `{}` (known: {})",
+            args.preset,
+            PRESET_NAMES.join(", ")
+        )
+    })?;
+    let counts = scene.groom.counts();
+    let report = GroomReport {
+        preset: &args.preset,
+        style: scene.groom.params.style.kind.name(),
+        hair_length_m: scene.groom.params.hair_length,
+        section_width_m: scene.groom.sections.first().map_or(0.0, |s| s.width),
+        counts,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_table(&report);
+    }
+    if let Some(path) = &args.export {
+        let options = ExportOptions {
+            level,
+            samples_per_segment: args.samples_per_segment,
+            ..ExportOptions::default()
+        };
+        let summary = export_obj(path, &scene, &options)
+            .with_context(|| format!("could not export {}", path.display()))?;
+        eprintln!(
+            "wrote {} ({} {}: {} vertices, {} triangles, {} polylines)",
+            path.display(),
+            summary.items,
+            level,
+            summary.vertices,
+            summary.triangles,
+            summary.polylines
+        );
+    }
+    Ok(())
+}
+
+fn print_table(report: &GroomReport) {
+    let c = &report.counts;
+    println!(
+        "groom `{}`: {} hair, {:.3} m long, sections {:.1} mm wide, {} nodes per skeleton",
+        report.preset,
+        report.style,
+        report.hair_length_m,
+        report.section_width_m * 1000.0,
+        c.nodes_per_skeleton
+    );
+    println!("  sections        {:>8}", c.sections);
+    println!(
+        "  patches         {:>8}   ({} skeleton nodes)",
+        c.patches, c.patch_nodes
+    );
+    println!(
+        "  clusters        {:>8}   ({} skeleton nodes)",
+        c.clusters, c.cluster_nodes
+    );
+    println!(
+        "  strand groups   {:>8}   ({} skeleton nodes)",
+        c.strand_groups, c.strand_group_nodes
+    );
+    println!("  strands         {:>8}", c.strands);
+    println!("  skeleton nodes  {:>8}   (all levels)", c.skeleton_nodes);
+}

@@ -1,0 +1,78 @@
+//! The error type of `hair-collide`: bad sizes, non-finite numbers and broken meshes, named.
+
+use thiserror::Error;
+
+/// Errors from building or updating collision volumes, hierarchies and bodies.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CollideError {
+    /// Two arrays that must agree in size do not.
+    #[error("size mismatch: {what} has {actual} entries, expected {expected}")]
+    SizeMismatch {
+        /// What was being sized (`node_positions`, `control_points`).
+        what: &'static str,
+        /// The size that was given.
+        actual: usize,
+        /// The size that was required.
+        expected: usize,
+    },
+    /// A coordinate or parameter is NaN or infinite.
+    #[error("non-finite {what} at index {index}")]
+    NonFinite {
+        /// What holds the bad number (`node_positions`, `thickness`).
+        what: &'static str,
+        /// Index of the offending entry.
+        index: usize,
+    },
+    /// A parameter is outside its allowed range.
+    #[error("invalid {name}: {value} (allowed: {allowed})")]
+    InvalidParameter {
+        /// Name of the parameter.
+        name: &'static str,
+        /// The offending value, formatted.
+        value: String,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+    /// The chain offsets are not a valid `0 = o_0 <= o_1 <= ... = node count` sequence.
+    #[error("invalid chain offsets: {reason}")]
+    InvalidOffsets {
+        /// What is wrong, in words.
+        reason: String,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error(
+        "triangle {triangle} refers to vertex {vertex}, but the mesh has {vertex_count} vertices"
+    )]
+    VertexOutOfRange {
+        /// Index of the triangle.
+        triangle: usize,
+        /// The out-of-range vertex index.
+        vertex: u32,
+        /// Number of vertices in the mesh.
+        vertex_count: usize,
+    },
+}
+
+/// Result alias for `hair-collide`.
+pub type Result<T, E = CollideError> = std::result::Result<T, E>;
+
+/// Checks that every point is finite; names the first bad one.
+pub(crate) fn require_finite_points(what: &'static str, points: &[glam::Vec3]) -> Result<()> {
+    match points.iter().position(|p| !p.is_finite()) {
+        Some(index) => Err(CollideError::NonFinite { what, index }),
+        None => Ok(()),
+    }
+}
+
+/// Checks that `actual == expected`.
+pub(crate) fn require_len(what: &'static str, actual: usize, expected: usize) -> Result<()> {
+    if actual == expected {
+        Ok(())
+    } else {
+        Err(CollideError::SizeMismatch {
+            what,
+            actual,
+            expected,
+        })
+    }
+}

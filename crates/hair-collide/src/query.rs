@@ -1,0 +1,140 @@
+//! Hair against a body: for each colliding segment, the body triangles its volume touches.
+//! A BVH version (simultaneous descent of both trees) and a brute-force version (every segment
+//! against every triangle) with identical, deterministically sorted output.
+
+use parry3d::bounding_volume::Aabb;
+use parry3d::partitioning::BvhNode;
+
+use crate::body::CollisionBody;
+use crate::bvh::HairBvh;
+use crate::volume::Pss;
+
+/// Contacts of hair segments with body triangles, flat.
+///
+/// Segment `segments[k]` touches triangles `triangles[triangle_offsets[k]..triangle_offsets[k + 1]]`.
+/// `segments` is ascending, each triangle list is ascending, so two equal contact sets compare
+/// equal whatever the traversal order.
+#[derive(Debug, Clone, Default)]
+pub struct SegmentContacts {
+    /// Ids of the segments that touch at least one triangle, ascending.
+    pub segments: Vec<u32>,
+    /// `segments.len() + 1` offsets into `triangles` (`[0]` when there is no contact).
+    pub triangle_offsets: Vec<u32>,
+    /// Touched triangle ids, grouped per segment, ascending within each group.
+    pub triangles: Vec<u32>,
+    /// Scratch `(segment, triangle)` pairs, kept to avoid allocating each step.
+    pairs: Vec<(u32, u32)>,
+}
+
+impl PartialEq for SegmentContacts {
+    fn eq(&self, other: &Self) -> bool {
+        self.segments == other.segments
+            && self.triangle_offsets == other.triangle_offsets
+            && self.triangles == other.triangles
+    }
+}
+
+impl Eq for SegmentContacts {}
+
+impl SegmentContacts {
+    /// An empty contact set.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of colliding segments.
+    pub fn segment_count(&self) -> usize {
+        self.segments.len()
+    }
+
+    /// Number of `(segment, triangle)` pairs.
+    pub fn pair_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Whether no segment touches the body.
+    pub fn is_empty(&self) -> bool {
+        self.segments.is_empty()
+    }
+
+    /// `(segment id, touched triangle ids)` for each colliding segment, ascending.
+    pub fn iter(&self) -> impl Iterator<Item = (u32, &[u32])> + '_ {
+        self.segments.iter().enumerate().map(|(k, &segment)| {
+            let range = self.triangle_offsets[k] as usize..self.triangle_offsets[k + 1] as usize;
+            (segment, &self.triangles[range])
+        })
+    }
+
+    /// Rebuilds the flat arrays from the scratch pairs (sorted first).
+    fn finish(&mut self) {
+        self.pairs.sort_unstable();
+        self.segments.clear();
+        self.triangles.clear();
+        self.triangle_offsets.clear();
+        self.triangle_offsets.push(0);
+        for &(segment, triangle) in &self.pairs {
+            if self.segments.last() != Some(&segment) {
+                if !self.segments.is_empty() {
+                    self.triangle_offsets.push(self.triangles.len() as u32);
+                }
+                self.segments.push(segment);
+            }
+            self.triangles.push(triangle);
+        }
+        if !self.segments.is_empty() {
+            self.triangle_offsets.push(self.triangles.len() as u32);
+        }
+    }
+}
+
+/// Whether an AABB touches a ball grown by a rounding padding (conservative).
+fn aabb_touches_ball(aabb: &Aabb, ball: &Pss, padding: f32) -> bool {
+    let closest = ball.center.clamp(aabb.mins, aabb.maxs);
+    let reach = ball.radius + padding;
+    closest.distance_squared(ball.center) <= reach * reach
+}
+
+/// Hair against body through both hierarchies; writes into `contacts` (reusing its memory).
+///
+/// The hair tree is culled by the body's top-level PSS, then both trees descend together on AABB
+/// overlap, and every surviving `(segment, triangle)` leaf pair gets the exact swept-sphere test
+/// [`crate::SweptSphere::intersects_triangle`]. The output equals
+/// [`query_body_brute_force`]'s exactly (leaf AABBs are padded, see [`crate::aabb_padding`]).
+pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentContacts) {
+    contacts.pairs.clear();
+    if hair.segment_count() > 0 && body.triangle_count() > 0 {
+        let bound = body.bounding_volume();
+        let bound_padding =
+            64.0 * f32::EPSILON * (1.0 + bound.center.abs().max_element() + bound.radius);
+        let check = |hair_node: &BvhNode, body_node: &BvhNode| {
+            hair_node.intersects(body_node)
+                && aabb_touches_ball(&hair_node.aabb(), &bound, bound_padding)
+        };
+        let volumes = hair.volumes();
+        let triangles = body.triangles();
+        for (segment, triangle) in hair.bvh().leaf_pairs(body.bvh(), check) {
+            if volumes[segment as usize].intersects_triangle(&triangles[triangle as usize]) {
+                contacts.pairs.push((segment, triangle));
+            }
+        }
+    }
+    contacts.finish();
+}
+
+/// Hair against body by testing every segment volume against every triangle with the exact test
+/// (no culling at all): the reference for tests and the baseline for benchmarks.
+pub fn query_body_brute_force(
+    hair: &HairBvh,
+    body: &CollisionBody,
+    contacts: &mut SegmentContacts,
+) {
+    contacts.pairs.clear();
+    for (segment, volume) in hair.volumes().iter().enumerate() {
+        for (triangle, body_triangle) in body.triangles().iter().enumerate() {
+            if volume.intersects_triangle(body_triangle) {
+                contacts.pairs.push((segment as u32, triangle as u32));
+            }
+        }
+    }
+    contacts.finish();
+}

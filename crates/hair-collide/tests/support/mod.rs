@@ -1,0 +1,149 @@
+//! Shared test support: a seeded xorshift generator, random geometry and TressFX readers.
+#![allow(dead_code)]
+
+pub mod tressfx;
+
+use glam::{Quat, Vec3};
+
+/// xorshift64* (Vigna 2016): tiny, seeded, deterministic on every platform.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.max(1))
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        let mut x = self.0;
+        x ^= x >> 12;
+        x ^= x << 25;
+        x ^= x >> 27;
+        self.0 = x;
+        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// Uniform in [low, high).
+    pub fn range(&mut self, low: f32, high: f32) -> f32 {
+        low + (high - low) * self.unit()
+    }
+
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+
+    /// Uniform in the cube [-half, half]³.
+    pub fn vec3(&mut self, half: f32) -> Vec3 {
+        Vec3::new(
+            self.range(-half, half),
+            self.range(-half, half),
+            self.range(-half, half),
+        )
+    }
+
+    /// A unit vector, uniform on the sphere.
+    pub fn direction(&mut self) -> Vec3 {
+        loop {
+            let v = self.vec3(1.0);
+            let l = v.length_squared();
+            if l > 1e-4 && l <= 1.0 {
+                return v / l.sqrt();
+            }
+        }
+    }
+
+    /// A uniformly random rotation.
+    pub fn rotation(&mut self) -> Quat {
+        loop {
+            let q = Quat::from_xyzw(
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            );
+            let l = q.length_squared();
+            if l > 1e-4 && l <= 1.0 {
+                return q.normalize();
+            }
+        }
+    }
+}
+
+/// A UV sphere mesh of `radius` [m] around `center`, counter-clockwise seen from outside.
+pub fn uv_sphere(center: Vec3, radius: f32, rings: u32, sectors: u32) -> hair_core::TriangleMesh {
+    let mut positions = vec![center + Vec3::Y * radius];
+    for ring in 1..rings {
+        let theta = std::f32::consts::PI * ring as f32 / rings as f32;
+        for sector in 0..sectors {
+            let phi = std::f32::consts::TAU * sector as f32 / sectors as f32;
+            positions.push(
+                center
+                    + radius
+                        * Vec3::new(
+                            theta.sin() * phi.cos(),
+                            theta.cos(),
+                            theta.sin() * phi.sin(),
+                        ),
+            );
+        }
+    }
+    positions.push(center - Vec3::Y * radius);
+    let bottom = positions.len() as u32 - 1;
+    let index = |ring: u32, sector: u32| 1 + (ring - 1) * sectors + sector % sectors;
+    let mut triangles = Vec::new();
+    for sector in 0..sectors {
+        triangles.push([0, index(1, sector + 1), index(1, sector)]);
+        triangles.push([
+            bottom,
+            index(rings - 1, sector),
+            index(rings - 1, sector + 1),
+        ]);
+    }
+    for ring in 1..rings - 1 {
+        for sector in 0..sectors {
+            let (a, b) = (index(ring, sector), index(ring, sector + 1));
+            let (c, d) = (index(ring + 1, sector), index(ring + 1, sector + 1));
+            triangles.push([a, b, d]);
+            triangles.push([a, d, c]);
+        }
+    }
+    let mut mesh = hair_core::TriangleMesh {
+        positions,
+        normals: Vec::new(),
+        triangles,
+    };
+    mesh.compute_vertex_normals();
+    mesh
+}
+
+/// f64 distance from point to segment, an independent reference.
+pub fn point_segment_distance_f64(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let (p, a, b) = (p.as_dvec3(), a.as_dvec3(), b.as_dvec3());
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 {
+        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + ab * t)).length()
+}
+
+/// f64 distance from a point to a filled rectangle by clamping local coordinates.
+pub fn point_rectangle_distance_f64(p: Vec3, rectangle: &hair_collide::Rectangle) -> f64 {
+    let local = (p - rectangle.center).as_dvec3();
+    let u = rectangle.axes[0].as_dvec3();
+    let v = rectangle.axes[1].as_dvec3();
+    let cu = local.dot(u).clamp(
+        -rectangle.half_extents[0] as f64,
+        rectangle.half_extents[0] as f64,
+    );
+    let cv = local.dot(v).clamp(
+        -rectangle.half_extents[1] as f64,
+        rectangle.half_extents[1] as f64,
+    );
+    (local - u * cu - v * cv).length()
+}

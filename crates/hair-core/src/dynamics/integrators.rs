@@ -1,0 +1,383 @@
+//! One substep of one chain for each of the three integrators, and the data they share.
+//!
+//! All three evaluate forces at the start of the substep (time `t`, head pose at `t`), carry
+//! attached roots to the head pose at `t + h` and end with every segment at its rest length.
+
+use glam::{Mat3, Vec3, Vec4};
+
+use crate::dynamics::banded::{cross_matrix, outer, solve_block_pentadiagonal};
+use crate::dynamics::constraints::{LENGTH_TOLERANCE, follow_the_leader, project_lengths};
+use crate::dynamics::forces::{add_external_forces, add_spring_forces, walk_joints};
+use crate::dynamics::params::{DynamicsParams, RootMode};
+use crate::dynamics::wind::WindField;
+use crate::frame::Frame;
+use crate::transform::RigidTransform;
+
+/// The constants of one chain (slices of the model's per-node arrays).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ChainConstants<'a> {
+    pub masses: &'a [f32],
+    pub rest_lengths: &'a [f32],
+    pub stiffness: &'a [f32],
+    pub rest_local: &'a [Vec3],
+    /// Root position in head space [m].
+    pub root_position: Vec3,
+    /// Root frame in head space.
+    pub root_frame: Frame,
+}
+
+/// The implicit integrator's per-node scratch of one chain.
+pub(crate) struct ImplicitArrays<'a> {
+    pub diagonal: &'a mut [Mat3],
+    pub first: &'a mut [Mat3],
+    pub second: &'a mut [Mat3],
+    pub rhs: &'a mut [Vec3],
+}
+
+/// The state and scratch of one chain.
+pub(crate) struct ChainArrays<'a> {
+    pub positions: &'a mut [Vec3],
+    pub velocities: &'a mut [Vec3],
+    pub collision: &'a [Vec3],
+    /// Forces [N]; the position-based integrator reuses it for the positions at the substep start.
+    pub forces: &'a mut [Vec3],
+    /// Follow-the-leader corrections [m] (position-based integrator).
+    pub corrections: &'a mut [Vec3],
+    /// Scratch of the springs' twist pass.
+    pub work: &'a mut [Vec4],
+    pub implicit: Option<ImplicitArrays<'a>>,
+}
+
+/// What one substep needs besides the chain.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Substep<'a> {
+    /// Time at the start [s].
+    pub time: f64,
+    /// Length [s].
+    pub h: f32,
+    pub head_start: RigidTransform,
+    pub head_end: RigidTransform,
+    /// The head's angular velocity over the substep [rad/s].
+    pub head_spin: Vec3,
+    pub wind: &'a WindField,
+    pub gravity: Vec3,
+    pub params: &'a DynamicsParams,
+    pub roots: RootMode,
+    pub follow_the_leader_damping: f32,
+}
+
+impl Substep<'_> {
+    fn attached(&self) -> bool {
+        self.roots == RootMode::Attached
+    }
+
+    /// First integrated node: 1 with attached roots, 0 with free ones.
+    fn first_free_node(&self) -> usize {
+        usize::from(self.attached())
+    }
+}
+
+/// Root position [m] at the end of the substep and root velocity [m/s] over it.
+fn root_motion(chain: &ChainConstants, step: &Substep) -> (Vec3, Vec3) {
+    let start = step.head_start.transform_point(chain.root_position);
+    let end = step.head_end.transform_point(chain.root_position);
+    (end, (end - start) / step.h)
+}
+
+/// External forces at the substep start: gravity, drag towards the wind, collision.
+fn external_forces(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep, drag: f32) {
+    arrays.forces.fill(Vec3::ZERO);
+    let positions = &*arrays.positions;
+    add_external_forces(
+        chain.masses,
+        arrays.velocities,
+        |i| step.wind.velocity_at(positions[i], step.time),
+        arrays.collision,
+        step.gravity,
+        drag,
+        arrays.forces,
+    );
+}
+
+/// Semi-implicit Euler: `v ← v + h·F/m`, `x ← x + h·v`, then follow-the-leader lengths and the
+/// stretching velocity removed (the paper's model).
+pub(crate) fn semi_implicit_euler(
+    chain: &ChainConstants,
+    arrays: &mut ChainArrays,
+    step: &Substep,
+) {
+    let h = step.h;
+    external_forces(chain, arrays, step, step.params.air_drag_rate);
+    let root_frame = step.head_start.transform_frame(&chain.root_frame);
+    add_spring_forces(
+        arrays.positions,
+        arrays.velocities,
+        &root_frame,
+        step.head_spin,
+        chain.rest_local,
+        chain.stiffness,
+        step.params.bending_damping,
+        !step.attached(),
+        arrays.work,
+        arrays.forces,
+    );
+    // `forces` then holds the predicted positions.
+    for i in step.first_free_node()..arrays.positions.len() {
+        arrays.velocities[i] += arrays.forces[i] * (h / chain.masses[i]);
+        arrays.positions[i] += arrays.velocities[i] * h;
+        arrays.forces[i] = arrays.positions[i];
+    }
+    finish_with_projection(chain, arrays, step);
+}
+
+/// Newton iterations of the mass-weighted length projection.
+const PROJECTION_ITERATIONS: usize = 3;
+
+/// Carries an attached root, projects onto the segment lengths (mass-weighted fast projection,
+/// then follow-the-leader for the last rounding) and adds the projection's displacement to the
+/// velocities, `v ← v + (x' − x_pred)/h`, where `arrays.forces` holds the predicted positions
+/// `x_pred = x + h·v` of the free nodes: the velocity of the projected motion `(x' − x)/h`,
+/// written so that a projection below the positions' rounding leaves the velocities alone (taking
+/// `(x' − x)/h` from stored f32 positions quantises velocities to `ulp(x)/h`, a noise that never
+/// settles). (Keeping the integrated velocities with only their stretching part removed instead
+/// lets the projection feed energy into a swinging chain: measured, it blows up even without
+/// springs.)
+fn finish_with_projection(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) {
+    if step.attached() {
+        let (root, root_velocity) = root_motion(chain, step);
+        arrays.positions[0] = root;
+        arrays.velocities[0] = root_velocity;
+    }
+    let attached = step.attached();
+    project_lengths(
+        arrays.positions,
+        |i| {
+            if i == 0 && attached {
+                0.0
+            } else {
+                1.0 / chain.masses[i]
+            }
+        },
+        chain.rest_lengths,
+        arrays.corrections,
+        arrays.work,
+        PROJECTION_ITERATIONS,
+    );
+    follow_the_leader(arrays.positions, chain.rest_lengths);
+    let inverse_h = 1.0 / step.h;
+    for i in step.first_free_node()..arrays.positions.len() {
+        arrays.velocities[i] += (arrays.positions[i] - arrays.forces[i]) * inverse_h;
+    }
+}
+
+/// Position-based dynamics with dynamic follow-the-leader (Müller, Kim, Chentanez 2012).
+///
+/// 1. Verlet prediction under the external forces: `v ← v + h·F/m`, `p = x + h·v`.
+/// 2. The angular springs as a shape target ([`shape_targets`]).
+/// 3. Follow-the-leader lengths, recording each node's correction `c_i`.
+/// 4. `v_i = (p_i − x_i)/h − s_damping·c_{i+1}/h`.
+pub(crate) fn position_based(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) {
+    let h = step.h;
+    external_forces(chain, arrays, step, step.params.air_drag_rate);
+    let n = arrays.positions.len();
+    let first = step.first_free_node();
+    // Prediction; `forces` then holds the start positions.
+    for i in first..n {
+        arrays.velocities[i] += arrays.forces[i] * (h / chain.masses[i]);
+        let start = arrays.positions[i];
+        arrays.forces[i] = start;
+        arrays.positions[i] = start + arrays.velocities[i] * h;
+    }
+    let (root_end, root_velocity) = root_motion(chain, step);
+    if step.attached() {
+        arrays.forces[0] = arrays.positions[0];
+        arrays.positions[0] = root_end;
+    }
+    shape_targets(chain, arrays, step);
+    // Follow-the-leader with the corrections kept.
+    arrays.corrections[0] = Vec3::ZERO;
+    for i in 1..n {
+        let segment = arrays.positions[i] - arrays.positions[i - 1];
+        let length = segment.length();
+        if length > 1e-12 && (length - chain.rest_lengths[i]).abs() > LENGTH_TOLERANCE * length {
+            let correction = segment * (chain.rest_lengths[i] / length - 1.0);
+            arrays.corrections[i] = correction;
+            arrays.positions[i] += correction;
+        } else {
+            arrays.corrections[i] = Vec3::ZERO;
+        }
+    }
+    let inverse_h = 1.0 / h;
+    let s = step.follow_the_leader_damping;
+    for i in first..n {
+        let next = if i + 1 < n {
+            arrays.corrections[i + 1]
+        } else {
+            Vec3::ZERO
+        };
+        arrays.velocities[i] =
+            (arrays.positions[i] - arrays.forces[i]) * inverse_h - next * (s * inverse_h);
+    }
+    if step.attached() {
+        arrays.velocities[0] = root_velocity;
+    }
+}
+
+/// The angular springs as one shape target per chain: the chain's bending energy `E` as an XPBD
+/// constraint `C = √(2E)` (Macklin et al. 2016) with compliance `1` (the stiffnesses are inside
+/// `E`): `Δx_j = w_j·F_j / (Σ w|F|²/(2E) + 1/h²)` with `F = −∇E` the exact spring forces and
+/// `w = 1/m` (0 at an attached root). For small `h` this is the springs' own displacement
+/// `h²·F/m`; for large `h` it is the Gauss-Newton step onto the rest shape, which can neither
+/// overshoot nor be unstable. `forces` is scratch.
+fn shape_targets(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) {
+    let first = step.first_free_node();
+    let spring_forces = &mut *arrays.corrections;
+    spring_forces.fill(Vec3::ZERO);
+    let root_frame = step.head_end.transform_frame(&chain.root_frame);
+    let energy = add_spring_forces(
+        arrays.positions,
+        arrays.velocities,
+        &root_frame,
+        Vec3::ZERO,
+        chain.rest_local,
+        chain.stiffness,
+        0.0,
+        !step.attached(),
+        arrays.work,
+        spring_forces,
+    );
+    if energy.is_nan() || energy <= 1e-30 {
+        return;
+    }
+    let weighted: f32 = spring_forces[first..]
+        .iter()
+        .zip(&chain.masses[first..])
+        .map(|(force, mass)| force.length_squared() / mass)
+        .sum();
+    if weighted.is_nan() || weighted <= 0.0 {
+        return;
+    }
+    let scale = 1.0 / (weighted / (2.0 * energy) + 1.0 / (step.h * step.h));
+    for ((position, force), mass) in arrays.positions[first..]
+        .iter_mut()
+        .zip(&spring_forces[first..])
+        .zip(&chain.masses[first..])
+    {
+        *position += *force * (scale / mass);
+    }
+}
+
+/// Linearised backward Euler of springs, spring damping and drag, then the length projection.
+///
+/// `(M(1 + hγ) + (hβ + h²)·H)·v' = M·v + h·(F_spring + M·g + M·γ·w + F_col)` with `H = Σ k_i J_iᵀJ_i`
+/// (block-pentadiagonal along the chain), a kinematic root moved to the right-hand side; then
+/// `x ← x + h·v'` and the projection of [`semi_implicit_euler`]. Returns `false` when the system
+/// could not be factorised (a non-finite entry).
+pub(crate) fn linear_implicit(
+    chain: &ChainConstants,
+    arrays: &mut ChainArrays,
+    step: &Substep,
+) -> bool {
+    let h = step.h;
+    let params = step.params;
+    let gamma = params.air_drag_rate;
+    // External forces without the drag on v (drag is implicit): m·g + m·γ·w + F_col.
+    external_forces(chain, arrays, step, 0.0);
+    let n = arrays.positions.len();
+    let Some(implicit) = arrays.implicit.as_mut() else {
+        return false;
+    };
+    for i in 0..n {
+        let m = chain.masses[i];
+        arrays.forces[i] += step.wind.velocity_at(arrays.positions[i], step.time) * (m * gamma);
+        implicit.diagonal[i] = Mat3::from_diagonal(Vec3::splat(m * (1.0 + h * gamma)));
+        implicit.first[i] = Mat3::ZERO;
+        implicit.second[i] = Mat3::ZERO;
+    }
+    let root_frame = step.head_start.transform_frame(&chain.root_frame);
+    let skip_root = !step.attached();
+    // Spring forces (exact gradient, no damping: damping is implicit below).
+    add_spring_forces(
+        arrays.positions,
+        arrays.velocities,
+        &root_frame,
+        Vec3::ZERO,
+        chain.rest_local,
+        chain.stiffness,
+        0.0,
+        skip_root,
+        arrays.work,
+        arrays.forces,
+    );
+    let weight = h * params.bending_damping + h * h;
+    let forces = &mut *arrays.forces;
+    walk_joints(arrays.positions, &root_frame, chain.rest_local, |joint| {
+        let i = joint.node;
+        let k = chain.stiffness[i];
+        if k == 0.0 || (i == 1 && skip_root) {
+            return;
+        }
+        if i == 1 {
+            // The root frame's spin moves r_1: explicit damping term +β·k·J₁ᵀ(ω × r₁).
+            let g = step.head_spin.cross(joint.rest_direction) * (params.bending_damping * k);
+            let qg = joint.q(g);
+            forces[1] += qg;
+            forces[0] -= qg;
+        }
+        let q = (Mat3::IDENTITY - outer(joint.direction, joint.direction)) * (1.0 / joint.length);
+        let c = weight * k;
+        implicit.diagonal[i] += q * q * c;
+        if let Some((parent_direction, parent_length)) = joint.parent {
+            let s = cross_matrix(joint.rest_direction)
+                * cross_matrix(parent_direction)
+                * (1.0 / parent_length);
+            let middle = s - q;
+            implicit.diagonal[i - 1] += middle.transpose() * middle * c;
+            implicit.diagonal[i - 2] += s.transpose() * s * c;
+            implicit.first[i] += q * middle * c;
+            implicit.second[i] -= q * s * c;
+            implicit.first[i - 1] -= middle.transpose() * s * c;
+        } else {
+            implicit.diagonal[i - 1] += q * q * c;
+            implicit.first[i] -= q * q * c;
+        }
+    });
+    for (((rhs, velocity), mass), force) in implicit
+        .rhs
+        .iter_mut()
+        .zip(&*arrays.velocities)
+        .zip(chain.masses)
+        .zip(&*forces)
+    {
+        *rhs = *velocity * *mass + *force * h;
+    }
+    let (root_end, root_velocity) = root_motion(chain, step);
+    if step.attached() {
+        implicit.rhs[1] -= implicit.first[1] * root_velocity;
+        if n > 2 {
+            implicit.rhs[2] -= implicit.second[2] * root_velocity;
+            implicit.second[2] = Mat3::ZERO;
+        }
+        implicit.first[1] = Mat3::ZERO;
+        implicit.diagonal[0] = Mat3::IDENTITY;
+        implicit.rhs[0] = root_velocity;
+    }
+    if !solve_block_pentadiagonal(
+        implicit.diagonal,
+        implicit.first,
+        implicit.second,
+        implicit.rhs,
+    ) {
+        return false;
+    }
+    for i in 0..n {
+        arrays.velocities[i] = implicit.rhs[i];
+        arrays.positions[i] += implicit.rhs[i] * h;
+        arrays.forces[i] = arrays.positions[i];
+    }
+    if step.attached() {
+        arrays.positions[0] = root_end;
+    }
+    finish_with_projection(chain, arrays, step);
+    true
+}

@@ -1,0 +1,387 @@
+//! The simulation: a model, settings and solver scratch that advance a [`SimulationState`] one
+//! step at a time, in parallel over chains, detecting failures.
+
+use glam::{Mat3, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
+
+use crate::dynamics::error::{ChainFailure, DynamicsError, FailedQuantity};
+use crate::dynamics::forces::STANDARD_GRAVITY;
+use crate::dynamics::head_motion::{HeadMotion, angular_velocity};
+use crate::dynamics::integrators::{
+    ChainArrays, ChainConstants, Substep, linear_implicit, position_based, semi_implicit_euler,
+};
+use crate::dynamics::model::DynamicsModel;
+use crate::dynamics::parallel::{ChainSlices, for_each_chain};
+use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings};
+use crate::dynamics::state::SimulationState;
+use crate::dynamics::wind::WindField;
+use crate::transform::RigidTransform;
+
+/// The control inputs of a simulation: head motion, wind and gravity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Environment {
+    /// The head's pose over time (carries attached roots).
+    pub head: HeadMotion,
+    /// The wind field.
+    pub wind: WindField,
+    /// Gravitational acceleration [m/s²].
+    pub gravity: Vec3,
+}
+
+impl Default for Environment {
+    /// A still head at the origin, calm air, standard gravity.
+    fn default() -> Self {
+        Environment {
+            head: HeadMotion::default(),
+            wind: WindField::Calm,
+            gravity: STANDARD_GRAVITY,
+        }
+    }
+}
+
+/// What one step did.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct StepReport {
+    /// Number of chains whose substep had to be halved at least once.
+    pub halved_chains: usize,
+    /// The most halvings any chain needed.
+    pub max_halvings: u32,
+}
+
+/// Per-node and per-chain scratch, allocated once (never inside a step).
+#[derive(Debug, Default)]
+struct Scratch {
+    forces: Vec<Vec3>,
+    corrections: Vec<Vec3>,
+    work: Vec<Vec4>,
+    backup_positions: Vec<Vec3>,
+    backup_velocities: Vec<Vec3>,
+    diagonal: Vec<Mat3>,
+    first: Vec<Mat3>,
+    second: Vec<Mat3>,
+    rhs: Vec<Vec3>,
+    failures: Vec<Option<ChainFailure>>,
+    halvings: Vec<u32>,
+    /// Head poses at the substep boundaries of the current step (`substeps + 1`).
+    head_poses: Vec<RigidTransform>,
+}
+
+/// A skeleton simulation: the model, its settings and the solver's scratch.
+#[derive(Debug)]
+pub struct Simulation {
+    model: DynamicsModel,
+    settings: SimulationSettings,
+    scratch: Scratch,
+}
+
+impl Simulation {
+    /// A simulation of `model` with `settings` (validated); allocates all scratch.
+    pub fn new(model: DynamicsModel, settings: SimulationSettings) -> Result<Self, DynamicsError> {
+        let mut simulation = Simulation {
+            model,
+            settings,
+            scratch: Scratch::default(),
+        };
+        simulation.set_settings(settings)?;
+        Ok(simulation)
+    }
+
+    /// The model.
+    pub fn model(&self) -> &DynamicsModel {
+        &self.model
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &SimulationSettings {
+        &self.settings
+    }
+
+    /// Changes the settings (integrator, step, …), reallocating scratch as needed.
+    pub fn set_settings(&mut self, settings: SimulationSettings) -> Result<(), DynamicsError> {
+        settings.validate()?;
+        self.settings = settings;
+        let nodes = self.model.node_count();
+        let chains = self.model.chain_count();
+        let scratch = &mut self.scratch;
+        scratch.forces.resize(nodes, Vec3::ZERO);
+        scratch.corrections.resize(nodes, Vec3::ZERO);
+        scratch.work.resize(nodes, Vec4::ZERO);
+        scratch.backup_positions.resize(nodes, Vec3::ZERO);
+        scratch.backup_velocities.resize(nodes, Vec3::ZERO);
+        let implicit_nodes = if settings.integrator == IntegratorKind::LinearImplicit {
+            nodes
+        } else {
+            0
+        };
+        for blocks in [
+            &mut scratch.diagonal,
+            &mut scratch.first,
+            &mut scratch.second,
+        ] {
+            blocks.resize(implicit_nodes, Mat3::ZERO);
+            blocks.shrink_to_fit();
+        }
+        scratch.rhs.resize(implicit_nodes, Vec3::ZERO);
+        scratch.failures.resize(chains, None);
+        scratch.halvings.resize(chains, 0);
+        scratch
+            .head_poses
+            .resize(settings.substeps as usize + 1, RigidTransform::IDENTITY);
+        Ok(())
+    }
+
+    /// A state at rest in the rest shape with the head posed as `environment.head` at `time` [s].
+    pub fn rest_state(&self, environment: &Environment, time: f64) -> SimulationState {
+        SimulationState::at_rest(&self.model.rest, &environment.head.transform_at(time), time)
+    }
+
+    fn check_state(&self, state: &SimulationState) -> Result<(), DynamicsError> {
+        let expected = self.model.node_count();
+        for (what, actual) in [
+            ("node_positions", state.node_positions.len()),
+            ("node_velocities", state.node_velocities.len()),
+            ("collision_forces", state.collision_forces.len()),
+        ] {
+            if actual != expected {
+                return Err(DynamicsError::StateMismatch {
+                    what,
+                    actual,
+                    expected,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Advances `state` by one step of `settings.time_step` seconds (in `settings.substeps`
+    /// substeps, in parallel over chains; the result does not depend on the thread count).
+    ///
+    /// After each chain's step its positions and velocities are checked: a non-finite value or a
+    /// kinetic energy per unit mass above `½·max_speed²` is a failure. With
+    /// [`FailurePolicy::HalveSubstep`] the chain's step is redone from its start with half the
+    /// substep, up to the limit. A failure that remains restores the whole state to its value
+    /// before the step and returns [`DynamicsError::Unstable`] for the lowest failing chain.
+    pub fn step(
+        &mut self,
+        state: &mut SimulationState,
+        environment: &Environment,
+    ) -> Result<StepReport, DynamicsError> {
+        self.check_state(state)?;
+        let settings = self.settings;
+        let substeps = settings.substeps as usize;
+        let h = settings.substep();
+        for (k, pose) in self.scratch.head_poses.iter_mut().enumerate() {
+            *pose = environment
+                .head
+                .transform_at(state.time + (k as f64) * h as f64);
+        }
+        debug_assert_eq!(self.scratch.head_poses.len(), substeps + 1);
+        let scratch = &mut self.scratch;
+        let model = &self.model;
+        let time = state.time;
+        let slices = ChainSlices {
+            first_chain: 0,
+            positions: &mut state.node_positions,
+            velocities: &mut state.node_velocities,
+            collision: &state.collision_forces,
+            forces: &mut scratch.forces,
+            corrections: &mut scratch.corrections,
+            work: &mut scratch.work,
+            backup_positions: &mut scratch.backup_positions,
+            backup_velocities: &mut scratch.backup_velocities,
+            diagonal: &mut scratch.diagonal,
+            first: &mut scratch.first,
+            second: &mut scratch.second,
+            rhs: &mut scratch.rhs,
+            failures: &mut scratch.failures,
+            halvings: &mut scratch.halvings,
+        };
+        let head_poses = &scratch.head_poses;
+        for_each_chain(&model.rest.offsets, slices, &|chain, chain_slices| {
+            let constants = ChainConstants {
+                masses: &model.node_masses[model.rest.nodes(chain)],
+                rest_lengths: &model.rest.segment_rest_lengths[model.rest.nodes(chain)],
+                stiffness: &model.joint_stiffness[model.rest.nodes(chain)],
+                rest_local: &model.rest_local_directions[model.rest.nodes(chain)],
+                root_position: model.rest.root_positions[chain],
+                root_frame: model.rest.root_frames[chain],
+            };
+            let (failure, halvings) = step_chain(
+                chain,
+                &constants,
+                chain_slices.arrays,
+                chain_slices.backup_positions,
+                chain_slices.backup_velocities,
+                &settings,
+                &model.params,
+                environment,
+                head_poses,
+                time,
+            );
+            *chain_slices.failure = failure;
+            *chain_slices.halvings = halvings;
+        });
+        if let Some(failure) = scratch.failures.iter().flatten().next() {
+            let failure = *failure;
+            state
+                .node_positions
+                .copy_from_slice(&scratch.backup_positions);
+            state
+                .node_velocities
+                .copy_from_slice(&scratch.backup_velocities);
+            return Err(DynamicsError::Unstable(failure));
+        }
+        state.time += settings.time_step as f64;
+        let mut report = StepReport::default();
+        for &halvings in &scratch.halvings {
+            report.halved_chains += usize::from(halvings > 0);
+            report.max_halvings = report.max_halvings.max(halvings);
+        }
+        Ok(report)
+    }
+
+    /// Runs `steps` steps, stopping at the first error.
+    pub fn run(
+        &mut self,
+        state: &mut SimulationState,
+        environment: &Environment,
+        steps: usize,
+    ) -> Result<(), DynamicsError> {
+        for _ in 0..steps {
+            self.step(state, environment)?;
+        }
+        Ok(())
+    }
+}
+
+/// Steps one chain through all its substeps, halving on failure where allowed; returns the
+/// failure that remains (the chain restored to its start) and the halvings used.
+#[allow(clippy::too_many_arguments)]
+fn step_chain(
+    chain: usize,
+    constants: &ChainConstants,
+    mut arrays: ChainArrays,
+    backup_positions: &mut [Vec3],
+    backup_velocities: &mut [Vec3],
+    settings: &SimulationSettings,
+    params: &crate::dynamics::params::DynamicsParams,
+    environment: &Environment,
+    head_poses: &[RigidTransform],
+    time: f64,
+) -> (Option<ChainFailure>, u32) {
+    backup_positions.copy_from_slice(arrays.positions);
+    backup_velocities.copy_from_slice(arrays.velocities);
+    let max_halvings = match settings.on_failure {
+        FailurePolicy::Error => 0,
+        FailurePolicy::HalveSubstep { max_halvings } => max_halvings,
+    };
+    let mut halvings = 0;
+    loop {
+        let substeps = (settings.substeps as usize) << halvings;
+        let h = settings.time_step / substeps as f32;
+        let mut solved = true;
+        for k in 0..substeps {
+            let start_time = time + k as f64 * h as f64;
+            let pose = |index: usize| {
+                if halvings == 0 {
+                    head_poses[index]
+                } else {
+                    environment
+                        .head
+                        .transform_at(time + index as f64 * h as f64)
+                }
+            };
+            let head_start = pose(k);
+            let head_end = pose(k + 1);
+            let step = Substep {
+                time: start_time,
+                h,
+                head_start,
+                head_end,
+                head_spin: angular_velocity(head_start.rotation, head_end.rotation, h),
+                wind: &environment.wind,
+                gravity: environment.gravity,
+                params,
+                roots: settings.roots,
+                follow_the_leader_damping: settings.follow_the_leader_damping,
+            };
+            match settings.integrator {
+                IntegratorKind::SemiImplicitEuler => {
+                    semi_implicit_euler(constants, &mut arrays, &step)
+                }
+                IntegratorKind::PositionBased => position_based(constants, &mut arrays, &step),
+                IntegratorKind::LinearImplicit => {
+                    if !linear_implicit(constants, &mut arrays, &step) {
+                        solved = false;
+                        break;
+                    }
+                }
+            }
+        }
+        let quantity = if solved {
+            check_chain(
+                constants.masses,
+                arrays.positions,
+                arrays.velocities,
+                settings.max_speed,
+            )
+        } else {
+            Some((FailedQuantity::NonFiniteVelocity, None))
+        };
+        let Some((quantity, node)) = quantity else {
+            return (None, halvings);
+        };
+        arrays.positions.copy_from_slice(backup_positions);
+        arrays.velocities.copy_from_slice(backup_velocities);
+        if halvings < max_halvings {
+            halvings += 1;
+            continue;
+        }
+        return (
+            Some(ChainFailure {
+                integrator: settings.integrator,
+                time,
+                substep: h,
+                halvings,
+                chain,
+                node,
+                quantity,
+            }),
+            halvings,
+        );
+    }
+}
+
+/// The failure of one chain's state, if any: the first non-finite position or velocity, or an
+/// energy blow-up (`½·Σ m|v|² / Σ m > ½·max_speed²`).
+fn check_chain(
+    masses: &[f32],
+    positions: &[Vec3],
+    velocities: &[Vec3],
+    max_speed: f32,
+) -> Option<(FailedQuantity, Option<usize>)> {
+    if let Some(node) = positions.iter().position(|p| !p.is_finite()) {
+        return Some((FailedQuantity::NonFinitePosition, Some(node)));
+    }
+    if let Some(node) = velocities.iter().position(|v| !v.is_finite()) {
+        return Some((FailedQuantity::NonFiniteVelocity, Some(node)));
+    }
+    let mut kinetic = 0.0f32;
+    let mut mass = 0.0f32;
+    for (m, v) in masses.iter().zip(velocities) {
+        kinetic += 0.5 * m * v.length_squared();
+        mass += m;
+    }
+    let energy_per_mass = kinetic / mass.max(f32::MIN_POSITIVE);
+    let limit = 0.5 * max_speed * max_speed;
+    if energy_per_mass.is_nan() || energy_per_mass > limit {
+        return Some((
+            FailedQuantity::EnergyBlowUp {
+                energy_per_mass,
+                limit,
+            },
+            None,
+        ));
+    }
+    None
+}

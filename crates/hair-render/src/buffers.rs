@@ -1,0 +1,61 @@
+//! GPU buffers that grow to fit their data and are rewritten in place when it fits.
+
+/// Smallest buffer created [bytes]: bindings must not be empty.
+const MIN_BUFFER_BYTES: u64 = 256;
+
+/// A buffer that is replaced by a larger one when data no longer fits.
+#[derive(Debug)]
+pub(crate) struct GrowableBuffer {
+    label: &'static str,
+    usage: wgpu::BufferUsages,
+    buffer: wgpu::Buffer,
+}
+
+impl GrowableBuffer {
+    /// An empty buffer of [`MIN_BUFFER_BYTES`] with `usage` (plus `COPY_DST`).
+    pub fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages) -> Self {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        GrowableBuffer {
+            label,
+            usage,
+            buffer: create(device, label, usage, MIN_BUFFER_BYTES),
+        }
+    }
+
+    /// The current buffer.
+    pub fn buffer(&self) -> &wgpu::Buffer {
+        &self.buffer
+    }
+
+    /// Writes `bytes` (a multiple of 4 long) at the start of the buffer, first replacing it with a
+    /// larger one (1.5× the need) when it is too small. Returns whether the buffer was replaced,
+    /// so that bind groups naming it can be rebuilt.
+    pub fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) -> bool {
+        let needed = bytes.len() as u64;
+        let replaced = needed > self.buffer.size();
+        if replaced {
+            let size = (needed + needed / 2)
+                .max(MIN_BUFFER_BYTES)
+                .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+            self.buffer = create(device, self.label, self.usage, size);
+        }
+        if !bytes.is_empty() {
+            queue.write_buffer(&self.buffer, 0, bytes);
+        }
+        replaced
+    }
+}
+
+fn create(
+    device: &wgpu::Device,
+    label: &str,
+    usage: wgpu::BufferUsages,
+    size: u64,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage,
+        mapped_at_creation: false,
+    })
+}

@@ -1,0 +1,86 @@
+//! `hair-render`: the headless wgpu renderer of hairlod (§6 of *Simplified Representations for
+//! Modeling Hair*).
+//!
+//! # What it does
+//!
+//! - **Device** ([`device`]): any adapter, a real GPU first, falling back to Mesa's CPU drivers
+//!   (lavapipe on Vulkan, llvmpipe through EGL on GL). `HAIRLOD_BACKEND=vulkan|gl|auto` or
+//!   [`DeviceOptions::backend`] picks the backend; [`AdapterReport`] says what was found, and when
+//!   nothing is, the error says what to install.
+//! - **Geometry on the GPU**: per frame only the skeleton nodes ([`SkeletonFrame`]: chain offsets,
+//!   node positions and frames) are uploaded; the per-strand data ([`StrandSet`]: chain, root offset
+//!   in the node frame, shade) is uploaded once. The vertex shader pulls nodes from storage buffers,
+//!   builds the strand's control points `p_k + o.x·n_k + o.y·b_k` and evaluates its clamped uniform
+//!   cubic B-spline ([`bspline`] is the CPU reference), tessellated into a number of segments that
+//!   falls with camera distance ([`Tessellation`]). Strands are camera-facing ribbons or lines.
+//! - **Shading**: Kajiya-Kay in the Heidrich-Seidel form from the curve tangent only (diffuse
+//!   ∝ sin(T, L), specular ∝ (sin(T, L)·sin(T, V) − (T·L)(T·V))^p), per-strand shade within a hair
+//!   colour range ([`HairMaterial`]); the head ([`hair_core::TriangleMesh`]) is Lambert-lit and
+//!   hides hair behind it by depth. 4× MSAA by default.
+//! - **LOD colour coding** ([`ShadingMode::LevelColors`], Fig. 6): strands flat yellow (clusters red
+//!   and patches blue once those levels are drawn), the head flat grey.
+//! - **Output** ([`output`]): atomic PNG writes, sortable frame names, side-by-side and contact
+//!   sheets.
+//!
+//! # Example
+//!
+//! ```no_run
+//! use glam::{Vec2, Vec3};
+//! use hair_render::{Camera, FrameSettings, Renderer, RendererOptions, SkeletonFrame, StrandSet};
+//!
+//! # fn main() -> Result<(), hair_render::RenderError> {
+//! let mut renderer = Renderer::new(&RendererOptions::from_env()?)?;
+//! println!("rendering on {}", renderer.adapter_report());
+//! // One chain of three nodes hanging down, one strand on it.
+//! let positions = [Vec3::ZERO, Vec3::new(0.0, -0.1, 0.0), Vec3::new(0.0, -0.2, 0.0)];
+//! let normals = [Vec3::X; 3];
+//! let binormals = [Vec3::Z; 3];
+//! renderer.upload_strands(&StrandSet {
+//!     strand_chain: &[0],
+//!     strand_root_offsets: &[Vec2::ZERO],
+//!     strand_shades: &[0.5],
+//! })?;
+//! let frame = SkeletonFrame {
+//!     chain_offsets: &[0, 3],
+//!     node_positions: &positions,
+//!     node_normals: &normals,
+//!     node_binormals: &binormals,
+//! };
+//! let image = renderer.render(&frame, &FrameSettings::new(320, 240, Camera::default()))?;
+//! hair_render::output::write_png_atomic(&image, std::path::Path::new("frame_00000.png"))?;
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! # Not yet
+//!
+//! Clusters (closed tubes of 4 control points per node) and patches (strips of 2 control points per
+//! node) will be drawn from the same node buffers; the colour-coding mode already has their colours.
+
+pub mod bspline;
+pub mod camera;
+pub mod device;
+pub mod error;
+pub mod inputs;
+pub mod output;
+pub mod renderer;
+pub mod settings;
+pub mod target;
+
+mod buffers;
+mod head;
+mod pipelines;
+mod uniforms;
+
+pub use camera::Camera;
+pub use device::{
+    AdapterReport, BACKEND_ENV_VAR, BackendChoice, DeviceOptions, GpuContext, acquire_device,
+};
+pub use error::{RenderError, Result};
+pub use inputs::{SkeletonFrame, StrandSet};
+pub use renderer::{Renderer, RendererOptions};
+pub use settings::{
+    DirectionalLight, FrameSettings, HairMaterial, LevelColors, ShadingMode, StrandStyle,
+    Tessellation,
+};
+pub use target::RenderTarget;

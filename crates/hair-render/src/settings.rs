@@ -1,0 +1,309 @@
+//! Per-frame render settings: image size, camera, light, hair material, strand style, tessellation
+//! and the LOD colour-coding mode. Colours are linear RGB in 0..1.
+
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::error::{Result, invalid};
+
+/// How geometry is coloured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ShadingMode {
+    /// Kajiya-Kay hair shading and a Lambert-lit head.
+    #[default]
+    Shaded,
+    /// Flat colour per level of detail (Fig. 6): strands, clusters and patches each in their
+    /// [`LevelColors`] colour, the head flat in its code colour.
+    LevelColors,
+}
+
+/// Flat colours of the LOD colour-coding mode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LevelColors {
+    /// Strand groups (finest level): yellow.
+    pub strands: Vec3,
+    /// Clusters: red.
+    pub clusters: Vec3,
+    /// Patches (coarsest level): blue.
+    pub patches: Vec3,
+    /// The head: neutral grey.
+    pub head: Vec3,
+}
+
+impl Default for LevelColors {
+    fn default() -> Self {
+        LevelColors {
+            strands: Vec3::new(1.0, 1.0, 0.0),
+            clusters: Vec3::new(1.0, 0.0, 0.0),
+            patches: Vec3::new(0.0, 0.0, 1.0),
+            head: Vec3::splat(0.2),
+        }
+    }
+}
+
+/// How strands are drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StrandStyle {
+    /// One-pixel lines.
+    Lines,
+    /// Camera-facing ribbons.
+    Ribbons {
+        /// Hair width [m] (human hair: 50–100 µm).
+        width: f32,
+        /// Smallest on-screen width [pixels], so that distant strands do not vanish.
+        min_width_pixels: f32,
+    },
+}
+
+impl Default for StrandStyle {
+    /// Ribbons 80 µm wide, at least 1 pixel.
+    fn default() -> Self {
+        StrandStyle::Ribbons {
+            width: 80e-6,
+            min_width_pixels: 1.0,
+        }
+    }
+}
+
+/// Curve tessellation: the number of line segments per strand follows camera distance (§6).
+///
+/// A strand whose root is `d` metres from the camera gets
+/// `clamp(ceil(max_segments · full_detail_distance / d), min_segments, max_segments)` segments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tessellation {
+    /// Segments per strand at `full_detail_distance` and closer.
+    pub max_segments: u32,
+    /// Segments per strand however far away (≥ 1).
+    pub min_segments: u32,
+    /// Distance [m] within which strands get `max_segments`.
+    pub full_detail_distance: f32,
+}
+
+impl Default for Tessellation {
+    /// 4 to 32 segments, full detail within 1 m.
+    fn default() -> Self {
+        Tessellation {
+            max_segments: 32,
+            min_segments: 4,
+            full_detail_distance: 1.0,
+        }
+    }
+}
+
+/// The most segments a strand may be tessellated into.
+pub const MAX_SEGMENTS_LIMIT: u32 = 1024;
+
+impl Tessellation {
+    /// The segment count for a strand `distance` metres from the camera (CPU mirror of the shader).
+    pub fn segments_at(&self, distance: f32) -> u32 {
+        let wanted = self.max_segments as f32 * self.full_detail_distance / distance.max(1e-6);
+        (wanted.ceil().min(self.max_segments as f32) as u32)
+            .clamp(self.min_segments, self.max_segments)
+    }
+}
+
+/// A directional light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DirectionalLight {
+    /// Direction from the scene towards the light (normalised when used).
+    pub direction: Vec3,
+    /// Light colour and intensity.
+    pub color: Vec3,
+    /// Ambient light added everywhere.
+    pub ambient: Vec3,
+}
+
+impl Default for DirectionalLight {
+    /// White light from the upper front right, a little ambient.
+    fn default() -> Self {
+        DirectionalLight {
+            direction: Vec3::new(0.5, 0.7, 1.0).normalize(),
+            color: Vec3::ONE,
+            ambient: Vec3::splat(0.08),
+        }
+    }
+}
+
+/// Hair colour range and Kajiya-Kay coefficients.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HairMaterial {
+    /// Colour of shade 0.
+    pub dark_color: Vec3,
+    /// Colour of shade 1.
+    pub light_color: Vec3,
+    /// Diffuse coefficient (multiplies sin(T, L)).
+    pub diffuse: f32,
+    /// Specular coefficient.
+    pub specular: f32,
+    /// Specular exponent (highlight sharpness).
+    pub specular_exponent: f32,
+}
+
+impl Default for HairMaterial {
+    /// Medium brown hair.
+    fn default() -> Self {
+        HairMaterial {
+            dark_color: Vec3::new(0.09, 0.045, 0.02),
+            light_color: Vec3::new(0.35, 0.2, 0.09),
+            diffuse: 1.0,
+            specular: 0.3,
+            specular_exponent: 40.0,
+        }
+    }
+}
+
+/// Everything a frame needs besides the geometry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameSettings {
+    /// Image width [pixels].
+    pub width: u32,
+    /// Image height [pixels].
+    pub height: u32,
+    /// The camera.
+    pub camera: Camera,
+    /// The light.
+    pub light: DirectionalLight,
+    /// Background colour.
+    pub background: Vec3,
+    /// Shaded or colour-coded.
+    pub mode: ShadingMode,
+    /// Hair colours and shading coefficients.
+    pub hair: HairMaterial,
+    /// Head colour (Lambert-lit in [`ShadingMode::Shaded`]).
+    pub head_color: Vec3,
+    /// Lines or ribbons.
+    pub strand_style: StrandStyle,
+    /// Segments per strand.
+    pub tessellation: Tessellation,
+    /// Colours of the colour-coding mode.
+    pub level_colors: LevelColors,
+}
+
+impl FrameSettings {
+    /// A `width`×`height` [pixels] frame through `camera` with default light, materials and style.
+    pub fn new(width: u32, height: u32, camera: Camera) -> FrameSettings {
+        FrameSettings {
+            width,
+            height,
+            camera,
+            light: DirectionalLight::default(),
+            background: Vec3::new(0.02, 0.02, 0.03),
+            mode: ShadingMode::Shaded,
+            hair: HairMaterial::default(),
+            head_color: Vec3::new(0.6, 0.42, 0.33),
+            strand_style: StrandStyle::default(),
+            tessellation: Tessellation::default(),
+            level_colors: LevelColors::default(),
+        }
+    }
+
+    /// Checks sizes, the camera and that every value is finite and in range.
+    pub fn validate(&self) -> Result<()> {
+        if self.width == 0 || self.height == 0 {
+            return Err(invalid(format!(
+                "image size {}x{}: both sides must be at least 1 pixel",
+                self.width, self.height
+            )));
+        }
+        self.camera.validate()?;
+        let colors = [
+            ("light direction", self.light.direction),
+            ("light colour", self.light.color),
+            ("ambient light", self.light.ambient),
+            ("background", self.background),
+            ("dark hair colour", self.hair.dark_color),
+            ("light hair colour", self.hair.light_color),
+            ("head colour", self.head_color),
+            ("strand code colour", self.level_colors.strands),
+            ("cluster code colour", self.level_colors.clusters),
+            ("patch code colour", self.level_colors.patches),
+            ("head code colour", self.level_colors.head),
+        ];
+        for (name, value) in colors {
+            if !value.is_finite() {
+                return Err(invalid(format!("{name} is not finite: {value}")));
+            }
+        }
+        if self.light.direction.length_squared() < 1e-12 {
+            return Err(invalid("light direction is zero"));
+        }
+        let coefficients = [
+            ("diffuse", self.hair.diffuse),
+            ("specular", self.hair.specular),
+            ("specular exponent", self.hair.specular_exponent),
+        ];
+        for (name, value) in coefficients {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(invalid(format!(
+                    "hair {name} coefficient {value} must be finite and ≥ 0"
+                )));
+            }
+        }
+        if let StrandStyle::Ribbons {
+            width,
+            min_width_pixels,
+        } = self.strand_style
+            && !(width.is_finite()
+                && width >= 0.0
+                && min_width_pixels.is_finite()
+                && min_width_pixels >= 0.0)
+        {
+            return Err(invalid(format!(
+                "ribbon width {width} m / {min_width_pixels} px must be finite and ≥ 0"
+            )));
+        }
+        let t = self.tessellation;
+        if t.min_segments == 0
+            || t.min_segments > t.max_segments
+            || t.max_segments > MAX_SEGMENTS_LIMIT
+        {
+            return Err(invalid(format!(
+                "tessellation needs 1 ≤ min_segments ≤ max_segments ≤ {MAX_SEGMENTS_LIMIT} \
+                 (got {}..{})",
+                t.min_segments, t.max_segments
+            )));
+        }
+        if !(t.full_detail_distance.is_finite() && t.full_detail_distance > 0.0) {
+            return Err(invalid(format!(
+                "full-detail distance {} m must be finite and > 0",
+                t.full_detail_distance
+            )));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn segment_count_falls_with_distance() {
+        let t = Tessellation::default();
+        assert_eq!(t.segments_at(0.5), 32);
+        assert_eq!(t.segments_at(1.0), 32);
+        assert_eq!(t.segments_at(2.0), 16);
+        assert_eq!(t.segments_at(100.0), 4);
+    }
+
+    #[test]
+    fn settings_are_validated() {
+        let good = FrameSettings::new(64, 48, Camera::default());
+        assert!(good.validate().is_ok());
+        assert!(FrameSettings { width: 0, ..good }.validate().is_err());
+        let mut bad = good;
+        bad.light.direction = Vec3::ZERO;
+        assert!(bad.validate().is_err());
+        let mut bad = good;
+        bad.tessellation.min_segments = 0;
+        assert!(bad.validate().is_err());
+        let mut bad = good;
+        bad.hair.light_color = Vec3::NAN;
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("light hair colour")
+        );
+    }
+}
