@@ -89,7 +89,27 @@ fn exported_obj_of_each_level_parses_back() {
         );
         assert!(hair.indices.iter().all(|&i| (i as usize) < vertex_count));
         match level {
-            Level::StrandGroup => assert_eq!(summary.polylines, counts.strands),
+            Level::StrandGroup => {
+                assert_eq!(summary.polylines, counts.strands);
+                // tobj reads long `l` records as polygons, so count the records ourselves too:
+                // one `l` line per strand, each index within the vertices written so far.
+                let text = std::fs::read_to_string(&path).unwrap();
+                let mut vertices = 0usize;
+                let mut lines = 0usize;
+                for record in text.lines() {
+                    if record.starts_with("v ") {
+                        vertices += 1;
+                    } else if let Some(rest) = record.strip_prefix("l ") {
+                        lines += 1;
+                        for index in rest.split_whitespace() {
+                            let index: usize = index.parse().unwrap();
+                            assert!((1..=vertices).contains(&index), "{record}");
+                        }
+                    }
+                }
+                assert_eq!(lines, counts.strands);
+                assert_eq!(vertices, summary.vertices);
+            }
             Level::Cluster => {
                 assert_eq!(summary.items, counts.clusters);
                 assert!(summary.triangles > 0 && hair.indices.len() % 3 == 0);

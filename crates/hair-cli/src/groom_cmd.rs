@@ -5,15 +5,16 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::core::export::{ExportOptions, export_obj};
-use hairlod::core::{GroomCounts, Level, PRESET_NAMES, Scene};
+use hairlod::core::{GroomCounts, Level};
+
+use crate::scene_args::SceneArgs;
 use serde::Serialize;
 
 /// Arguments of `hairlod groom`.
 #[derive(Debug, Args)]
 pub struct GroomArgs {
-    /// Preset name: paper-curly, straight, wavy or curly.
-    #[arg(long, default_value = "paper-curly")]
-    preset: String,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// Print the counts as JSON instead of a table.
     #[arg(long)]
     json: bool,
@@ -42,16 +43,10 @@ struct GroomReport<'a> {
 /// Runs `hairlod groom`.
 pub fn run(args: &GroomArgs) -> Result<()> {
     let level: Level = args.level.parse()?;
-    let scene = Scene::preset(&args.preset).with_context(|| {
-        format!(
-            "could not build preset `{}` (known: {})",
-            args.preset,
-            PRESET_NAMES.join(", ")
-        )
-    })?;
+    let scene = args.scene.build()?;
     let counts = scene.groom.counts();
     let report = GroomReport {
-        preset: &args.preset,
+        preset: &args.scene.preset,
         style: scene.groom.params.style.kind.name(),
         hair_length_m: scene.groom.params.hair_length,
         section_width_m: scene.groom.sections.first().map_or(0.0, |s| s.width),

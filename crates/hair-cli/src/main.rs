@@ -2,6 +2,7 @@
 //! benchmarks).
 
 mod groom_cmd;
+mod scene_args;
 mod stability_cmd;
 
 use std::process::ExitCode;

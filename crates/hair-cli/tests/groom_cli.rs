@@ -1,0 +1,72 @@
+//! The `hairlod groom` verb end to end: JSON counts, OBJ export, and bad input refused with a named
+//! parameter and a non-zero exit.
+
+use std::process::Command;
+
+fn hairlod(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_hairlod"))
+        .args(args)
+        .output()
+        .expect("the hairlod binary runs")
+}
+
+#[test]
+fn paper_curly_json_has_the_papers_counts() {
+    let output = hairlod(&["groom", "--preset", "paper-curly", "--json"]);
+    assert!(output.status.success(), "{output:?}");
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    // §8.2: 91 patches = 273 clusters = 455 strand groups, 37,765 strands.
+    assert_eq!(report["sections"], 91);
+    assert_eq!(report["patches"], 91);
+    assert_eq!(report["clusters"], 273);
+    assert_eq!(report["strand_groups"], 455);
+    assert_eq!(report["strands"], 37_765);
+}
+
+#[test]
+fn bad_parameters_name_themselves_and_fail() {
+    let cases: [(&[&str], &str); 5] = [
+        (&["--hair-length", "-0.2"], "hair length"),
+        (&["--hair-length", "nan"], "hair length"),
+        (&["--style-factor", "95"], "curl factor"),
+        (&["--strands-per-group", "0"], "strands per group"),
+        (&["--preset=nope"], "unknown preset `nope`"),
+    ];
+    for (extra, expected) in cases {
+        let mut args = vec!["groom"];
+        args.extend_from_slice(extra);
+        if !extra[0].starts_with("--preset") {
+            args.extend_from_slice(&["--preset", "curly"]);
+        }
+        let output = hairlod(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{args:?} succeeded");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn export_writes_an_obj_with_one_polyline_per_strand() {
+    let directory = std::env::temp_dir().join(format!("hairlod-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let path = directory.join("wavy.obj");
+    let output = hairlod(&[
+        "groom",
+        "--preset",
+        "wavy",
+        "--sections",
+        "6",
+        "--strands-per-group",
+        "4",
+        "--level",
+        "strands",
+        "--export",
+        path.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{output:?}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // 6 sections × 5 groups × 4 strands.
+    assert_eq!(text.lines().filter(|l| l.starts_with("l ")).count(), 120);
+    std::fs::remove_dir_all(&directory).unwrap();
+}
