@@ -7,6 +7,7 @@
 //!
 //! Units are metres, seconds and kilograms; right-handed, +Y up, the face looking along +Z.
 
+pub mod camera;
 pub mod dynamics;
 pub mod error;
 pub mod export;
@@ -14,6 +15,7 @@ pub mod frame;
 pub mod groom;
 pub mod head;
 pub mod level;
+pub mod lod;
 pub mod mesh;
 pub mod nurbs;
 pub mod obj;
@@ -24,6 +26,7 @@ pub mod skeleton;
 pub mod style;
 pub mod transform;
 
+pub use camera::Camera;
 pub use error::{HairError, Result};
 pub use frame::Frame;
 pub use groom::{Groom, GroomCounts, GroomParams, PRESET_NAMES, Section, StrandSet};

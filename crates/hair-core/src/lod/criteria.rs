@@ -1,0 +1,128 @@
+//! The criteria of §7 as pure functions: occlusion rays against a box inside the head (§7.1),
+//! projected skeleton length and the distance limits that follow from a pixel tolerance (§7.2),
+//! the motion measure (§7.3), and a level with hysteresis.
+
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::level::Level;
+use crate::transform::RigidTransform;
+
+/// Whether the segment from `from` to `to` [m] enters the axis-aligned box `(min, max)` before it
+/// reaches `to` (a slab test; the end point itself inside the box counts as blocked).
+pub fn segment_hits_box(from: Vec3, to: Vec3, min: Vec3, max: Vec3) -> bool {
+    let direction = to - from;
+    let mut enter = 0.0f32;
+    let mut leave = 1.0f32;
+    for axis in 0..3 {
+        let (origin, step) = (from[axis], direction[axis]);
+        let (low, high) = (min[axis], max[axis]);
+        if step.abs() < 1e-12 {
+            if origin < low || origin > high {
+                return false;
+            }
+            continue;
+        }
+        let (mut t0, mut t1) = ((low - origin) / step, (high - origin) / step);
+        if t0 > t1 {
+            std::mem::swap(&mut t0, &mut t1);
+        }
+        enter = enter.max(t0);
+        leave = leave.min(t1);
+        if enter > leave {
+            return false;
+        }
+    }
+    true
+}
+
+/// The paper's conservative occlusion test (§7.1): rays from the camera to the top (root) and the
+/// bottom (tip) of a section both cross the box `inner_box` (head space [m], inside the head, see
+/// [`Head::inner_box`](crate::Head::inner_box)) posed by `head`.
+pub fn is_occluded(
+    camera_position: Vec3,
+    top: Vec3,
+    bottom: Vec3,
+    inner_box: (Vec3, Vec3),
+    head: &RigidTransform,
+) -> bool {
+    let to_head = head.inverse();
+    let eye = to_head.transform_point(camera_position);
+    let (min, max) = inner_box;
+    segment_hits_box(eye, to_head.transform_point(top), min, max)
+        && segment_hits_box(eye, to_head.transform_point(bottom), min, max)
+}
+
+/// Length [pixels] of the line from `first` to `last` [m] projected into a `width`×`height` image;
+/// infinite when either end is behind the camera (the section surrounds the eye: finest detail).
+pub fn projected_length(camera: &Camera, first: Vec3, last: Vec3, width: u32, height: u32) -> f32 {
+    match (
+        camera.project_to_pixel(first, width, height),
+        camera.project_to_pixel(last, width, height),
+    ) {
+        (Some(a), Some(b)) => a.distance(b),
+        _ => f32::INFINITY,
+    }
+}
+
+/// The projected lengths [pixels] above which a section needs clusters and strand groups:
+/// `tolerance · L / e` with `e = w/6` for a patch and `w/10` for clusters (see
+/// [`LodSettings`](super::LodSettings)); `chord` is `L`, the section's root-to-tip distance at
+/// rest [m], `width` its width `w` [m].
+pub fn distance_limits(chord: f32, width: f32, pixel_tolerance: f32) -> [f32; 2] {
+    let patch_error = width / 6.0;
+    let cluster_error = width / 10.0;
+    [
+        pixel_tolerance * chord / patch_error,
+        pixel_tolerance * chord / cluster_error,
+    ]
+}
+
+/// The level a value asks for against two ascending limits (`limits[0]`: patch → clusters,
+/// `limits[1]`: clusters → strand groups), with hysteresis around the `current` level: a limit the
+/// section is below counts as `limit·(1 + band)`, one it is above as `limit·(1 − band)`.
+pub fn level_with_hysteresis(value: f32, limits: [f32; 2], current: Level, band: f32) -> Level {
+    let current_rank = current as usize;
+    let mut rank = 0;
+    for (index, &limit) in limits.iter().enumerate() {
+        let scaled = if current_rank > index {
+            limit * (1.0 - band)
+        } else {
+            limit * (1.0 + band)
+        };
+        if value > scaled {
+            rank = index + 1;
+        }
+    }
+    Level::ALL[rank]
+}
+
+/// The motion measure of one skeleton (§7.3): the strongest force per unit mass on any of its nodes
+/// [m/s²], gravity excluded, taken as the node's acceleration over the last frame plus the wind's
+/// drag on it:
+///
+/// `max_k |v_k − v_k⁻| / Δt + c_d · |w(x_k) − v_k|`
+///
+/// with `v_k⁻` the velocity a frame `frame_time` [s] earlier, `c_d` the air drag rate [1/s] and
+/// `w(x_k)` the wind velocity at the node [m/s]. A steady wind keeps the measure up even when the
+/// hair has come to rest in it (its strands show), a head shake raises it through the acceleration.
+pub fn motion_measure(
+    positions: &[Vec3],
+    velocities: &[Vec3],
+    previous_velocities: &[Vec3],
+    frame_time: f32,
+    drag_rate: f32,
+    wind_at: impl Fn(Vec3) -> Vec3,
+) -> f32 {
+    let mut strongest = 0.0f32;
+    for ((&x, &v), &before) in positions.iter().zip(velocities).zip(previous_velocities) {
+        let acceleration = if frame_time > 0.0 {
+            (v - before).length() / frame_time
+        } else {
+            0.0
+        };
+        let drag = drag_rate * (wind_at(x) - v).length();
+        strongest = strongest.max(acceleration + drag);
+    }
+    strongest
+}

@@ -1,0 +1,103 @@
+//! The user-facing knobs of level-of-detail selection (§7) and transitions (§4.2), with defaults.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{HairError, Result, require_non_negative, require_positive};
+
+/// Settings of the level-of-detail selector.
+///
+/// The distance limits derive from one screen-space error tolerance (§7.4): a level whose
+/// geometric error is `e` [m] on a section of length `L` [m] that projects to `ℓ` pixels makes an
+/// error of about `e · ℓ / L` pixels, so it is good enough while `ℓ ≤ tolerance · L / e`. The
+/// geometric error of a patch is taken as the radius of the clusters it replaces (the depth a flat
+/// strip cannot show, `w/6` for a section `w` wide); that of a cluster is the radius of the strand
+/// groups it replaces (`w/10`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct LodSettings {
+    /// Screen-space error tolerance [pixels]: larger means coarser levels sooner.
+    pub pixel_tolerance: f32,
+    /// Image height [pixels] the screen sizes are measured for.
+    pub image_height: u32,
+    /// Image width [pixels] (for the frustum's aspect ratio).
+    pub image_width: u32,
+    /// Motion measure (strongest force per unit mass on a node, gravity excluded [m/s²]) above
+    /// which a section is at least clusters.
+    pub cluster_force_threshold: f32,
+    /// Motion measure [m/s²] above which a section is strand groups.
+    pub strand_force_threshold: f32,
+    /// Relative hysteresis band: a level is entered above `limit·(1 + band)` and left below
+    /// `limit·(1 − band)`, so a section sitting on a threshold does not flip every frame.
+    pub hysteresis: f32,
+    /// Distance from the crown [m] within which sections keep strands longer (§7.4).
+    pub crown_radius: f32,
+    /// Screen-size boost at the crown itself (falls linearly to 1 at `crown_radius`): crown sections
+    /// are judged as if `1 + crown_boost` times larger.
+    pub crown_boost: f32,
+    /// Visible sections along the part line and around the face never go below clusters (§7.4).
+    pub keep_part_and_face_detailed: bool,
+    /// Occlusion test on (§7.1): hidden sections become patches and are not drawn.
+    pub occlusion: bool,
+    /// Duration of a transition's blend [s] (0: instant switching, as in the paper).
+    pub blend_time: f32,
+}
+
+impl Default for LodSettings {
+    fn default() -> Self {
+        LodSettings {
+            pixel_tolerance: 1.0,
+            image_height: 720,
+            image_width: 1280,
+            cluster_force_threshold: 3.0,
+            strand_force_threshold: 6.0,
+            hysteresis: 0.1,
+            crown_radius: 0.05,
+            crown_boost: 0.5,
+            keep_part_and_face_detailed: true,
+            occlusion: true,
+            blend_time: 0.25,
+        }
+    }
+}
+
+impl LodSettings {
+    /// Checks every setting, naming the first one out of range.
+    pub fn validate(&self) -> Result<()> {
+        require_positive("LOD pixel tolerance (pixels)", self.pixel_tolerance)?;
+        if self.image_height == 0 || self.image_width == 0 {
+            return Err(HairError::invalid(
+                "LOD image size (pixels)",
+                format!("{}x{}", self.image_width, self.image_height),
+                "at least 1x1",
+            ));
+        }
+        require_non_negative(
+            "cluster force threshold (m/s²)",
+            self.cluster_force_threshold,
+        )?;
+        require_non_negative("strand force threshold (m/s²)", self.strand_force_threshold)?;
+        if self.strand_force_threshold < self.cluster_force_threshold {
+            return Err(HairError::invalid(
+                "strand force threshold (m/s²)",
+                self.strand_force_threshold,
+                "at least the cluster force threshold",
+            ));
+        }
+        if !(0.0..0.9).contains(&self.hysteresis) {
+            return Err(HairError::invalid(
+                "LOD hysteresis band",
+                self.hysteresis,
+                "0 <= band < 0.9",
+            ));
+        }
+        require_non_negative("crown radius (m)", self.crown_radius)?;
+        require_non_negative("crown boost", self.crown_boost)?;
+        require_non_negative("LOD blend time (s)", self.blend_time)?;
+        Ok(())
+    }
+
+    /// Aspect ratio of the image the levels are chosen for.
+    pub fn aspect(&self) -> f32 {
+        self.image_width as f32 / self.image_height as f32
+    }
+}

@@ -1,0 +1,463 @@
+//! Tests of level-of-detail selection and transitions against the paper's rules and brute force.
+
+use glam::Vec3;
+
+use super::*;
+use crate::camera::Camera;
+use crate::level::Level;
+use crate::scene::Scene;
+use crate::transform::RigidTransform;
+
+/// Rest positions of section `section`'s skeletons at `level` (section-local, chain-major).
+fn rest_section(scene: &Scene, section: usize, level: Level, head: &RigidTransform) -> Vec<Vec3> {
+    let skeletons = &scene.groom.skeletons;
+    let mut positions = Vec::new();
+    for chain in scene.groom.section_chains(section, level) {
+        let mut chain_positions = vec![Vec3::ZERO; skeletons.chain_node_count(chain)];
+        skeletons.rest_positions_of(chain, head, &mut chain_positions);
+        positions.extend(chain_positions);
+    }
+    positions
+}
+
+fn observations(scene: &Scene, level: Level, motion: f32) -> Vec<SectionObservation> {
+    (0..scene.groom.section_count())
+        .map(|section| {
+            let positions = rest_section(scene, section, level, &RigidTransform::IDENTITY);
+            SectionObservation::of_section(&scene.groom, section, level, &positions, motion)
+        })
+        .collect()
+}
+
+fn front_camera(distance: f32) -> Camera {
+    Camera::orbit(
+        Vec3::new(0.0, 0.05, 0.0),
+        distance,
+        0.0,
+        0.1,
+        35f32.to_radians(),
+    )
+}
+
+#[test]
+fn segment_box_test_agrees_with_dense_sampling() {
+    let (min, max) = (Vec3::new(-1.0, -0.5, -0.2), Vec3::new(1.0, 0.5, 0.2));
+    let mut random = crate::random::SplitMix64::new(11);
+    let mut hits = 0;
+    for _ in 0..3000 {
+        let mut point = || {
+            Vec3::new(
+                random.range(-2.0, 2.0),
+                random.range(-1.0, 1.0),
+                random.range(-1.0, 1.0),
+            )
+        };
+        let (from, to) = (point(), point());
+        // Brute force: 4001 samples along the segment; a miss by sampling can only happen for a
+        // chord shorter than the sample spacing, so allow disagreement only when the segment
+        // passes within that spacing of the box surface.
+        let inside = |p: Vec3| p.cmpge(min).all() && p.cmple(max).all();
+        let sampled = (0..=4000).any(|i| inside(from.lerp(to, i as f32 / 4000.0)));
+        let exact = segment_hits_box(from, to, min, max);
+        if sampled != exact {
+            let spacing = from.distance(to) / 4000.0;
+            let grown = (0..=4000).any(|i| {
+                let p = from.lerp(to, i as f32 / 4000.0);
+                p.cmpge(min - spacing).all() && p.cmple(max + spacing).all()
+            });
+            assert!(
+                exact && grown,
+                "{from} -> {to}: exact {exact}, sampled {sampled}"
+            );
+        }
+        hits += usize::from(exact);
+    }
+    assert!(
+        hits > 300 && hits < 2700,
+        "{hits} hits: the test should see both cases"
+    );
+}
+
+#[test]
+fn behind_the_head_is_occluded_and_in_front_is_not() {
+    // Short hair, so that a back section lies wholly behind the head seen from the front (long
+    // hair hanging below the cranium is rightly seen past the neck by the conservative test).
+    let params = crate::GroomParams {
+        hair_length: 0.06,
+        ..crate::GroomParams::curly()
+    };
+    let scene = Scene::new(&crate::HeadParams::default(), &params).unwrap();
+    let camera = front_camera(0.8);
+    let mut selector =
+        LodSelector::new(&scene.groom, scene.head.inner_box(), LodSettings::default()).unwrap();
+    let observed = observations(&scene, Level::Patch, 0.0);
+    let choices = selector
+        .select(&observed, &camera, &RigidTransform::IDENTITY)
+        .unwrap()
+        .to_vec();
+    let sections = &scene.groom.sections;
+    let back = (0..sections.len())
+        .min_by(|&a, &b| {
+            sections[a]
+                .root_position
+                .z
+                .total_cmp(&sections[b].root_position.z)
+        })
+        .unwrap();
+    let front = (0..sections.len())
+        .max_by(|&a, &b| {
+            sections[a]
+                .root_position
+                .z
+                .total_cmp(&sections[b].root_position.z)
+        })
+        .unwrap();
+    assert_eq!(
+        choices[back].reason,
+        Reason::Occluded,
+        "{:?}",
+        sections[back]
+    );
+    assert!(!choices[back].visible);
+    assert_eq!(choices[back].level, Level::Patch);
+    assert!(choices[front].visible, "{:?}", choices[front]);
+    // The same section seen from behind swaps roles.
+    let behind = Camera::orbit(
+        camera.target,
+        0.8,
+        std::f32::consts::PI,
+        0.1,
+        camera.vertical_fov,
+    );
+    let mut selector =
+        LodSelector::new(&scene.groom, scene.head.inner_box(), LodSettings::default()).unwrap();
+    let choices = selector
+        .select(&observed, &behind, &RigidTransform::IDENTITY)
+        .unwrap();
+    assert!(choices[back].visible);
+    // A turned head carries its box along: turning the head by π hides the back section's
+    // replacement from the front camera exactly as the rear camera saw it.
+    let turned = RigidTransform::new(
+        glam::Quat::from_rotation_y(std::f32::consts::PI),
+        Vec3::ZERO,
+    );
+    let top = turned.transform_point(observed[back].top);
+    let bottom = turned.transform_point(observed[back].bottom);
+    assert!(!is_occluded(
+        camera.position,
+        top,
+        bottom,
+        scene.head.inner_box(),
+        &turned
+    ));
+}
+
+#[test]
+fn moving_the_camera_away_lowers_levels_monotonically() {
+    let scene = Scene::preset("paper-curly").unwrap();
+    let settings = LodSettings {
+        occlusion: false,
+        ..LodSettings::default()
+    };
+    let mut selector = LodSelector::new(&scene.groom, scene.head.inner_box(), settings).unwrap();
+    let observed = observations(&scene, Level::Patch, 0.0);
+    let mut previous: Option<Vec<Level>> = None;
+    let mut finest_seen = Level::Patch;
+    let mut coarsest_seen = Level::StrandGroup;
+    for step in 0..60 {
+        let distance = 0.5 * 1.08f32.powi(step);
+        let choices = selector
+            .select(
+                &observed,
+                &front_camera(distance),
+                &RigidTransform::IDENTITY,
+            )
+            .unwrap();
+        let levels: Vec<Level> = choices.iter().map(|c| c.level).collect();
+        if let Some(previous) = &previous {
+            for (section, (now, before)) in levels.iter().zip(previous).enumerate() {
+                assert!(
+                    now <= before,
+                    "section {section} rose from {before} to {now} at {distance} m"
+                );
+            }
+        }
+        finest_seen = finest_seen.max(*levels.iter().max().unwrap());
+        coarsest_seen = coarsest_seen.min(*levels.iter().max().unwrap());
+        previous = Some(levels);
+    }
+    assert_eq!(finest_seen, Level::StrandGroup, "near: strands");
+    // Far away even the part-line and face sections are clusters at most.
+    assert!(coarsest_seen <= Level::Cluster);
+}
+
+#[test]
+fn strong_wind_raises_levels() {
+    let scene = Scene::preset("curly").unwrap();
+    let settings = LodSettings {
+        occlusion: false,
+        keep_part_and_face_detailed: false,
+        ..LodSettings::default()
+    };
+    let camera = front_camera(12.0);
+    let calm = observations(&scene, Level::Patch, 0.0);
+    let mut selector = LodSelector::new(&scene.groom, scene.head.inner_box(), settings).unwrap();
+    let calm_levels: Vec<Level> = selector
+        .select(&calm, &camera, &RigidTransform::IDENTITY)
+        .unwrap()
+        .iter()
+        .map(|c| c.level)
+        .collect();
+    assert!(
+        calm_levels.iter().all(|&l| l == Level::Patch),
+        "12 m away, still: patches"
+    );
+    // A 10 m/s wind on hair at rest: the drag alone is c_d·|w − v| = 1.5 · 10 = 15 m/s², above
+    // the strand threshold (6 m/s²).
+    let drag_rate = 1.5;
+    let wind = Vec3::new(10.0, 0.0, 0.0);
+    let windy: Vec<SectionObservation> = (0..scene.groom.section_count())
+        .map(|section| {
+            let positions = rest_section(&scene, section, Level::Patch, &RigidTransform::IDENTITY);
+            let still = vec![Vec3::ZERO; positions.len()];
+            let motion =
+                motion_measure(&positions, &still, &still, 1.0 / 60.0, drag_rate, |_| wind);
+            assert!((motion - 15.0).abs() < 1e-4);
+            SectionObservation::of_section(&scene.groom, section, Level::Patch, &positions, motion)
+        })
+        .collect();
+    let choices = selector
+        .select(&windy, &camera, &RigidTransform::IDENTITY)
+        .unwrap();
+    for (choice, before) in choices.iter().zip(&calm_levels) {
+        assert!(choice.level > *before);
+        assert_eq!(choice.level, Level::StrandGroup);
+        assert_eq!(choice.reason, Reason::Motion);
+    }
+}
+
+#[test]
+fn part_line_and_face_sections_stay_at_least_clusters() {
+    let scene = Scene::preset("paper-curly").unwrap();
+    let settings = LodSettings {
+        occlusion: false,
+        ..LodSettings::default()
+    };
+    let mut selector = LodSelector::new(&scene.groom, scene.head.inner_box(), settings).unwrap();
+    let observed = observations(&scene, Level::Patch, 0.0);
+    let choices = selector
+        .select(&observed, &front_camera(30.0), &RigidTransform::IDENTITY)
+        .unwrap();
+    let mut ruled = 0;
+    for (section, choice) in scene.groom.sections.iter().zip(choices) {
+        if !choice.visible {
+            continue;
+        }
+        if section.along_part || section.around_face {
+            ruled += 1;
+            assert_eq!(choice.level, Level::Cluster);
+            assert_eq!(choice.reason, Reason::Rule);
+        } else {
+            assert_eq!(choice.level, Level::Patch);
+        }
+    }
+    assert!(
+        ruled > 0,
+        "the preset has part-line or face sections in view"
+    );
+}
+
+#[test]
+fn hysteresis_keeps_a_section_on_a_threshold_from_flipping() {
+    let limits = [100.0, 200.0];
+    let band = 0.1;
+    // Entering clusters needs > 110 px; leaving them needs < 90 px.
+    assert_eq!(
+        level_with_hysteresis(105.0, limits, Level::Patch, band),
+        Level::Patch
+    );
+    assert_eq!(
+        level_with_hysteresis(111.0, limits, Level::Patch, band),
+        Level::Cluster
+    );
+    assert_eq!(
+        level_with_hysteresis(95.0, limits, Level::Cluster, band),
+        Level::Cluster
+    );
+    assert_eq!(
+        level_with_hysteresis(89.0, limits, Level::Cluster, band),
+        Level::Patch
+    );
+    // Jumps across both limits work in one frame.
+    assert_eq!(
+        level_with_hysteresis(500.0, limits, Level::Patch, band),
+        Level::StrandGroup
+    );
+    assert_eq!(
+        level_with_hysteresis(10.0, limits, Level::StrandGroup, band),
+        Level::Patch
+    );
+    let mut level = Level::Patch;
+    let mut switches = 0;
+    for frame in 0..100 {
+        let value = 100.0 + 5.0 * (frame as f32 * 0.9).sin();
+        let next = level_with_hysteresis(value, limits, level, band);
+        switches += usize::from(next != level);
+        level = next;
+    }
+    assert_eq!(switches, 0);
+}
+
+#[test]
+fn distance_limits_put_the_patch_error_at_the_tolerance() {
+    let (chord, width, tolerance) = (0.2, 0.03, 1.5);
+    let [patch, cluster] = distance_limits(chord, width, tolerance);
+    // At the limit ℓ, a patch's error (w/6)·ℓ/L pixels equals the tolerance.
+    assert!(((width / 6.0) * patch / chord - tolerance).abs() < 1e-5);
+    assert!(((width / 10.0) * cluster / chord - tolerance).abs() < 1e-5);
+    assert!(cluster > patch);
+}
+
+/// A posed, moving state of a section at `level`: its rest shape under a turned head, bent by a
+/// smooth displacement growing along the chain, with made-up velocities.
+fn moving_section(
+    scene: &Scene,
+    section: usize,
+    level: Level,
+    head: &RigidTransform,
+) -> (Vec<Vec3>, Vec<Vec3>) {
+    let mut positions = rest_section(scene, section, level, head);
+    let mut velocities = Vec::with_capacity(positions.len());
+    for (k, p) in positions.iter_mut().enumerate() {
+        *p += Vec3::new(0.01 * (k as f32 * 0.7).sin(), 0.0, 0.004 * k as f32);
+        velocities.push(Vec3::new(0.1 * k as f32, -0.05, 0.02 * (k as f32).cos()));
+    }
+    (positions, velocities)
+}
+
+#[test]
+fn split_then_merge_returns_the_parent_exactly_and_the_centre_child_is_the_parent() {
+    let scene = Scene::preset("curly").unwrap();
+    let groom = &scene.groom;
+    let head = RigidTransform::new(glam::Quat::from_rotation_y(0.4), Vec3::new(0.0, 0.01, 0.0));
+    let nodes = |section, level| -> usize {
+        groom
+            .section_chains(section, level)
+            .map(|chain| groom.skeletons.chain_node_count(chain))
+            .sum()
+    };
+    for section in [0, 7, groom.section_count() - 1] {
+        for (parent, child) in [
+            (Level::Patch, Level::Cluster),
+            (Level::Cluster, Level::StrandGroup),
+        ] {
+            let (positions, velocities) = moving_section(&scene, section, parent, &head);
+            let from = SectionStateRef {
+                positions: &positions,
+                velocities: &velocities,
+            };
+            let mut child_positions = vec![Vec3::ZERO; nodes(section, child)];
+            let mut child_velocities = child_positions.clone();
+            hand_over(
+                groom,
+                section,
+                parent,
+                from,
+                child,
+                &mut child_positions,
+                &mut child_velocities,
+                &head,
+            )
+            .unwrap();
+            // The centre child inherits the centre parent exactly (bitwise).
+            let centre_offset = |level: Level| -> usize {
+                let chains = groom.section_chains(section, level);
+                (chains.start..groom.centre_chain(section, level))
+                    .map(|chain| groom.skeletons.chain_node_count(chain))
+                    .sum()
+            };
+            let n = groom
+                .skeletons
+                .chain_node_count(groom.centre_chain(section, child));
+            let (pc, cc) = (centre_offset(parent), centre_offset(child));
+            assert_eq!(child_positions[cc..cc + n], positions[pc..pc + n]);
+            assert_eq!(child_velocities[cc..cc + n], velocities[pc..pc + n]);
+            // Every child has its rest segment lengths (follow-the-leader is exact to rounding)
+            // and its own root.
+            let mut start = 0;
+            for chain in groom.section_chains(section, child) {
+                let range = groom.skeletons.nodes(chain);
+                let chain_positions = &child_positions[start..start + range.len()];
+                if start != cc {
+                    let root = head.transform_point(groom.skeletons.root_positions[chain]);
+                    assert!(chain_positions[0].distance(root) < 1e-6);
+                    for (k, length) in groom.skeletons.segment_rest_lengths[range.clone()]
+                        .iter()
+                        .enumerate()
+                        .skip(1)
+                    {
+                        let actual = chain_positions[k].distance(chain_positions[k - 1]);
+                        assert!(
+                            (actual - length).abs() < 1e-5 * length.max(1e-3),
+                            "{actual} vs {length}"
+                        );
+                    }
+                }
+                assert!(chain_positions.iter().all(|p| p.is_finite()));
+                start += range.len();
+            }
+            // Merging back: the centre parent is restored exactly.
+            let back = SectionStateRef {
+                positions: &child_positions,
+                velocities: &child_velocities,
+            };
+            let mut parent_positions = vec![Vec3::ZERO; positions.len()];
+            let mut parent_velocities = parent_positions.clone();
+            hand_over(
+                groom,
+                section,
+                child,
+                back,
+                parent,
+                &mut parent_positions,
+                &mut parent_velocities,
+                &head,
+            )
+            .unwrap();
+            let m = groom
+                .skeletons
+                .chain_node_count(groom.centre_chain(section, parent));
+            assert_eq!(parent_positions[pc..pc + m], positions[pc..pc + m]);
+            assert_eq!(parent_velocities[pc..pc + m], velocities[pc..pc + m]);
+            if parent == Level::Patch {
+                // A patch has only the centre: split + merge is the identity.
+                assert_eq!(parent_positions, positions);
+                assert_eq!(parent_velocities, velocities);
+            }
+        }
+    }
+}
+
+#[test]
+fn hand_over_rejects_wrong_sizes() {
+    let scene = Scene::preset("curly").unwrap();
+    let positions = vec![Vec3::ZERO; 3];
+    let from = SectionStateRef {
+        positions: &positions,
+        velocities: &positions,
+    };
+    let mut out = vec![Vec3::ZERO; 3];
+    let mut out_v = out.clone();
+    let error = hand_over(
+        &scene.groom,
+        0,
+        Level::Patch,
+        from,
+        Level::Cluster,
+        &mut out,
+        &mut out_v,
+        &RigidTransform::IDENTITY,
+    )
+    .unwrap_err();
+    assert!(error.to_string().contains("source positions"), "{error}");
+}
