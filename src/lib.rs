@@ -20,11 +20,15 @@
 //! # Ok::<(), hairlod::HairError>(())
 //! ```
 
+pub mod benchmark;
+pub mod pipeline;
+
 pub use hair_collide as collide;
 pub use hair_core as core;
 pub use hair_render as render;
+pub use pipeline::{LodMode, Pipeline, PipelineError, PipelineSettings};
 
 pub use hair_core::{
-    Frame, Groom, GroomCounts, GroomParams, HairError, HairStyle, Head, HeadParams, Level,
+    Camera, Frame, Groom, GroomCounts, GroomParams, HairError, HairStyle, Head, HeadParams, Level,
     RigidTransform, Scene, SkeletonRest, StyleKind, TriangleMesh,
 };

@@ -1,7 +1,9 @@
 //! The `hairlod` command-line tool: grooms, OBJ export (and, as they land, simulation, rendering and
 //! benchmarks).
 
+mod bench_cmd;
 mod groom_cmd;
+mod render_cmd;
 mod scene_args;
 mod stability_cmd;
 
@@ -24,6 +26,10 @@ enum Command {
     /// Sweep the three skeleton integrators over time step, stiffness, wind and head shake and
     /// report where each is stable.
     Stability(stability_cmd::StabilityArgs),
+    /// Render a groom to a PNG sequence (headless wgpu): one level, shaded or colour-coded.
+    Render(render_cmd::RenderArgs),
+    /// Benchmarks: `bench paper` measures the paper's Tables 1 and 2 (LODs vs fixed levels).
+    Bench(bench_cmd::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -31,6 +37,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Groom(args) => groom_cmd::run(&args),
         Command::Stability(args) => stability_cmd::run(&args),
+        Command::Render(args) => render_cmd::run(&args),
+        Command::Bench(args) => bench_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

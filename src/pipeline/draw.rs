@@ -1,0 +1,92 @@
+//! Drawing a pipeline's frame: the skeletons to draw gathered on the groom's chain numbering and
+//! handed to the wgpu renderer, which evaluates the NURBS on the GPU.
+
+use std::time::Instant;
+
+use hair_core::Camera;
+use hair_render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode};
+
+use super::error::Result;
+use super::pipeline::Pipeline;
+
+/// A renderer bound to one pipeline's groom and head (uploaded once), with its per-frame buffer.
+pub struct PipelineRenderer {
+    renderer: Renderer,
+    active: ActiveSkeletons,
+}
+
+impl PipelineRenderer {
+    /// A renderer from `options` (adapter and backend), with `pipeline`'s groom and head uploaded.
+    pub fn new(options: &RendererOptions, pipeline: &Pipeline) -> Result<Self> {
+        let mut renderer = Renderer::new(options)?;
+        renderer.upload_groom(&pipeline.scene().groom)?;
+        renderer.set_head_mesh(Some(&pipeline.scene().head.mesh))?;
+        Ok(PipelineRenderer {
+            renderer,
+            active: ActiveSkeletons::new(),
+        })
+    }
+
+    /// Uploads the groom and head of another pipeline (same scene: nothing to do but call it).
+    pub fn bind(&mut self, pipeline: &Pipeline) -> Result<()> {
+        self.renderer.upload_groom(&pipeline.scene().groom)?;
+        self.renderer
+            .set_head_mesh(Some(&pipeline.scene().head.mesh))?;
+        Ok(())
+    }
+
+    /// The wgpu renderer (adapter report, settings).
+    pub fn renderer(&self) -> &Renderer {
+        &self.renderer
+    }
+
+    /// Renders the pipeline's current skeletons through `camera` into a `width`×`height` image
+    /// (shaded, or colour-coded by level); returns the image and the time it took [s].
+    pub fn render(
+        &mut self,
+        pipeline: &mut Pipeline,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        mode: ShadingMode,
+    ) -> Result<(image::RgbaImage, f64)> {
+        let started = Instant::now();
+        pipeline.gather_drawn(&mut self.active)?;
+        let settings = FrameSettings {
+            mode,
+            ..FrameSettings::new(width, height, render_camera(camera))
+        };
+        let image = self.renderer.render(&self.active.frame(), &settings)?;
+        Ok((image, started.elapsed().as_secs_f64()))
+    }
+
+    /// Renders shaded and colour-coded side by side (`2·width`×`height`); returns the image and
+    /// the time it took [s].
+    pub fn render_side_by_side(
+        &mut self,
+        pipeline: &mut Pipeline,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> Result<(image::RgbaImage, f64)> {
+        let started = Instant::now();
+        pipeline.gather_drawn(&mut self.active)?;
+        let settings = FrameSettings::new(width, height, render_camera(camera));
+        let image = self
+            .renderer
+            .render_side_by_side(&self.active.frame(), &settings)?;
+        Ok((image, started.elapsed().as_secs_f64()))
+    }
+}
+
+/// The renderer's camera with the same pose and lens.
+fn render_camera(camera: &Camera) -> hair_render::Camera {
+    hair_render::Camera {
+        position: camera.position,
+        target: camera.target,
+        up: camera.up,
+        vertical_fov: camera.vertical_fov,
+        near: camera.near,
+        far: camera.far,
+    }
+}

@@ -1,0 +1,393 @@
+//! The frame pipeline (DESIGN "One frame"): control → level selection and transitions → dynamics
+//! with collision → skeletons for the renderer, with the wall-clock time of each stage.
+
+use std::time::Instant;
+
+use glam::Vec3;
+use hair_collide::{
+    CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, groom_chain,
+};
+use hair_core::dynamics::{DynamicsParams, Environment};
+use hair_core::lod::{LodSelector, SectionChoice, SectionObservation, motion_measure};
+use hair_core::skeleton::node_frames;
+use hair_core::{Camera, Frame, Level, RigidTransform, Scene};
+use hair_render::ActiveSkeletons;
+
+use super::block::LevelBlock;
+use super::error::Result;
+use super::report::{FrameReport, StageTimes};
+use super::settings::{LodMode, PipelineSettings};
+use super::transitions::{SectionLevels, rebuild_blocks};
+
+/// A hair simulation with levels of detail: owns the scene, the per-level skeleton states and
+/// solvers, the level selector and the collision solvers, and advances one frame at a time.
+///
+/// ```
+/// use hairlod::pipeline::{Pipeline, PipelineSettings};
+/// use hairlod::core::dynamics::Environment;
+/// use hairlod::{Camera, Scene};
+///
+/// let scene = Scene::preset("curly")?;
+/// let mut pipeline = Pipeline::new(scene, Environment::default(), PipelineSettings::default())?;
+/// let camera = Camera::default();
+/// let report = pipeline.advance(&camera)?;
+/// assert_eq!(report.sections_at.iter().sum::<usize>(), pipeline.scene().groom.section_count());
+/// # Ok::<(), hairlod::pipeline::PipelineError>(())
+/// ```
+pub struct Pipeline {
+    scene: Scene,
+    environment: Environment,
+    settings: PipelineSettings,
+    params: DynamicsParams,
+    selector: Option<LodSelector>,
+    blocks: [LevelBlock; 3],
+    solvers: [Option<CollisionSolver>; 3],
+    levels: SectionLevels,
+    choices: Vec<SectionChoice>,
+    observations: Vec<SectionObservation>,
+    frame: usize,
+    time: f64,
+    frames_scratch: Vec<Frame>,
+    collision_chains: Vec<CollisionChain>,
+}
+
+impl Pipeline {
+    /// A pipeline for `scene` driven by `environment` (head motion, wind, gravity), every section
+    /// at rest, as patches (automatic mode) or at the fixed level.
+    pub fn new(scene: Scene, environment: Environment, settings: PipelineSettings) -> Result<Self> {
+        settings.dynamics.validate()?;
+        let groom = &scene.groom;
+        let sections = groom.section_count();
+        let params = DynamicsParams::for_style(&groom.params.style);
+        let (selector, start_level) = match settings.lod {
+            LodMode::Auto(lod) => (
+                Some(LodSelector::new(groom, scene.head.inner_box(), lod)?),
+                Level::Patch,
+            ),
+            LodMode::Fixed(level) => (None, level),
+        };
+        let solvers = if settings.collision {
+            let make = || -> Result<CollisionSolver> {
+                let body = CollisionBody::from_mesh(&scene.head.mesh)?;
+                Ok(CollisionSolver::new(
+                    vec![body],
+                    CollisionSettings::default(),
+                )?)
+            };
+            [Some(make()?), Some(make()?), Some(make()?)]
+        } else {
+            [None, None, None]
+        };
+        let visible_choice = SectionChoice {
+            level: start_level,
+            visible: true,
+            reason: hair_core::lod::Reason::Fixed,
+        };
+        let mut pipeline = Pipeline {
+            environment,
+            settings,
+            params,
+            selector,
+            blocks: Level::ALL.map(LevelBlock::empty),
+            solvers,
+            levels: SectionLevels::new(sections, start_level),
+            choices: vec![visible_choice; sections],
+            observations: vec![SectionObservation::default(); sections],
+            frame: 0,
+            time: 0.0,
+            frames_scratch: Vec::new(),
+            collision_chains: Vec::new(),
+            scene,
+        };
+        pipeline.start_at_rest()?;
+        Ok(pipeline)
+    }
+
+    /// Builds the blocks of the starting levels and puts every skeleton in its rest shape.
+    fn start_at_rest(&mut self) -> Result<()> {
+        let head = self.environment.head.transform_at(self.time);
+        let groom = &self.scene.groom;
+        for level in Level::ALL {
+            let sections = self.levels.members(level);
+            let mut block = LevelBlock::build(
+                groom,
+                level,
+                sections,
+                self.params,
+                self.settings.dynamics,
+                self.time,
+            )?;
+            if let Some(simulation) = &block.simulation {
+                let rest = simulation.model().rest.rest_positions(&head);
+                block.state.node_positions = rest;
+            }
+            self.blocks[level as usize] = block;
+        }
+        self.refresh_collision_chains()?;
+        Ok(())
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &PipelineSettings {
+        &self.settings
+    }
+
+    /// The environment (head motion, wind, gravity).
+    pub fn environment(&self) -> &Environment {
+        &self.environment
+    }
+
+    /// Replaces the environment from the next frame on.
+    pub fn set_environment(&mut self, environment: Environment) {
+        self.environment = environment;
+    }
+
+    /// The level selector (`None` with a fixed level).
+    pub fn selector_mut(&mut self) -> Option<&mut LodSelector> {
+        self.selector.as_mut()
+    }
+
+    /// Simulated time [s].
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Frames advanced so far.
+    pub fn frame(&self) -> usize {
+        self.frame
+    }
+
+    /// The current level of every section.
+    pub fn section_levels(&self) -> &[Level] {
+        self.levels.current()
+    }
+
+    /// The last choice of every section (level, visibility, reason).
+    pub fn choices(&self) -> &[SectionChoice] {
+        &self.choices
+    }
+
+    /// The block of `level`: the sections simulated at it and their state.
+    pub fn block(&self, level: Level) -> &LevelBlock {
+        &self.blocks[level as usize]
+    }
+
+    /// Advances one frame of `settings.dynamics.time_step` seconds seen by `camera`: chooses
+    /// levels, hands state over where a section changed level, steps every block with collision.
+    pub fn advance(&mut self, camera: &Camera) -> Result<FrameReport> {
+        camera.validate()?;
+        let mut times = StageTimes::default();
+        let started = Instant::now();
+        let head = self.environment.head.transform_at(self.time);
+        let level_changes = self.select_levels(camera, &head)?;
+        if level_changes > 0 || self.levels.blends_finished(self.time) {
+            rebuild_blocks(
+                &self.scene.groom,
+                &mut self.blocks,
+                &mut self.levels,
+                self.params,
+                self.settings.dynamics,
+                self.time,
+                &head,
+            )?;
+            self.refresh_collision_chains()?;
+        }
+        times.lod = started.elapsed().as_secs_f64();
+        let mut contacts = 0;
+        for (block, solver) in self.blocks.iter_mut().zip(self.solvers.iter_mut()) {
+            let Some(simulation) = block.simulation.as_mut() else {
+                continue;
+            };
+            block
+                .previous_velocities
+                .copy_from_slice(&block.state.node_velocities);
+            block.state.time = self.time;
+            match solver {
+                Some(solver) => {
+                    let started = Instant::now();
+                    let report =
+                        solver.before_step(simulation, &mut block.state, &self.environment)?;
+                    contacts += report.contact_segments;
+                    times.collision += started.elapsed().as_secs_f64();
+                    let started = Instant::now();
+                    simulation.step(&mut block.state, &self.environment)?;
+                    times.dynamics += started.elapsed().as_secs_f64();
+                    let started = Instant::now();
+                    solver.after_step(simulation, &mut block.state, &self.environment)?;
+                    times.collision += started.elapsed().as_secs_f64();
+                }
+                None => {
+                    let started = Instant::now();
+                    simulation.step(&mut block.state, &self.environment)?;
+                    times.dynamics += started.elapsed().as_secs_f64();
+                }
+            }
+        }
+        self.time += f64::from(self.settings.dynamics.time_step);
+        let report = FrameReport {
+            frame: self.frame,
+            time: self.time,
+            sections_at: Level::ALL.map(|level| {
+                self.levels
+                    .current()
+                    .iter()
+                    .filter(|&&l| l == level)
+                    .count()
+            }),
+            visible_sections: self.choices.iter().filter(|c| c.visible).count(),
+            level_changes,
+            blending_sections: self.levels.blending_count(),
+            simulated_nodes: self.blocks.iter().map(LevelBlock::node_count).sum(),
+            drawn_segments: self.drawn_segments(),
+            contacts,
+            times,
+        };
+        self.frame += 1;
+        Ok(report)
+    }
+
+    /// Observes every section on its current level and chooses levels; returns how many sections
+    /// changed level (their transitions are started in `self.levels`).
+    fn select_levels(&mut self, camera: &Camera, head: &RigidTransform) -> Result<usize> {
+        let groom = &self.scene.groom;
+        let Some(selector) = self.selector.as_mut() else {
+            return Ok(0);
+        };
+        let frame_time = self.settings.dynamics.time_step;
+        let wind = &self.environment.wind;
+        let time = self.time;
+        for (section, observation) in self.observations.iter_mut().enumerate() {
+            let level = self.levels.current()[section];
+            let block = &self.blocks[level as usize];
+            let slot = block
+                .slot(section)
+                .expect("a section is simulated at its level");
+            let nodes = block.nodes(slot);
+            let positions = &block.state.node_positions[nodes.clone()];
+            let motion = if self.frame == 0 {
+                // No previous frame: only the wind's drag counts.
+                motion_measure(
+                    positions,
+                    &block.state.node_velocities[nodes.clone()],
+                    &block.state.node_velocities[nodes.clone()],
+                    frame_time,
+                    self.params.air_drag_rate,
+                    |x| wind.velocity_at(x, time),
+                )
+            } else {
+                motion_measure(
+                    positions,
+                    &block.state.node_velocities[nodes.clone()],
+                    &block.previous_velocities[nodes.clone()],
+                    frame_time,
+                    self.params.air_drag_rate,
+                    |x| wind.velocity_at(x, time),
+                )
+            };
+            *observation = SectionObservation::of_section(groom, section, level, positions, motion);
+        }
+        let choices = selector.select(&self.observations, camera, head)?;
+        self.choices.copy_from_slice(choices);
+        let blend = selector.settings().blend_time;
+        let mut changes = 0;
+        for (section, choice) in self.choices.iter().enumerate() {
+            if self.levels.current()[section] != choice.level {
+                self.levels.switch(section, choice.level, time, blend);
+                changes += 1;
+            }
+        }
+        Ok(changes)
+    }
+
+    /// Points every collision solver at its block's chains (rebuilds hierarchies on change).
+    fn refresh_collision_chains(&mut self) -> Result<()> {
+        let groom = &self.scene.groom;
+        for (block, solver) in self.blocks.iter().zip(self.solvers.iter_mut()) {
+            let (Some(solver), Some(simulation)) = (solver.as_mut(), block.simulation.as_ref())
+            else {
+                continue;
+            };
+            self.collision_chains.clear();
+            for (model_chain, &chain) in block.chains.iter().enumerate() {
+                if let Some(mut collision) = groom_chain(groom, chain) {
+                    collision.chain = model_chain as u32;
+                    self.collision_chains.push(collision);
+                }
+            }
+            solver.set_chains(simulation, &self.collision_chains)?;
+        }
+        Ok(())
+    }
+
+    /// Skeleton segments drawn this frame (strand groups count each of their strands).
+    fn drawn_segments(&self) -> usize {
+        let groom = &self.scene.groom;
+        let mut segments = 0;
+        for (section, choice) in self.choices.iter().enumerate() {
+            if !choice.visible {
+                continue;
+            }
+            for level in self.levels.drawn(section) {
+                for chain in groom.section_chains(section, level) {
+                    let per_chain = groom.skeletons.chain_node_count(chain).saturating_sub(1);
+                    let copies = if level == Level::StrandGroup {
+                        let group = chain - groom.level_chains(Level::StrandGroup).start;
+                        groom.strands.strands(group).len()
+                    } else {
+                        1
+                    };
+                    segments += per_chain * copies;
+                }
+            }
+        }
+        segments
+    }
+
+    /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
+    /// every visible section at its level (and, while it blends, at its previous level too), with
+    /// node frames computed from the simulated positions; everything else inactive.
+    pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
+        let head = self.environment.head.transform_at(self.time);
+        let groom = &self.scene.groom;
+        active.clear();
+        for chain in 0..groom.skeletons.chain_count() {
+            let (section, level, _) = groom.chain_owner(chain);
+            let drawn =
+                self.choices[section].visible && self.levels.drawn(section).contains(&level);
+            let block = &self.blocks[level as usize];
+            let located = block.slot(section).filter(|_| drawn);
+            let Some(slot) = located else {
+                active.push_inactive_chain();
+                continue;
+            };
+            // The chain's nodes inside the section's node range of the block.
+            let section_chains = groom.section_chains(section, level);
+            let before: usize = (section_chains.start..chain)
+                .map(|c| groom.skeletons.chain_node_count(c))
+                .sum();
+            let count = groom.skeletons.chain_node_count(chain);
+            let start = block.nodes(slot).start + before;
+            let positions = &block.state.node_positions[start..start + count];
+            self.frames_scratch.clear();
+            self.frames_scratch.resize(count, Frame::default());
+            let root_frame = groom.skeletons.world_root_frame(chain, &head);
+            node_frames(&root_frame, positions, &mut self.frames_scratch);
+            active.push_chain(positions, &self.frames_scratch)?;
+        }
+        Ok(())
+    }
+
+    /// The largest distance of any simulated node from the head's centre [m] (a sanity measure).
+    pub fn max_node_distance(&self, centre: Vec3) -> f32 {
+        self.blocks
+            .iter()
+            .flat_map(|block| block.state.node_positions.iter())
+            .map(|p| p.distance(centre))
+            .fold(0.0, f32::max)
+    }
+}

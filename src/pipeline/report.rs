@@ -1,0 +1,57 @@
+//! What one frame of the pipeline did and what each stage cost.
+
+use serde::{Deserialize, Serialize};
+
+/// Wall-clock time of each stage of one frame [s].
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct StageTimes {
+    /// Level selection and transitions.
+    pub lod: f64,
+    /// Dynamics (forces and integration), collision excluded.
+    pub dynamics: f64,
+    /// Collision detection and response.
+    pub collision: f64,
+    /// Rendering (filled by the caller that renders).
+    pub rendering: f64,
+}
+
+impl StageTimes {
+    /// The sum of all stages [s].
+    pub fn total(&self) -> f64 {
+        self.lod + self.dynamics + self.collision + self.rendering
+    }
+
+    /// Adds `other` stage by stage.
+    pub fn add(&mut self, other: &StageTimes) {
+        self.lod += other.lod;
+        self.dynamics += other.dynamics;
+        self.collision += other.collision;
+        self.rendering += other.rendering;
+    }
+}
+
+/// What one frame did.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct FrameReport {
+    /// Frame number, from 0.
+    pub frame: usize,
+    /// Simulated time at the end of the frame [s].
+    pub time: f64,
+    /// Sections at each level: patches, clusters, strand groups.
+    pub sections_at: [usize; 3],
+    /// Sections drawn (in view and not occluded).
+    pub visible_sections: usize,
+    /// Sections that changed level this frame.
+    pub level_changes: usize,
+    /// Sections still blending from their previous level.
+    pub blending_sections: usize,
+    /// Skeleton nodes simulated this frame.
+    pub simulated_nodes: usize,
+    /// Skeleton segments drawn: active skeleton segments of visible sections at strand level count
+    /// once per strand.
+    pub drawn_segments: usize,
+    /// Hair segments found touching the head.
+    pub contacts: usize,
+    /// Time per stage [s].
+    pub times: StageTimes,
+}

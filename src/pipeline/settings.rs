@@ -1,0 +1,53 @@
+//! What the frame pipeline runs: automatic levels or one fixed level, the dynamics settings,
+//! collision on or off.
+
+use hair_core::Level;
+use hair_core::dynamics::{IntegratorKind, SimulationSettings};
+use hair_core::lod::LodSettings;
+use serde::{Deserialize, Serialize};
+
+/// How sections get their level.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LodMode {
+    /// Chosen every frame by the selector (§7).
+    Auto(LodSettings),
+    /// Every section at this level, visible or not (the paper's Strands, Clusters and Patches
+    /// columns).
+    Fixed(Level),
+}
+
+impl LodMode {
+    /// The name used in reports: `LODs`, `Strands`, `Clusters` or `Patches` (the paper's columns).
+    pub fn column_name(&self) -> &'static str {
+        match self {
+            LodMode::Auto(_) => "LODs",
+            LodMode::Fixed(Level::StrandGroup) => "Strands",
+            LodMode::Fixed(Level::Cluster) => "Clusters",
+            LodMode::Fixed(Level::Patch) => "Patches",
+        }
+    }
+}
+
+/// Settings of a [`Pipeline`](super::Pipeline).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PipelineSettings {
+    /// Level selection.
+    pub lod: LodMode,
+    /// Integrator, frame time step (one step per frame) and substeps.
+    pub dynamics: SimulationSettings,
+    /// Hair-head collision (response, friction and the positional guarantee) on.
+    pub collision: bool,
+}
+
+impl Default for PipelineSettings {
+    /// Automatic levels with default settings, the linear-implicit integrator at its recommended
+    /// 60 Hz × 4 substeps, collision on.
+    fn default() -> Self {
+        PipelineSettings {
+            lod: LodMode::Auto(LodSettings::default()),
+            dynamics: SimulationSettings::recommended(IntegratorKind::LinearImplicit),
+            collision: true,
+        }
+    }
+}

@@ -1,0 +1,156 @@
+//! Level switches of sections: the current and (while blending) previous level of each, and the
+//! rebuilding of the per-level blocks with state handed over (§4.2).
+
+use hair_core::dynamics::{DynamicsParams, SimulationSettings};
+use hair_core::lod::{SectionStateRef, hand_over};
+use hair_core::{Groom, Level, RigidTransform};
+
+use super::block::LevelBlock;
+use super::error::Result;
+
+/// Every section's current level and, while a transition blends, the level it comes from.
+#[derive(Debug, Clone)]
+pub struct SectionLevels {
+    current: Vec<Level>,
+    /// `(previous level, blend start [s], blend duration [s])` of sections still blending.
+    blending: Vec<Option<(Level, f64, f32)>>,
+}
+
+impl SectionLevels {
+    /// `sections` sections at `level`, none blending.
+    pub fn new(sections: usize, level: Level) -> Self {
+        SectionLevels {
+            current: vec![level; sections],
+            blending: vec![None; sections],
+        }
+    }
+
+    /// The current level of each section.
+    pub fn current(&self) -> &[Level] {
+        &self.current
+    }
+
+    /// The level section `section` blends from, if it is blending.
+    pub fn previous(&self, section: usize) -> Option<Level> {
+        self.blending[section].map(|(level, _, _)| level)
+    }
+
+    /// How far section `section`'s blend has gone at `time` [s], in `[0, 1]` (1: not blending).
+    pub fn blend_weight(&self, section: usize, time: f64) -> f32 {
+        match self.blending[section] {
+            Some((_, start, duration)) if duration > 0.0 => {
+                (((time - start) / f64::from(duration)) as f32).clamp(0.0, 1.0)
+            }
+            _ => 1.0,
+        }
+    }
+
+    /// Switches `section` to `level` at `time` [s]; with `blend` > 0 s the old level stays
+    /// simulated and drawn (fading) for that long.
+    pub fn switch(&mut self, section: usize, level: Level, time: f64, blend: f32) {
+        let old = self.current[section];
+        self.current[section] = level;
+        self.blending[section] = if blend > 0.0 && old != level {
+            Some((old, time, blend))
+        } else {
+            None
+        };
+    }
+
+    /// Ends the blends that are over at `time` [s]; returns whether any ended.
+    pub fn blends_finished(&mut self, time: f64) -> bool {
+        let mut ended = false;
+        for blend in &mut self.blending {
+            if let Some((_, start, duration)) = *blend
+                && time - start >= f64::from(duration)
+            {
+                *blend = None;
+                ended = true;
+            }
+        }
+        ended
+    }
+
+    /// Sections blending now.
+    pub fn blending_count(&self) -> usize {
+        self.blending.iter().filter(|b| b.is_some()).count()
+    }
+
+    /// The levels section `section` is drawn at: its current level, and its previous one while
+    /// blending.
+    pub fn drawn(&self, section: usize) -> Vec<Level> {
+        let mut levels = vec![self.current[section]];
+        levels.extend(self.previous(section));
+        levels
+    }
+
+    /// The sections simulated at `level` (current or blending from it), ascending.
+    pub fn members(&self, level: Level) -> Vec<usize> {
+        (0..self.current.len())
+            .filter(|&s| self.current[s] == level || self.previous(s) == Some(level))
+            .collect()
+    }
+}
+
+/// Rebuilds the blocks whose membership changed: sections that stay at a level keep their state
+/// bit for bit, sections that arrive are handed over from the level they come from.
+pub fn rebuild_blocks(
+    groom: &Groom,
+    blocks: &mut [LevelBlock; 3],
+    levels: &mut SectionLevels,
+    params: DynamicsParams,
+    settings: SimulationSettings,
+    time: f64,
+    head: &RigidTransform,
+) -> Result<()> {
+    let mut rebuilt: [Option<LevelBlock>; 3] = [None, None, None];
+    for level in Level::ALL {
+        let members = levels.members(level);
+        let old = &blocks[level as usize];
+        if members == old.sections {
+            continue;
+        }
+        let mut block = LevelBlock::build(groom, level, members, params, settings, time)?;
+        for slot in 0..block.sections.len() {
+            let section = block.sections[slot];
+            let target = block.nodes(slot);
+            if let Some(old_slot) = old.slot(section) {
+                let source = old.nodes(old_slot);
+                block.state.node_positions[target.clone()]
+                    .copy_from_slice(&old.state.node_positions[source.clone()]);
+                block.state.node_velocities[target.clone()]
+                    .copy_from_slice(&old.state.node_velocities[source.clone()]);
+                block.previous_velocities[target].copy_from_slice(&old.previous_velocities[source]);
+                continue;
+            }
+            // Arriving: hand over from the level it was simulated at until now.
+            let from_level = Level::ALL
+                .into_iter()
+                .filter(|&l| l != level)
+                .find(|&l| blocks[l as usize].slot(section).is_some())
+                .expect("every section is simulated at some level");
+            let from_block = &blocks[from_level as usize];
+            let from_nodes = from_block.nodes(from_block.slot(section).expect("found above"));
+            let from = SectionStateRef {
+                positions: &from_block.state.node_positions[from_nodes.clone()],
+                velocities: &from_block.state.node_velocities[from_nodes.clone()],
+            };
+            let (positions, velocities) = (
+                &mut block.state.node_positions[target.clone()],
+                &mut block.state.node_velocities[target.clone()],
+            );
+            hand_over(
+                groom, section, from_level, from, level, positions, velocities, head,
+            )?;
+            let nodes = block.nodes(slot);
+            block.previous_velocities[target].copy_from_slice(&block.state.node_velocities[nodes]);
+        }
+        rebuilt[level as usize] = Some(block);
+    }
+    for level in Level::ALL {
+        if let Some(block) = rebuilt[level as usize].take() {
+            blocks[level as usize] = block;
+        }
+    }
+    Ok(())
+}
