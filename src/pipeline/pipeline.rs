@@ -127,6 +127,42 @@ impl Pipeline {
         Ok(())
     }
 
+    /// Lets the hair settle from its rest shape under gravity (and the environment at time 0)
+    /// for `seconds` [s] at the current levels, without choosing levels or advancing the clock:
+    /// a groom's rest shape is not an equilibrium under gravity, and a run should not start with
+    /// hair falling into place (which the motion criterion would rightly read as motion).
+    pub fn settle(&mut self, seconds: f32) -> Result<()> {
+        let step = self.settings.dynamics.time_step;
+        let steps = (seconds / step).ceil().max(0.0) as usize;
+        let still = Environment {
+            head: hair_core::dynamics::HeadMotion::Still(self.environment.head.transform_at(self.time)),
+            ..self.environment.clone()
+        };
+        for _ in 0..steps {
+            for (block, solver) in self.blocks.iter_mut().zip(self.solvers.iter_mut()) {
+                let Some(simulation) = block.simulation.as_mut() else {
+                    continue;
+                };
+                block.state.time = 0.0;
+                match solver {
+                    Some(solver) => {
+                        solver.step(simulation, &mut block.state, &still)?;
+                    }
+                    None => {
+                        simulation.step(&mut block.state, &still)?;
+                    }
+                }
+            }
+        }
+        for block in &mut self.blocks {
+            block.state.time = self.time;
+            block
+                .previous_velocities
+                .copy_from_slice(&block.state.node_velocities);
+        }
+        Ok(())
+    }
+
     /// The scene.
     pub fn scene(&self) -> &Scene {
         &self.scene

@@ -116,7 +116,7 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
 
 /// Runs the four modes (and the LODs again with instant switching for the popping measure),
 /// prints the table and returns the report.
-fn paper_tables(benchmark: &PaperBenchmark) -> Result<serde_json::Value> {
+pub fn paper_tables(benchmark: &PaperBenchmark) -> Result<serde_json::Value> {
     let scene = Scene::preset("paper-curly")?;
     let options = RendererOptions::from_env()?;
     let lod = benchmark.lod_settings();
@@ -265,7 +265,7 @@ fn print_table(
     }
 }
 
-fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<()> {
+pub fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(value)?;
     let temporary = path.with_extension("json.partial");
     std::fs::write(&temporary, text).with_context(|| format!("writing {}", temporary.display()))?;
