@@ -30,7 +30,8 @@ fn max_length_error(pipeline: &Pipeline) -> f32 {
             for chain in 0..rest.chain_count() {
                 let nodes = rest.nodes(chain);
                 for k in nodes.start + 1..nodes.end {
-                    let length = block.state.node_positions[k].distance(block.state.node_positions[k - 1]);
+                    let length =
+                        block.state.node_positions[k].distance(block.state.node_positions[k - 1]);
                     let rest_length = rest.segment_rest_lengths[k];
                     worst = worst.max((length - rest_length).abs() / rest_length);
                 }
@@ -85,8 +86,14 @@ fn zooming_out_with_levels_keeps_skeletons_whole_and_lowers_detail() {
         changes += report.level_changes;
         // Every section is simulated at exactly its current level, plus its previous one while
         // blending.
-        let simulated: usize = Level::ALL.iter().map(|&l| pipeline.block(l).sections.len()).sum();
-        assert_eq!(simulated, report.sections_at.iter().sum::<usize>() + report.blending_sections);
+        let simulated: usize = Level::ALL
+            .iter()
+            .map(|&l| pipeline.block(l).sections.len())
+            .sum();
+        assert_eq!(
+            simulated,
+            report.sections_at.iter().sum::<usize>() + report.blending_sections
+        );
         // Follow-the-leader keeps lengths to rounding after every step, transitions included
         // (hand-over ends with a follow-the-leader pass too): 0.1 % is the bound.
         let error = max_length_error(&pipeline);
@@ -107,11 +114,13 @@ fn zooming_out_with_levels_keeps_skeletons_whole_and_lowers_detail() {
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
     let run = |threads: usize| -> Vec<Vec3> {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| {
             let scene = Scene::preset("wavy").unwrap();
-            let mut pipeline =
-                Pipeline::new(scene, windy(), PipelineSettings::default()).unwrap();
+            let mut pipeline = Pipeline::new(scene, windy(), PipelineSettings::default()).unwrap();
             for frame in 0..20 {
                 pipeline.advance(&zoom_camera(frame, 20)).unwrap();
             }
@@ -124,13 +133,18 @@ fn results_do_not_depend_on_the_thread_count() {
     let one = run(1);
     let two = run(2);
     assert_eq!(one.len(), two.len());
-    assert!(one.iter().zip(&two).all(|(a, b)| a.to_array() == b.to_array()));
+    assert!(
+        one.iter()
+            .zip(&two)
+            .all(|(a, b)| a.to_array() == b.to_array())
+    );
 }
 
 #[test]
 fn a_bad_camera_is_an_error_not_a_panic() {
     let scene = Scene::preset("curly").unwrap();
-    let mut pipeline = Pipeline::new(scene, Environment::default(), PipelineSettings::default()).unwrap();
+    let mut pipeline =
+        Pipeline::new(scene, Environment::default(), PipelineSettings::default()).unwrap();
     let camera = Camera {
         position: Vec3::NAN,
         ..Camera::default()

@@ -135,7 +135,9 @@ impl Pipeline {
         let step = self.settings.dynamics.time_step;
         let steps = (seconds / step).ceil().max(0.0) as usize;
         let still = Environment {
-            head: hair_core::dynamics::HeadMotion::Still(self.environment.head.transform_at(self.time)),
+            head: hair_core::dynamics::HeadMotion::Still(
+                self.environment.head.transform_at(self.time),
+            ),
             ..self.environment.clone()
         };
         for _ in 0..steps {

@@ -228,7 +228,8 @@ fn print_table(
         print!("{:>20}", run.mode);
     }
     println!("{:>14}", "LODs speedup");
-    let rows: [(&str, fn(&ModeRun) -> f64); 3] = [
+    type Row = (&'static str, fn(&ModeRun) -> f64);
+    let rows: [Row; 3] = [
         ("Dyn Sim", |r| r.mean.dynamics),
         ("Col Detect", |r| r.mean.collision),
         ("Rendering", |r| r.mean.rendering),

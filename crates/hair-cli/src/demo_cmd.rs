@@ -14,7 +14,7 @@ use hairlod::render::{RendererOptions, ShadingMode};
 use hairlod::{Pipeline, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::bench_cmd::{parse_size, paper_tables, write_json};
+use crate::bench_cmd::{paper_tables, parse_size, write_json};
 
 /// Arguments of `hairlod demo`.
 #[derive(Debug, Args)]
@@ -35,7 +35,11 @@ pub struct DemoArgs {
 
 /// Runs `hairlod demo`.
 pub fn run(args: &DemoArgs) -> Result<()> {
-    anyhow::ensure!(args.frames >= 2, "--frames must be at least 2 (got {})", args.frames);
+    anyhow::ensure!(
+        args.frames >= 2,
+        "--frames must be at least 2 (got {})",
+        args.frames
+    );
     let (width, height) = parse_size(&args.size)?;
     let benchmark = PaperBenchmark {
         frames: args.frames,

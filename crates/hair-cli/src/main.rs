@@ -2,6 +2,7 @@
 //! benchmarks).
 
 mod bench_cmd;
+mod demo_cmd;
 mod groom_cmd;
 mod render_cmd;
 mod scene_args;
@@ -30,6 +31,9 @@ enum Command {
     Render(render_cmd::RenderArgs),
     /// Benchmarks: `bench paper` measures the paper's Tables 1 and 2 (LODs vs fixed levels).
     Bench(bench_cmd::BenchArgs),
+    /// The main job: the benchmark scene with wind and LODs rendered to ./out (shaded and
+    /// colour-coded), then the Table 2 comparison.
+    Demo(demo_cmd::DemoArgs),
 }
 
 fn main() -> ExitCode {
@@ -39,6 +43,7 @@ fn main() -> ExitCode {
         Command::Stability(args) => stability_cmd::run(&args),
         Command::Render(args) => render_cmd::run(&args),
         Command::Bench(args) => bench_cmd::run(&args),
+        Command::Demo(args) => demo_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -221,5 +221,27 @@ fn draw_chart(report: &StabilityReport, path: &Path) -> Result<()> {
     ))?;
     root.present()
         .with_context(|| format!("writing {}", path.display()))?;
+    drop(root);
+    recompress_png(path)
+}
+
+/// Re-encodes a PNG with the best compression (plotters writes a fast, large one): a few flat
+/// colours and text compress to well under half.
+fn recompress_png(path: &Path) -> Result<()> {
+    use image::ImageEncoder;
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    let picture = image::open(path)
+        .with_context(|| format!("reading back {}", path.display()))?
+        .into_rgb8();
+    let mut bytes = Vec::new();
+    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
+        .write_image(
+            picture.as_raw(),
+            picture.width(),
+            picture.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+        .with_context(|| format!("encoding {}", path.display()))?;
+    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }

@@ -27,18 +27,24 @@ impl GrowableBuffer {
         &self.buffer
     }
 
-    /// Writes `bytes` (a multiple of 4 long) at the start of the buffer, first replacing it with a
-    /// larger one (1.5× the need) when it is too small. Returns whether the buffer was replaced,
-    /// so that bind groups naming it can be rebuilt.
-    pub fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) -> bool {
-        let needed = bytes.len() as u64;
-        let replaced = needed > self.buffer.size();
+    /// Makes the buffer hold at least `bytes` bytes (contents undefined after a replacement);
+    /// returns whether it was replaced.
+    pub fn reserve(&mut self, device: &wgpu::Device, bytes: u64) -> bool {
+        let replaced = bytes > self.buffer.size();
         if replaced {
-            let size = (needed + needed / 2)
+            let size = (bytes + bytes / 2)
                 .max(MIN_BUFFER_BYTES)
                 .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
             self.buffer = create(device, self.label, self.usage, size);
         }
+        replaced
+    }
+
+    /// Writes `bytes` (a multiple of 4 long) at the start of the buffer, first replacing it with a
+    /// larger one (1.5× the need) when it is too small. Returns whether the buffer was replaced,
+    /// so that bind groups naming it can be rebuilt.
+    pub fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) -> bool {
+        let replaced = self.reserve(device, bytes.len() as u64);
         if !bytes.is_empty() {
             queue.write_buffer(&self.buffer, 0, bytes);
         }

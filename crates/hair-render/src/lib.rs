@@ -17,8 +17,18 @@
 //!   ∝ sin(T, L), specular ∝ (sin(T, L)·sin(T, V) − (T·L)(T·V))^p), per-strand shade within a hair
 //!   colour range ([`HairMaterial`]); the head ([`hair_core::TriangleMesh`]) is Lambert-lit and
 //!   hides hair behind it by depth. 4× MSAA by default.
-//! - **LOD colour coding** ([`ShadingMode::LevelColors`], Fig. 6): strands flat yellow (clusters red
-//!   and patches blue once those levels are drawn), the head flat grey.
+//! - **Clusters and patches** ([`ClusterSet`], [`PatchSet`]): closed tubes (4 control points per
+//!   node, periodic cubic around) and ruled strips (2 per node, linear across), evaluated in the
+//!   vertex shader from the same node buffers, shaded with Kajiya-Kay along the hair on a procedural
+//!   stripe texture in the hair colour range. [`Renderer::upload_groom`] uploads all three levels
+//!   of a groom; [`ActiveSkeletons`] builds the per-frame node buffer of the active skeletons
+//!   (chains without nodes draw nothing).
+//! - **Tessellation** per chain from its root's camera distance, drawn in instanced batches of
+//!   equal tessellation (no collapsed vertices); strand curves are evaluated once per chain sample
+//!   in a compute pass and shared by the chain's strands.
+//! - **LOD colour coding** ([`ShadingMode::LevelColors`], Fig. 6): strands flat yellow, clusters
+//!   red, patches blue, the head flat grey; [`Renderer::render_side_by_side`] gives shaded |
+//!   colour-coded.
 //! - **Output** ([`output`]): atomic PNG writes, sortable frame names, side-by-side and contact
 //!   sheets.
 //!
@@ -52,25 +62,32 @@
 //! # }
 //! ```
 //!
-//! # Not yet
-//!
-//! Clusters (closed tubes of 4 control points per node) and patches (strips of 2 control points per
-//! node) will be drawn from the same node buffers; the colour-coding mode already has their colours.
+//! See `docs/render.md` for the shading, the CLI and measured figures.
 
+pub mod active;
 pub mod bspline;
 pub mod camera;
 pub mod device;
 pub mod error;
+pub mod groom;
 pub mod inputs;
 pub mod output;
 pub mod renderer;
 pub mod settings;
+pub mod surfaces;
 pub mod target;
 
+mod batches;
 mod buffers;
+mod evaluate;
 mod head;
 mod pipelines;
+mod scopes;
 mod uniforms;
+
+pub use active::ActiveSkeletons;
+pub use groom::GroomGeometry;
+pub use surfaces::{ClusterSet, PatchSet};
 
 pub use camera::Camera;
 pub use device::{

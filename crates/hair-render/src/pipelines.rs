@@ -2,13 +2,21 @@
 
 use crate::target::{COLOR_FORMAT, DEPTH_FORMAT};
 
-/// WGSL shared by every pipeline: globals, node/strand storage buffers, the B-spline.
+/// WGSL shared by every pipeline: globals, node and chain storage buffers, the B-spline and
+/// Kajiya-Kay shading.
 const COMMON_WGSL: &str = concat!(
     include_str!("shaders/common.wgsl"),
-    include_str!("shaders/bspline.wgsl")
+    include_str!("shaders/bspline.wgsl"),
+    include_str!("shaders/chain_curve_types.wgsl")
 );
+/// The chain-curve compute pass.
+const CHAIN_CURVES_WGSL: &str = include_str!("shaders/chain_curves.wgsl");
+/// The strand storage buffer (group 1).
+const STRAND_ITEMS_WGSL: &str = include_str!("shaders/strand_items.wgsl");
 /// Strand ribbons and lines.
 const STRANDS_WGSL: &str = include_str!("shaders/strands.wgsl");
+/// Cluster tubes and patch strips.
+const SURFACES_WGSL: &str = include_str!("shaders/surfaces.wgsl");
 /// The head mesh.
 const HEAD_WGSL: &str = include_str!("shaders/head.wgsl");
 /// The evaluation compute pass.
@@ -20,12 +28,21 @@ pub(crate) const HEAD_VERTEX_STRIDE: u64 = 24;
 /// Every pipeline and layout the renderer uses.
 #[derive(Debug)]
 pub(crate) struct Pipelines {
-    /// Group 0: globals (binding 0), nodes (1), chain offsets (2), strands (3).
+    /// Group 0: globals (binding 0), nodes (1), chain table (2).
     pub scene_layout: wgpu::BindGroupLayout,
-    /// Group 1 of the evaluation pass: the output points (binding 0).
+    /// Group 1 of strands: the strands (binding 0) and this frame's chain-curve samples (1).
+    pub strand_items_layout: wgpu::BindGroupLayout,
+    /// Group 1 of clusters and patches: their static records (binding 0).
+    pub items_layout: wgpu::BindGroupLayout,
+    /// Group 1 of the chain-curve pass: the samples it writes (binding 0).
+    pub chain_curves_layout: wgpu::BindGroupLayout,
+    pub chain_curves: wgpu::ComputePipeline,
+    /// Group 2 of the evaluation pass: the output points (binding 0).
     pub evaluate_layout: wgpu::BindGroupLayout,
     pub strand_ribbons: wgpu::RenderPipeline,
     pub strand_lines: wgpu::RenderPipeline,
+    pub clusters: wgpu::RenderPipeline,
+    pub patches: wgpu::RenderPipeline,
     pub head: wgpu::RenderPipeline,
     pub evaluate: wgpu::ComputePipeline,
 }
@@ -47,8 +64,8 @@ fn storage_entry(
     }
 }
 
-fn shader(device: &wgpu::Device, label: &str, body: &str) -> wgpu::ShaderModule {
-    let source = format!("{COMMON_WGSL}\n{body}");
+fn shader(device: &wgpu::Device, label: &str, parts: &[&str]) -> wgpu::ShaderModule {
+    let source = format!("{COMMON_WGSL}\n{}", parts.join("\n"));
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -75,28 +92,73 @@ impl Pipelines {
                 },
                 storage_entry(1, true, geometry_stages),
                 storage_entry(2, true, geometry_stages),
-                storage_entry(3, true, geometry_stages),
             ],
         });
+        let items_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hair-render items"),
+            entries: &[storage_entry(0, true, geometry_stages)],
+        });
+        let strand_items_layout =
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("hair-render strand items"),
+                entries: &[
+                    storage_entry(0, true, geometry_stages),
+                    storage_entry(1, true, geometry_stages),
+                ],
+            });
+        let chain_curves_layout =
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("hair-render chain curves"),
+                entries: &[storage_entry(0, false, wgpu::ShaderStages::COMPUTE)],
+            });
         let evaluate_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hair-render evaluation output"),
             entries: &[storage_entry(0, false, wgpu::ShaderStages::COMPUTE)],
         });
-        let render_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("hair-render render"),
+        let head_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hair-render head"),
             bind_group_layouts: &[Some(&scene_layout)],
             immediate_size: 0,
         });
+        let strand_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hair-render strands"),
+            bind_group_layouts: &[Some(&scene_layout), Some(&strand_items_layout)],
+            immediate_size: 0,
+        });
+        let surface_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("hair-render surfaces"),
+            bind_group_layouts: &[Some(&scene_layout), Some(&items_layout)],
+            immediate_size: 0,
+        });
+        let chain_curves_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("hair-render chain curves"),
+                bind_group_layouts: &[Some(&scene_layout), Some(&chain_curves_layout)],
+                immediate_size: 0,
+            });
         let evaluate_pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("hair-render evaluate"),
-                bind_group_layouts: &[Some(&scene_layout), Some(&evaluate_layout)],
+                bind_group_layouts: &[
+                    Some(&scene_layout),
+                    Some(&strand_items_layout),
+                    Some(&evaluate_layout),
+                ],
                 immediate_size: 0,
             });
 
-        let strands_module = shader(device, "hair-render strands", STRANDS_WGSL);
-        let head_module = shader(device, "hair-render head", HEAD_WGSL);
-        let evaluate_module = shader(device, "hair-render evaluate", EVALUATE_WGSL);
+        let strands_module = shader(
+            device,
+            "hair-render strands",
+            &[STRAND_ITEMS_WGSL, STRANDS_WGSL],
+        );
+        let surfaces_module = shader(device, "hair-render surfaces", &[SURFACES_WGSL]);
+        let head_module = shader(device, "hair-render head", &[HEAD_WGSL]);
+        let evaluate_module = shader(
+            device,
+            "hair-render evaluate",
+            &[STRAND_ITEMS_WGSL, EVALUATE_WGSL],
+        );
 
         let depth = Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
@@ -115,13 +177,18 @@ impl Pipelines {
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         })];
-        let strand_pipeline = |label: &str, entry_point: &str, topology| {
+        let hair_pipeline = |label: &str,
+                             layout: &wgpu::PipelineLayout,
+                             module: &wgpu::ShaderModule,
+                             vertex_entry: &str,
+                             fragment_entry: &str,
+                             topology| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
-                layout: Some(&render_layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
-                    module: &strands_module,
-                    entry_point: Some(entry_point),
+                    module,
+                    entry_point: Some(vertex_entry),
                     compilation_options: wgpu::PipelineCompilationOptions::default(),
                     buffers: &[],
                 },
@@ -133,8 +200,8 @@ impl Pipelines {
                 depth_stencil: depth.clone(),
                 multisample,
                 fragment: Some(wgpu::FragmentState {
-                    module: &strands_module,
-                    entry_point: Some("fs_strand"),
+                    module,
+                    entry_point: Some(fragment_entry),
                     compilation_options: wgpu::PipelineCompilationOptions::default(),
                     targets: &targets,
                 }),
@@ -142,21 +209,44 @@ impl Pipelines {
                 cache: None,
             })
         };
-        let strand_ribbons = strand_pipeline(
+        let strip = wgpu::PrimitiveTopology::TriangleStrip;
+        let strand_ribbons = hair_pipeline(
             "hair-render strand ribbons",
+            &strand_layout,
+            &strands_module,
             "vs_strand_ribbon",
-            wgpu::PrimitiveTopology::TriangleStrip,
+            "fs_strand",
+            strip,
         );
-        let strand_lines = strand_pipeline(
+        let strand_lines = hair_pipeline(
             "hair-render strand lines",
+            &strand_layout,
+            &strands_module,
             "vs_strand_line",
+            "fs_strand",
             wgpu::PrimitiveTopology::LineStrip,
+        );
+        let clusters = hair_pipeline(
+            "hair-render clusters",
+            &surface_layout,
+            &surfaces_module,
+            "vs_cluster",
+            "fs_surface",
+            strip,
+        );
+        let patches = hair_pipeline(
+            "hair-render patches",
+            &surface_layout,
+            &surfaces_module,
+            "vs_patch",
+            "fs_surface",
+            strip,
         );
 
         let head_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let head = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("hair-render head"),
-            layout: Some(&render_layout),
+            layout: Some(&head_layout),
             vertex: wgpu::VertexState {
                 module: &head_module,
                 entry_point: Some("vs_head"),
@@ -194,11 +284,27 @@ impl Pipelines {
             cache: None,
         });
 
+        let chain_curves_module = shader(device, "hair-render chain curves", &[CHAIN_CURVES_WGSL]);
+        let chain_curves = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("hair-render chain curves"),
+            layout: Some(&chain_curves_pipeline_layout),
+            module: &chain_curves_module,
+            entry_point: Some("cs_chain_curves"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+
         Pipelines {
             scene_layout,
+            strand_items_layout,
+            items_layout,
+            chain_curves_layout,
+            chain_curves,
             evaluate_layout,
             strand_ribbons,
             strand_lines,
+            clusters,
+            patches,
             head,
             evaluate,
         }

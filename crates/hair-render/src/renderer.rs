@@ -1,16 +1,19 @@
-//! The renderer: static strand data uploaded once, skeleton nodes per frame, images out.
+//! The renderer: static strands, clusters and patches uploaded once, skeleton nodes per frame,
+//! images out.
 
-use glam::Vec3;
 use hair_core::TriangleMesh;
 
+use crate::batches::{Batch, CHAIN_SAMPLE_BYTES, ChainOrder, GpuChain, chain_table};
 use crate::buffers::GrowableBuffer;
 use crate::device::{AdapterReport, DeviceOptions, GpuContext, acquire_device};
 use crate::error::{RenderError, Result, invalid};
 use crate::head::{GpuMesh, upload_mesh, validate_mesh};
 use crate::inputs::{GpuNode, SkeletonFrame, StrandSet, pack_nodes, pack_strands};
 use crate::pipelines::Pipelines;
-use crate::settings::{FrameSettings, StrandStyle};
-use crate::target::{RenderTarget, map_and_read};
+use crate::scopes::ErrorScopes;
+use crate::settings::{FrameSettings, ShadingMode, StrandStyle};
+use crate::surfaces::{ClusterSet, PatchSet, pack_clusters, pack_patches};
+use crate::target::RenderTarget;
 use crate::uniforms::{GeometryCounts, Globals};
 
 /// Options of [`Renderer::new`].
@@ -29,32 +32,72 @@ impl RendererOptions {
     }
 }
 
-/// Threads per workgroup of the evaluation pass (`@workgroup_size` in `evaluate.wgsl`).
-const EVALUATE_WORKGROUP: u32 = 64;
+/// The three kinds of drawn hair geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ItemKind {
+    Strands,
+    Clusters,
+    Patches,
+}
+
+/// The static items of one kind on the GPU, sorted by chain, and their bind group.
+#[derive(Debug)]
+pub(crate) struct Items {
+    buffer: GrowableBuffer,
+    bind_group: Option<wgpu::BindGroup>,
+    pub order: ChainOrder,
+}
+
+impl Items {
+    fn new(device: &wgpu::Device, label: &'static str) -> Items {
+        Items {
+            buffer: GrowableBuffer::new(device, label, wgpu::BufferUsages::STORAGE),
+            bind_group: None,
+            order: ChainOrder::default(),
+        }
+    }
+
+    /// Replaces the items: `chains` in input order, `packed` their GPU records in input order.
+    fn upload<T: bytemuck::Pod>(&mut self, gpu: &GpuContext, chains: &[u32], packed: &[T]) {
+        let order = ChainOrder::new(chains);
+        let sorted = order.sorted(packed);
+        if self
+            .buffer
+            .write(&gpu.device, &gpu.queue, bytemuck::cast_slice(&sorted))
+        {
+            self.bind_group = None;
+        }
+        self.order = order;
+    }
+}
 
 /// A headless hair renderer on one device.
 ///
-/// Upload the strands once with [`Renderer::upload_strands`] (and a head with
+/// Upload the static data once ([`Renderer::upload_groom`], or [`Renderer::upload_strands`],
+/// [`Renderer::upload_clusters`] and [`Renderer::upload_patches`]; a head with
 /// [`Renderer::set_head_mesh`]), then call [`Renderer::render`] per frame with the skeleton nodes:
-/// only the nodes and chain offsets travel to the GPU each frame, and the strands' B-splines are
-/// evaluated there.
+/// only the nodes and a small per-chain table travel to the GPU each frame, and the B-splines of
+/// strands, cluster tubes and patch strips are evaluated there. Items whose chain has fewer than two
+/// nodes in the frame (inactive skeletons) are not drawn and cost nothing.
 #[derive(Debug)]
 pub struct Renderer {
-    gpu: GpuContext,
+    pub(crate) gpu: GpuContext,
     sample_count: u32,
-    pipelines: Pipelines,
-    globals: wgpu::Buffer,
+    pub(crate) pipelines: Pipelines,
+    pub(crate) globals: wgpu::Buffer,
     nodes: GrowableBuffer,
-    chain_offsets: GrowableBuffer,
-    strands: GrowableBuffer,
+    chains: GrowableBuffer,
+    /// This frame's chain-curve samples (written by the chain-curve pass, read by strands).
+    chain_samples: GrowableBuffer,
     /// Bind group of group 0; `None` after a buffer was replaced.
     scene_bind_group: Option<wgpu::BindGroup>,
-    strand_count: u32,
-    /// Chains the frame must have: the largest `strand_chain` + 1.
-    chains_needed: u32,
+    pub(crate) strands: Items,
+    clusters: Items,
+    patches: Items,
     head: Option<GpuMesh>,
     target: Option<RenderTarget>,
     node_scratch: Vec<GpuNode>,
+    chain_scratch: Vec<GpuChain>,
 }
 
 impl Renderer {
@@ -77,8 +120,11 @@ impl Renderer {
         });
         let storage = wgpu::BufferUsages::STORAGE;
         let nodes = GrowableBuffer::new(device, "hair-render nodes", storage);
-        let chain_offsets = GrowableBuffer::new(device, "hair-render chain offsets", storage);
-        let strands = GrowableBuffer::new(device, "hair-render strands", storage);
+        let chains = GrowableBuffer::new(device, "hair-render chains", storage);
+        let chain_samples = GrowableBuffer::new(device, "hair-render chain samples", storage);
+        let strands = Items::new(device, "hair-render strands");
+        let clusters = Items::new(device, "hair-render clusters");
+        let patches = Items::new(device, "hair-render patches");
         scope.pop("building the render pipelines")?;
         Ok(Renderer {
             gpu,
@@ -86,14 +132,16 @@ impl Renderer {
             pipelines,
             globals,
             nodes,
-            chain_offsets,
-            strands,
+            chains,
+            chain_samples,
             scene_bind_group: None,
-            strand_count: 0,
-            chains_needed: 0,
+            strands,
+            clusters,
+            patches,
             head: None,
             target: None,
             node_scratch: Vec::new(),
+            chain_scratch: Vec::new(),
         })
     }
 
@@ -114,7 +162,17 @@ impl Renderer {
 
     /// Number of uploaded strands.
     pub fn strand_count(&self) -> usize {
-        self.strand_count as usize
+        self.strands.order.item_count()
+    }
+
+    /// Number of uploaded clusters.
+    pub fn cluster_count(&self) -> usize {
+        self.clusters.order.item_count()
+    }
+
+    /// Number of uploaded patches.
+    pub fn patch_count(&self) -> usize {
+        self.patches.order.item_count()
     }
 
     /// Uploads the static strand data, replacing any earlier set.
@@ -122,17 +180,28 @@ impl Renderer {
         strands.validate()?;
         let packed = pack_strands(strands);
         let scope = ErrorScopes::push(&self.gpu.device);
-        if self.strands.write(
-            &self.gpu.device,
-            &self.gpu.queue,
-            bytemuck::cast_slice(&packed),
-        ) {
-            self.scene_bind_group = None;
-        }
-        scope.pop("uploading strands")?;
-        self.strand_count = packed.len() as u32;
-        self.chains_needed = strands.strand_chain.iter().max().map_or(0, |&c| c + 1);
-        Ok(())
+        self.strands
+            .upload(&self.gpu, strands.strand_chain, &packed);
+        scope.pop("uploading strands")
+    }
+
+    /// Uploads the static cluster data, replacing any earlier set.
+    pub fn upload_clusters(&mut self, clusters: &ClusterSet<'_>) -> Result<()> {
+        clusters.validate()?;
+        let packed = pack_clusters(clusters);
+        let scope = ErrorScopes::push(&self.gpu.device);
+        self.clusters
+            .upload(&self.gpu, clusters.cluster_chain, &packed);
+        scope.pop("uploading clusters")
+    }
+
+    /// Uploads the static patch data, replacing any earlier set.
+    pub fn upload_patches(&mut self, patches: &PatchSet<'_>) -> Result<()> {
+        patches.validate()?;
+        let packed = pack_patches(patches);
+        let scope = ErrorScopes::push(&self.gpu.device);
+        self.patches.upload(&self.gpu, patches.patch_chain, &packed);
+        scope.pop("uploading patches")
     }
 
     /// Sets the head mesh drawn with the hair (`None` removes it).
@@ -150,15 +219,16 @@ impl Renderer {
         Ok(())
     }
 
-    /// Renders one frame: uploads `frame`'s nodes, draws the head and the strands, reads the image
-    /// back (sRGB RGBA8, `settings.width`×`settings.height`).
+    /// Renders one frame: uploads `frame`'s nodes and chain table, draws the head, strands,
+    /// clusters and patches whose chains have nodes, and reads the image back (sRGB RGBA8,
+    /// `settings.width`×`settings.height`).
     pub fn render(
         &mut self,
         frame: &SkeletonFrame<'_>,
         settings: &FrameSettings,
     ) -> Result<image::RgbaImage> {
         settings.validate()?;
-        let counts = self.upload_frame(frame, 0)?;
+        let counts = self.upload_frame(frame, settings, 0)?;
         let scope = ErrorScopes::push(&self.gpu.device);
         let result = self.draw(settings, counts);
         let checked = scope.pop("rendering a frame");
@@ -167,75 +237,98 @@ impl Renderer {
         Ok(image)
     }
 
-    /// Evaluates every strand's B-spline on the GPU (the same WGSL code the vertex shader uses) at
-    /// `samples_per_strand` evenly spaced parameters, `u = i / (samples − 1)`; strand-major points
-    /// [m]. Strands without nodes give `NaN` points. Meant for checks against [`crate::bspline`].
-    pub fn evaluate_strands(
+    /// Renders the frame shaded and colour-coded by level (Fig. 6) and puts the two side by side:
+    /// shaded on the left, colour-coded on the right (`2·width`×`height` pixels).
+    pub fn render_side_by_side(
         &mut self,
         frame: &SkeletonFrame<'_>,
-        samples_per_strand: u32,
-    ) -> Result<Vec<Vec3>> {
-        let total = u64::from(self.strand_count) * u64::from(samples_per_strand);
-        let max_bytes = self.gpu.device.limits().max_storage_buffer_binding_size;
-        if samples_per_strand == 0 || total * 16 > max_bytes || total > u64::from(u32::MAX) {
-            return Err(invalid(format!(
-                "cannot evaluate {samples_per_strand} samples for each of {} strands",
-                self.strand_count
-            )));
-        }
-        let counts = self.upload_frame(frame, samples_per_strand)?;
-        if total == 0 {
-            return Ok(Vec::new());
-        }
-        let scope = ErrorScopes::push(&self.gpu.device);
-        let result = self.dispatch_evaluation(counts, total);
-        let checked = scope.pop("evaluating strands");
-        let points = result?;
-        checked?;
-        Ok(points)
+        settings: &FrameSettings,
+    ) -> Result<image::RgbaImage> {
+        let shaded = self.render(
+            frame,
+            &FrameSettings {
+                mode: ShadingMode::Shaded,
+                ..*settings
+            },
+        )?;
+        let coded = self.render(
+            frame,
+            &FrameSettings {
+                mode: ShadingMode::LevelColors,
+                ..*settings
+            },
+        )?;
+        Ok(crate::output::side_by_side(&shaded, &coded))
     }
 
-    /// Validates and uploads the per-frame data; returns the counts for the globals.
-    fn upload_frame(
+    /// Validates and uploads the per-frame data (nodes and the chain table with each chain's
+    /// tessellation); returns the counts for the globals.
+    pub(crate) fn upload_frame(
         &mut self,
         frame: &SkeletonFrame<'_>,
+        settings: &FrameSettings,
         samples_per_strand: u32,
     ) -> Result<GeometryCounts> {
         frame.validate()?;
         let chains = frame.chain_count() as u32;
-        if self.chains_needed > chains {
-            return Err(invalid(format!(
-                "the strands follow chains up to {} but the frame has {chains} chains",
-                self.chains_needed - 1
-            )));
+        for (what, items) in [
+            ("strands", &self.strands),
+            ("clusters", &self.clusters),
+            ("patches", &self.patches),
+        ] {
+            let needed = items.order.chains_needed();
+            if needed > chains {
+                return Err(invalid(format!(
+                    "the {what} follow chains up to {} but the frame has {chains} chains",
+                    needed - 1
+                )));
+            }
         }
         pack_nodes(frame, &mut self.node_scratch);
+        // A ribbon no wider than a pixel covers what a 1-pixel line does, at a fraction of the
+        // rasterization cost: such strands are drawn as lines.
+        let focal = settings.camera.focal_length_pixels(settings.height);
+        let is_thin = |distance: f32| match settings.strand_style {
+            StrandStyle::Lines => true,
+            StrandStyle::Ribbons {
+                width,
+                min_width_pixels,
+            } => (width * focal / distance.max(1e-6)).max(min_width_pixels) <= 1.0,
+        };
+        let samples = chain_table(
+            frame,
+            &settings.tessellation,
+            settings.camera.position,
+            is_thin,
+            &mut self.chain_scratch,
+        );
         let scope = ErrorScopes::push(&self.gpu.device);
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
         let mut replaced =
             self.nodes
                 .write(device, queue, bytemuck::cast_slice(&self.node_scratch));
-        let offsets: &[u32] = if frame.chain_offsets.is_empty() {
-            &[0]
-        } else {
-            frame.chain_offsets
-        };
         replaced |= self
-            .chain_offsets
-            .write(device, queue, bytemuck::cast_slice(offsets));
+            .chains
+            .write(device, queue, bytemuck::cast_slice(&self.chain_scratch));
         if replaced {
             self.scene_bind_group = None;
         }
+        if self
+            .chain_samples
+            .reserve(device, u64::from(samples) * CHAIN_SAMPLE_BYTES)
+        {
+            self.strands.bind_group = None;
+        }
         scope.pop("uploading skeleton nodes")?;
         Ok(GeometryCounts {
-            strands: self.strand_count,
+            strands: self.strands.order.item_count() as u32,
             chains,
             nodes: frame.node_count() as u32,
             samples_per_strand,
         })
     }
 
-    fn scene_bind_group(&mut self) -> wgpu::BindGroup {
+    pub(crate) fn scene_bind_group(&mut self) -> wgpu::BindGroup {
         if let Some(group) = &self.scene_bind_group {
             return group.clone();
         }
@@ -256,15 +349,51 @@ impl Renderer {
                     },
                     wgpu::BindGroupEntry {
                         binding: 2,
-                        resource: self.chain_offsets.buffer().as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: self.strands.buffer().as_entire_binding(),
+                        resource: self.chains.buffer().as_entire_binding(),
                     },
                 ],
             });
         self.scene_bind_group = Some(group.clone());
+        group
+    }
+
+    pub(crate) fn item_bind_group(&mut self, kind: ItemKind) -> wgpu::BindGroup {
+        let items = match kind {
+            ItemKind::Strands => &mut self.strands,
+            ItemKind::Clusters => &mut self.clusters,
+            ItemKind::Patches => &mut self.patches,
+        };
+        if let Some(group) = &items.bind_group {
+            return group.clone();
+        }
+        let items_entry = wgpu::BindGroupEntry {
+            binding: 0,
+            resource: items.buffer.buffer().as_entire_binding(),
+        };
+        let group = if kind == ItemKind::Strands {
+            self.gpu
+                .device
+                .create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("hair-render strand items"),
+                    layout: &self.pipelines.strand_items_layout,
+                    entries: &[
+                        items_entry,
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: self.chain_samples.buffer().as_entire_binding(),
+                        },
+                    ],
+                })
+        } else {
+            self.gpu
+                .device
+                .create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("hair-render items"),
+                    layout: &self.pipelines.items_layout,
+                    entries: &[items_entry],
+                })
+        };
+        items.bind_group = Some(group.clone());
         group
     }
 
@@ -286,19 +415,42 @@ impl Renderer {
                 self.sample_count,
             )?);
         }
+        // counts.w: chain-curve slots per chain (the most points a chain can have).
+        let slots = settings.tessellation.max_segments + 1;
+        let counts = GeometryCounts {
+            samples_per_strand: slots,
+            ..counts
+        };
         let globals = Globals::new(settings, counts);
         self.gpu
             .queue
             .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
-        let bind_group = self.scene_bind_group();
+        let scene_group = self.scene_bind_group();
+        let curves_group = self
+            .gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("hair-render chain curves"),
+                layout: &self.pipelines.chain_curves_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.chain_samples.buffer().as_entire_binding(),
+                }],
+            });
+        let item_groups = [
+            self.item_bind_group(ItemKind::Strands),
+            self.item_bind_group(ItemKind::Clusters),
+            self.item_bind_group(ItemKind::Patches),
+        ];
+        let mut batches: [Vec<Batch>; 3] = Default::default();
+        for (items, out) in [&self.strands, &self.clusters, &self.patches]
+            .into_iter()
+            .zip(&mut batches)
+        {
+            items.order.batches(&self.chain_scratch, out);
+        }
         let Some(target) = self.target.as_ref() else {
             return Err(RenderError::Gpu("render target missing".into()));
-        };
-
-        let max_points = settings.tessellation.max_segments + 1;
-        let (strand_pipeline, vertices_per_strand) = match settings.strand_style {
-            StrandStyle::Lines => (&self.pipelines.strand_lines, max_points),
-            StrandStyle::Ribbons { .. } => (&self.pipelines.strand_ribbons, 2 * max_points),
         };
         let background = wgpu::Color {
             r: f64::from(settings.background.x),
@@ -313,6 +465,29 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("hair-render frame"),
             });
+        if !batches[0].is_empty() {
+            // One thread per (chain, point slot); threads past a chain's points return at once.
+            let threads = u64::from(counts.chains) * u64::from(slots);
+            let groups = threads.div_ceil(64);
+            let max_groups = u64::from(
+                self.gpu
+                    .device
+                    .limits()
+                    .max_compute_workgroups_per_dimension,
+            );
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("hair-render chain curves"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipelines.chain_curves);
+            pass.set_bind_group(0, &scene_group, &[]);
+            pass.set_bind_group(1, &curves_group, &[]);
+            pass.dispatch_workgroups(
+                groups.min(max_groups) as u32,
+                groups.div_ceil(max_groups) as u32,
+                1,
+            );
+        }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hair-render scene"),
@@ -322,115 +497,52 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(0, &scene_group, &[]);
             if let Some(head) = &self.head {
                 pass.set_pipeline(&self.pipelines.head);
                 pass.set_vertex_buffer(0, head.vertices.slice(..));
                 pass.set_index_buffer(head.indices.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..head.index_count, 0, 0..1);
             }
-            if counts.strands > 0 && counts.nodes > 0 {
-                pass.set_pipeline(strand_pipeline);
-                pass.draw(0..vertices_per_strand, 0..counts.strands);
+            let [strand_batches, cluster_batches, patch_batches] = &batches;
+            if !strand_batches.is_empty() {
+                pass.set_bind_group(1, &item_groups[0], &[]);
+                let mut current = None;
+                for batch in strand_batches {
+                    if current != Some(batch.thin) {
+                        pass.set_pipeline(if batch.thin {
+                            &self.pipelines.strand_lines
+                        } else {
+                            &self.pipelines.strand_ribbons
+                        });
+                        current = Some(batch.thin);
+                    }
+                    let vertices = if batch.thin {
+                        batch.line_vertices()
+                    } else {
+                        batch.ribbon_vertices()
+                    };
+                    pass.draw(0..vertices, batch.items.clone());
+                }
+            }
+            if !cluster_batches.is_empty() {
+                pass.set_pipeline(&self.pipelines.clusters);
+                pass.set_bind_group(1, &item_groups[1], &[]);
+                for batch in cluster_batches {
+                    let vertices = batch.surface_vertices(batch.around_segments);
+                    pass.draw(0..vertices, batch.items.clone());
+                }
+            }
+            if !patch_batches.is_empty() {
+                pass.set_pipeline(&self.pipelines.patches);
+                pass.set_bind_group(1, &item_groups[2], &[]);
+                for batch in patch_batches {
+                    pass.draw(0..batch.surface_vertices(1), batch.items.clone());
+                }
             }
         }
         target.encode_readback(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         target.read_image(&self.gpu.device)
-    }
-
-    fn dispatch_evaluation(&mut self, counts: GeometryCounts, total: u64) -> Result<Vec<Vec3>> {
-        // Camera and colours do not matter for evaluation; only the counts do.
-        let settings = FrameSettings::new(1, 1, crate::camera::Camera::default());
-        let globals = Globals::new(&settings, counts);
-        self.gpu
-            .queue
-            .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
-        let bind_group = self.scene_bind_group();
-        let device = &self.gpu.device;
-        let bytes = total * 16;
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hair-render evaluated points"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hair-render evaluated points readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let output_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hair-render evaluation output"),
-            layout: &self.pipelines.evaluate_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: output.as_entire_binding(),
-            }],
-        });
-        let groups = total.div_ceil(u64::from(EVALUATE_WORKGROUP));
-        let max_groups = u64::from(device.limits().max_compute_workgroups_per_dimension);
-        let groups_x = groups.min(max_groups) as u32;
-        let groups_y = groups.div_ceil(max_groups) as u32;
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("hair-render evaluate"),
-        });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("hair-render evaluate"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipelines.evaluate);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_bind_group(1, &output_group, &[]);
-            pass.dispatch_workgroups(groups_x, groups_y, 1);
-        }
-        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
-        self.gpu.queue.submit([encoder.finish()]);
-        let data = map_and_read(device, &readback)?;
-        if data.len() as u64 != bytes {
-            return Err(RenderError::Gpu(
-                "evaluated points came back with the wrong size".into(),
-            ));
-        }
-        let values: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&data);
-        Ok(values
-            .iter()
-            .map(|v| {
-                if v[3] > 0.5 {
-                    Vec3::new(v[0], v[1], v[2])
-                } else {
-                    Vec3::NAN
-                }
-            })
-            .collect())
-    }
-}
-
-/// Validation and out-of-memory error scopes around a group of GPU calls.
-struct ErrorScopes {
-    out_of_memory: wgpu::ErrorScopeGuard,
-    validation: wgpu::ErrorScopeGuard,
-}
-
-impl ErrorScopes {
-    fn push(device: &wgpu::Device) -> ErrorScopes {
-        let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        ErrorScopes {
-            out_of_memory,
-            validation,
-        }
-    }
-
-    /// Pops both scopes; the first error captured becomes [`RenderError::Gpu`] naming `what`.
-    fn pop(self, what: &str) -> Result<()> {
-        let validation = pollster::block_on(self.validation.pop());
-        let out_of_memory = pollster::block_on(self.out_of_memory.pop());
-        match validation.or(out_of_memory) {
-            None => Ok(()),
-            Some(error) => Err(RenderError::Gpu(format!("{what}: {error}"))),
-        }
     }
 }

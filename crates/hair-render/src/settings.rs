@@ -46,7 +46,8 @@ impl Default for LevelColors {
 pub enum StrandStyle {
     /// One-pixel lines.
     Lines,
-    /// Camera-facing ribbons.
+    /// Camera-facing ribbons; strands whose ribbon would be at most one pixel wide are drawn as
+    /// 1-pixel lines instead (the same coverage at a fraction of the cost).
     Ribbons {
         /// Hair width [m] (human hair: 50–100 µm).
         width: f32,
@@ -65,26 +66,35 @@ impl Default for StrandStyle {
     }
 }
 
-/// Curve tessellation: the number of line segments per strand follows camera distance (§6).
+/// Tessellation: the number of segments along every strand, cluster and patch, and around every
+/// cluster, follows the camera distance of its skeleton's root (§6: nearly continuous LOD within a
+/// representation).
 ///
-/// A strand whose root is `d` metres from the camera gets
-/// `clamp(ceil(max_segments · full_detail_distance / d), min_segments, max_segments)` segments.
+/// A chain whose root is `d` metres from the camera gets
+/// `clamp(ceil(max_segments · full_detail_distance / d), min_segments, max_segments)` segments
+/// along, and likewise `min_around_segments..=max_around_segments` around a cluster tube.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tessellation {
-    /// Segments per strand at `full_detail_distance` and closer.
+    /// Segments along the hair at `full_detail_distance` and closer.
     pub max_segments: u32,
-    /// Segments per strand however far away (≥ 1).
+    /// Segments along the hair however far away (≥ 1).
     pub min_segments: u32,
-    /// Distance [m] within which strands get `max_segments`.
+    /// Segments around a cluster tube at `full_detail_distance` and closer.
+    pub max_around_segments: u32,
+    /// Segments around a cluster tube however far away (≥ 3).
+    pub min_around_segments: u32,
+    /// Distance [m] within which chains get the most segments.
     pub full_detail_distance: f32,
 }
 
 impl Default for Tessellation {
-    /// 4 to 32 segments, full detail within 1 m.
+    /// 4 to 32 segments along, 4 to 12 around, full detail within 1 m.
     fn default() -> Self {
         Tessellation {
             max_segments: 32,
             min_segments: 4,
+            max_around_segments: 12,
+            min_around_segments: 4,
             full_detail_distance: 1.0,
         }
     }
@@ -92,14 +102,38 @@ impl Default for Tessellation {
 
 /// The most segments a strand may be tessellated into.
 pub const MAX_SEGMENTS_LIMIT: u32 = 1024;
+/// The most segments around a cluster tube.
+pub const MAX_AROUND_SEGMENTS_LIMIT: u32 = 64;
 
 impl Tessellation {
-    /// The segment count for a strand `distance` metres from the camera (CPU mirror of the shader).
+    /// Segments along a chain whose root is `distance` [m] from the camera.
     pub fn segments_at(&self, distance: f32) -> u32 {
-        let wanted = self.max_segments as f32 * self.full_detail_distance / distance.max(1e-6);
-        (wanted.ceil().min(self.max_segments as f32) as u32)
-            .clamp(self.min_segments, self.max_segments)
+        scaled_count(
+            self.max_segments,
+            self.min_segments,
+            self.full_detail_distance,
+            distance,
+        )
     }
+
+    /// Segments around a cluster whose root is `distance` [m] from the camera.
+    pub fn around_segments_at(&self, distance: f32) -> u32 {
+        scaled_count(
+            self.max_around_segments,
+            self.min_around_segments,
+            self.full_detail_distance,
+            distance,
+        )
+    }
+}
+
+/// `clamp(ceil(max · full / distance), min, max)`; `min` for a non-finite distance.
+fn scaled_count(max: u32, min: u32, full_detail_distance: f32, distance: f32) -> u32 {
+    if !distance.is_finite() {
+        return min.min(max);
+    }
+    let wanted = max as f32 * full_detail_distance / distance.max(1e-6);
+    (wanted.ceil().min(max as f32) as u32).clamp(min.min(max), max)
 }
 
 /// A directional light.
@@ -146,7 +180,7 @@ impl Default for HairMaterial {
             dark_color: Vec3::new(0.09, 0.045, 0.02),
             light_color: Vec3::new(0.35, 0.2, 0.09),
             diffuse: 1.0,
-            specular: 0.3,
+            specular: 0.2,
             specular_exponent: 40.0,
         }
     }
@@ -263,6 +297,16 @@ impl FrameSettings {
                 t.min_segments, t.max_segments
             )));
         }
+        if t.min_around_segments < 3
+            || t.min_around_segments > t.max_around_segments
+            || t.max_around_segments > MAX_AROUND_SEGMENTS_LIMIT
+        {
+            return Err(invalid(format!(
+                "tessellation needs 3 ≤ min_around_segments ≤ max_around_segments ≤ \
+                 {MAX_AROUND_SEGMENTS_LIMIT} (got {}..{})",
+                t.min_around_segments, t.max_around_segments
+            )));
+        }
         if !(t.full_detail_distance.is_finite() && t.full_detail_distance > 0.0) {
             return Err(invalid(format!(
                 "full-detail distance {} m must be finite and > 0",
@@ -284,6 +328,10 @@ mod tests {
         assert_eq!(t.segments_at(1.0), 32);
         assert_eq!(t.segments_at(2.0), 16);
         assert_eq!(t.segments_at(100.0), 4);
+        assert_eq!(t.segments_at(f32::INFINITY), 4);
+        assert_eq!(t.around_segments_at(1.0), 12);
+        assert_eq!(t.around_segments_at(2.0), 6);
+        assert_eq!(t.around_segments_at(10.0), 4);
     }
 
     #[test]
@@ -297,6 +345,9 @@ mod tests {
         let mut bad = good;
         bad.tessellation.min_segments = 0;
         assert!(bad.validate().is_err());
+        let mut bad = good;
+        bad.tessellation.min_around_segments = 2;
+        assert!(bad.validate().unwrap_err().to_string().contains("around"));
         let mut bad = good;
         bad.hair.light_color = Vec3::NAN;
         assert!(

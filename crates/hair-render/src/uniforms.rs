@@ -27,11 +27,12 @@ pub(crate) struct Globals {
     hair_light: [f32; 4],
     head_color: [f32; 4],
     strand_code_color: [f32; 4],
+    cluster_code_color: [f32; 4],
+    patch_code_color: [f32; 4],
     head_code_color: [f32; 4],
     viewport: [f32; 4],
     shading: [f32; 4],
     ribbon: [f32; 4],
-    tessellation: [f32; 4],
     counts: [u32; 4],
 }
 
@@ -54,7 +55,6 @@ impl Globals {
             ShadingMode::Shaded => 0.0,
             ShadingMode::LevelColors => 1.0,
         };
-        let t = settings.tessellation;
         Globals {
             view_proj: settings.camera.view_projection(aspect).to_cols_array_2d(),
             camera_position: settings.camera.position.extend(1.0).to_array(),
@@ -65,6 +65,8 @@ impl Globals {
             hair_light: v4(settings.hair.light_color),
             head_color: v4(settings.head_color),
             strand_code_color: v4(settings.level_colors.strands),
+            cluster_code_color: v4(settings.level_colors.clusters),
+            patch_code_color: v4(settings.level_colors.patches),
             head_code_color: v4(settings.level_colors.head),
             viewport: [settings.width as f32, settings.height as f32, 0.0, 0.0],
             shading: [
@@ -77,12 +79,6 @@ impl Globals {
                 half_width,
                 min_half_pixels,
                 settings.camera.focal_length_pixels(settings.height),
-                0.0,
-            ],
-            tessellation: [
-                t.max_segments as f32,
-                t.min_segments as f32,
-                t.full_detail_distance,
                 0.0,
             ],
             counts: [
@@ -100,7 +96,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn layout_is_a_matrix_and_fourteen_vectors() {
-        assert_eq!(std::mem::size_of::<Globals>(), 64 + 14 * 16);
+    fn layout_is_a_matrix_and_fifteen_vectors() {
+        assert_eq!(std::mem::size_of::<Globals>(), 64 + 15 * 16);
     }
 }

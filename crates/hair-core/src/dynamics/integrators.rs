@@ -9,7 +9,6 @@ use crate::dynamics::banded::{cross_matrix, outer, solve_block_pentadiagonal};
 use crate::dynamics::constraints::{LENGTH_TOLERANCE, follow_the_leader, project_lengths};
 use crate::dynamics::forces::{add_external_forces, add_spring_forces, walk_joints};
 use crate::dynamics::params::{DynamicsParams, RootMode};
-use crate::dynamics::wind::WindField;
 use crate::frame::Frame;
 use crate::transform::RigidTransform;
 
@@ -39,6 +38,9 @@ pub(crate) struct ChainArrays<'a> {
     pub positions: &'a mut [Vec3],
     pub velocities: &'a mut [Vec3],
     pub collision: &'a [Vec3],
+    /// Wind velocities [m/s] at the nodes, sampled at the start of the step and held over its
+    /// substeps (like the collision forces).
+    pub wind: &'a mut [Vec3],
     /// Forces [N]; the position-based integrator reuses it for the positions at the substep start.
     pub forces: &'a mut [Vec3],
     /// Follow-the-leader corrections [m] (position-based integrator).
@@ -51,15 +53,12 @@ pub(crate) struct ChainArrays<'a> {
 /// What one substep needs besides the chain.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Substep<'a> {
-    /// Time at the start [s].
-    pub time: f64,
     /// Length [s].
     pub h: f32,
     pub head_start: RigidTransform,
     pub head_end: RigidTransform,
     /// The head's angular velocity over the substep [rad/s].
     pub head_spin: Vec3,
-    pub wind: &'a WindField,
     pub gravity: Vec3,
     pub params: &'a DynamicsParams,
     pub roots: RootMode,
@@ -87,11 +86,11 @@ fn root_motion(chain: &ChainConstants, step: &Substep) -> (Vec3, Vec3) {
 /// External forces at the substep start: gravity, drag towards the wind, collision.
 fn external_forces(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep, drag: f32) {
     arrays.forces.fill(Vec3::ZERO);
-    let positions = &*arrays.positions;
+    let wind = &*arrays.wind;
     add_external_forces(
         chain.masses,
         arrays.velocities,
-        |i| step.wind.velocity_at(positions[i], step.time),
+        |i| wind[i],
         arrays.collision,
         step.gravity,
         drag,
@@ -176,23 +175,24 @@ fn finish_with_projection(chain: &ChainConstants, arrays: &mut ChainArrays, step
 /// 2. The angular springs as a shape target ([`shape_targets`]).
 /// 3. Follow-the-leader lengths, recording each node's correction `c_i`.
 /// 4. `v_i = (p_i − x_i)/h − s_damping·c_{i+1}/h`.
+///
+/// [`position_based_lanes`](crate::dynamics::position_based_lanes) is the same step for
+/// [`LANES`](crate::dynamics::lanes::LANES) chains at once; this one is its fallback.
 pub(crate) fn position_based(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) {
     let h = step.h;
     external_forces(chain, arrays, step, step.params.air_drag_rate);
     let n = arrays.positions.len();
     let first = step.first_free_node();
-    // Prediction; `forces` then holds the start positions.
+    // Prediction.
     for i in first..n {
         arrays.velocities[i] += arrays.forces[i] * (h / chain.masses[i]);
-        let start = arrays.positions[i];
-        arrays.forces[i] = start;
-        arrays.positions[i] = start + arrays.velocities[i] * h;
+        arrays.positions[i] += arrays.velocities[i] * h;
     }
     let (root_end, root_velocity) = root_motion(chain, step);
     if step.attached() {
-        arrays.forces[0] = arrays.positions[0];
         arrays.positions[0] = root_end;
     }
+    // `forces` then holds the shape targets' displacements.
     shape_targets(chain, arrays, step);
     // Follow-the-leader with the corrections kept.
     arrays.corrections[0] = Vec3::ZERO;
@@ -207,6 +207,8 @@ pub(crate) fn position_based(chain: &ChainConstants, arrays: &mut ChainArrays, s
             arrays.corrections[i] = Vec3::ZERO;
         }
     }
+    // v = (p − x)/h − s·c_{i+1}/h, with p − x = h·v_pred + Δshape + c summed from its small
+    // parts rather than subtracted from rounded positions (which quantises v to ulp(x)/h).
     let inverse_h = 1.0 / h;
     let s = step.follow_the_leader_damping;
     for i in first..n {
@@ -215,8 +217,8 @@ pub(crate) fn position_based(chain: &ChainConstants, arrays: &mut ChainArrays, s
         } else {
             Vec3::ZERO
         };
-        arrays.velocities[i] =
-            (arrays.positions[i] - arrays.forces[i]) * inverse_h - next * (s * inverse_h);
+        arrays.velocities[i] +=
+            (arrays.forces[i] + arrays.corrections[i]) * inverse_h - next * (s * inverse_h);
     }
     if step.attached() {
         arrays.velocities[0] = root_velocity;
@@ -231,7 +233,7 @@ pub(crate) fn position_based(chain: &ChainConstants, arrays: &mut ChainArrays, s
 /// overshoot nor be unstable. `forces` is scratch.
 fn shape_targets(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) {
     let first = step.first_free_node();
-    let spring_forces = &mut *arrays.corrections;
+    let spring_forces = &mut *arrays.forces;
     spring_forces.fill(Vec3::ZERO);
     let root_frame = step.head_end.transform_frame(&chain.root_frame);
     let energy = add_spring_forces(
@@ -246,25 +248,34 @@ fn shape_targets(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subste
         arrays.work,
         spring_forces,
     );
-    if energy.is_nan() || energy <= 1e-30 {
-        return;
-    }
     let weighted: f32 = spring_forces[first..]
         .iter()
         .zip(&chain.masses[first..])
         .map(|(force, mass)| force.length_squared() / mass)
         .sum();
-    if weighted.is_nan() || weighted <= 0.0 {
-        return;
-    }
-    let scale = 1.0 / (weighted / (2.0 * energy) + 1.0 / (step.h * step.h));
+    let scale = shape_target_scale(energy, weighted, step.h);
     for ((position, force), mass) in arrays.positions[first..]
         .iter_mut()
-        .zip(&spring_forces[first..])
+        .zip(&mut spring_forces[first..])
         .zip(&chain.masses[first..])
     {
-        *position += *force * (scale / mass);
+        *force *= scale / mass;
+        *position += *force;
     }
+    if first == 1 {
+        spring_forces[0] = Vec3::ZERO;
+    }
+}
+
+/// The XPBD step size `1 / (Σ w|F|²/(2E) + 1/h²)` of the shape target for bending energy `E` [J],
+/// `Σ w|F|²` = `weighted` [N²/kg] and substep `h` [s]; 0 where the chain is at rest (`E` ≤ 1e-30
+/// J) or a value is not a number.
+#[inline(always)]
+pub(crate) fn shape_target_scale(energy: f32, weighted: f32, h: f32) -> f32 {
+    if energy.is_nan() || energy <= 1e-30 || weighted.is_nan() || weighted <= 0.0 {
+        return 0.0;
+    }
+    1.0 / (weighted / (2.0 * energy) + 1.0 / (h * h))
 }
 
 /// Linearised backward Euler of springs, spring damping and drag, then the length projection.
@@ -289,7 +300,7 @@ pub(crate) fn linear_implicit(
     };
     for i in 0..n {
         let m = chain.masses[i];
-        arrays.forces[i] += step.wind.velocity_at(arrays.positions[i], step.time) * (m * gamma);
+        arrays.forces[i] += arrays.wind[i] * (m * gamma);
         implicit.diagonal[i] = Mat3::from_diagonal(Vec3::splat(m * (1.0 + h * gamma)));
         implicit.first[i] = Mat3::ZERO;
         implicit.second[i] = Mat3::ZERO;

@@ -9,6 +9,7 @@
 //! - [`Simulation`]: settings ([`SimulationSettings`], [`IntegratorKind`]) and scratch;
 //!   [`Simulation::step`] advances a state, in parallel over chains, and returns
 //!   [`DynamicsError::Unstable`] (or halves the substep) when a chain blows up;
+//! - [`level_skeletons`], [`strand_skeletons`]: models of one level of a groom, or of every strand;
 //! - [`stability`]: the stability sweep behind `hairlod stability`.
 //!
 //! ```
@@ -36,12 +37,15 @@ mod error;
 mod forces;
 mod head_motion;
 mod integrators;
+mod lanes;
 mod model;
 mod parallel;
 mod params;
+mod position_based_lanes;
 mod simulation;
 pub mod stability;
 mod state;
+mod strands;
 mod wind;
 
 #[cfg(test)]
@@ -62,4 +66,5 @@ pub use params::{
 };
 pub use simulation::{Environment, Simulation, StepReport};
 pub use state::SimulationState;
+pub use strands::{level_skeletons, strand_skeletons};
 pub use wind::{GUST_WAVE_COUNT, GustWave, WindField};

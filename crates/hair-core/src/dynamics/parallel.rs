@@ -1,11 +1,14 @@
 //! Allocation-free parallel iteration over chains: the per-node arrays are split at chain
 //! boundaries recursively with `rayon::join`, so every chain is worked on by exactly one task and
-//! no float is reduced across chains (results do not depend on the thread count).
+//! no float is reduced across chains (results do not depend on the thread count). Chains can also
+//! be visited in fixed batches of [`LANES`] (chains `LANES·k .. LANES·(k + 1)`), which the
+//! lane-parallel position-based integrator steps together.
 
 use glam::{Mat3, Vec3, Vec4};
 
 use crate::dynamics::error::ChainFailure;
 use crate::dynamics::integrators::{ChainArrays, ImplicitArrays};
+use crate::dynamics::lanes::LANES;
 
 /// Below this many nodes a batch of chains is processed on one thread.
 const NODES_PER_TASK: u32 = 2048;
@@ -16,6 +19,8 @@ pub(crate) struct ChainSlices<'a> {
     pub positions: &'a mut [Vec3],
     pub velocities: &'a mut [Vec3],
     pub collision: &'a [Vec3],
+    /// Wind velocities [m/s] at the nodes, sampled once per step.
+    pub wind: &'a mut [Vec3],
     pub forces: &'a mut [Vec3],
     pub corrections: &'a mut [Vec3],
     pub work: &'a mut [Vec4],
@@ -57,6 +62,7 @@ impl<'a> ChainSlices<'a> {
         let (positions_a, positions_b) = self.positions.split_at_mut(node);
         let (velocities_a, velocities_b) = self.velocities.split_at_mut(node);
         let (collision_a, collision_b) = self.collision.split_at(node);
+        let (wind_a, wind_b) = self.wind.split_at_mut(node);
         let (forces_a, forces_b) = self.forces.split_at_mut(node);
         let (corrections_a, corrections_b) = self.corrections.split_at_mut(node);
         let (work_a, work_b) = self.work.split_at_mut(node);
@@ -74,6 +80,7 @@ impl<'a> ChainSlices<'a> {
                 positions: positions_a,
                 velocities: velocities_a,
                 collision: collision_a,
+                wind: wind_a,
                 forces: forces_a,
                 corrections: corrections_a,
                 work: work_a,
@@ -91,6 +98,7 @@ impl<'a> ChainSlices<'a> {
                 positions: positions_b,
                 velocities: velocities_b,
                 collision: collision_b,
+                wind: wind_b,
                 forces: forces_b,
                 corrections: corrections_b,
                 work: work_b,
@@ -104,6 +112,22 @@ impl<'a> ChainSlices<'a> {
                 halvings: halvings_b,
             },
         )
+    }
+
+    /// Calls `work(chain, arrays)` for every chain of these slices (which end at `end_chain`), one
+    /// after the other on this thread.
+    pub(crate) fn for_each_chain_here(
+        self,
+        offsets: &[u32],
+        end_chain: usize,
+        mut work: impl FnMut(usize, ChainWork<'_>),
+    ) {
+        let mut rest = self;
+        for chain in rest.first_chain..end_chain {
+            let (one, tail) = rest.split_at_chain(offsets, chain + 1);
+            work(chain, one.into_work());
+            rest = tail;
+        }
     }
 
     /// The arrays of a single chain.
@@ -123,6 +147,7 @@ impl<'a> ChainSlices<'a> {
                 positions: self.positions,
                 velocities: self.velocities,
                 collision: self.collision,
+                wind: self.wind,
                 forces: self.forces,
                 corrections: self.corrections,
                 work: self.work,
@@ -144,6 +169,48 @@ where
 {
     let chain_count = offsets.len() - 1;
     recurse(offsets, slices, chain_count, work);
+}
+
+/// Calls `work(first_chain, end_chain, slices)` for every batch of chains
+/// `LANES·k .. min(LANES·(k + 1), chain_count)` (`slices` covering exactly those chains), in
+/// parallel over groups of batches. The batches are fixed by chain index, so what each batch
+/// computes does not depend on the thread count.
+pub(crate) fn for_each_batch<'a, F>(offsets: &[u32], slices: ChainSlices<'a>, work: &F)
+where
+    F: Fn(usize, usize, ChainSlices<'_>) + Sync,
+{
+    let chain_count = offsets.len() - 1;
+    recurse_batches(offsets, slices, chain_count, work);
+}
+
+fn recurse_batches<F>(offsets: &[u32], slices: ChainSlices<'_>, end_chain: usize, work: &F)
+where
+    F: Fn(usize, usize, ChainSlices<'_>) + Sync,
+{
+    let first = slices.first_chain;
+    let batches = (end_chain - first).div_ceil(LANES);
+    if batches == 0 {
+        return;
+    }
+    let nodes = offsets[end_chain] - offsets[first];
+    if batches > 1 && nodes > NODES_PER_TASK {
+        let middle = first + LANES * (batches / 2);
+        let (a, b) = slices.split_at_chain(offsets, middle);
+        rayon::join(
+            || recurse_batches(offsets, a, middle, work),
+            || recurse_batches(offsets, b, end_chain, work),
+        );
+        return;
+    }
+    let mut rest = slices;
+    let mut start = first;
+    while start < end_chain {
+        let end = (start + LANES).min(end_chain);
+        let (batch, tail) = rest.split_at_chain(offsets, end);
+        work(start, end, batch);
+        rest = tail;
+        start = end;
+    }
 }
 
 fn recurse<F>(offsets: &[u32], slices: ChainSlices<'_>, end_chain: usize, work: &F)

@@ -11,8 +11,9 @@ use crate::dynamics::integrators::{
     ChainArrays, ChainConstants, Substep, linear_implicit, position_based, semi_implicit_euler,
 };
 use crate::dynamics::model::DynamicsModel;
-use crate::dynamics::parallel::{ChainSlices, for_each_chain};
+use crate::dynamics::parallel::{ChainSlices, ChainWork, for_each_batch, for_each_chain};
 use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings};
+use crate::dynamics::position_based_lanes::{BatchState, BatchStep, step_batch};
 use crate::dynamics::state::SimulationState;
 use crate::dynamics::wind::WindField;
 use crate::transform::RigidTransform;
@@ -51,6 +52,7 @@ pub struct StepReport {
 /// Per-node and per-chain scratch, allocated once (never inside a step).
 #[derive(Debug, Default)]
 struct Scratch {
+    wind: Vec<Vec3>,
     forces: Vec<Vec3>,
     corrections: Vec<Vec3>,
     work: Vec<Vec4>,
@@ -72,6 +74,9 @@ pub struct Simulation {
     model: DynamicsModel,
     settings: SimulationSettings,
     scratch: Scratch,
+    /// Whether the position-based integrator may step chains lane-parallel (tests compare it
+    /// with the one-chain step).
+    lanes: bool,
 }
 
 impl Simulation {
@@ -81,9 +86,16 @@ impl Simulation {
             model,
             settings,
             scratch: Scratch::default(),
+            lanes: true,
         };
         simulation.set_settings(settings)?;
         Ok(simulation)
+    }
+
+    /// Turns the lane-parallel position-based step off (every chain takes the one-chain step).
+    #[cfg(test)]
+    pub(crate) fn set_lanes(&mut self, lanes: bool) {
+        self.lanes = lanes;
     }
 
     /// The model.
@@ -103,6 +115,7 @@ impl Simulation {
         let nodes = self.model.node_count();
         let chains = self.model.chain_count();
         let scratch = &mut self.scratch;
+        scratch.wind.resize(nodes, Vec3::ZERO);
         scratch.forces.resize(nodes, Vec3::ZERO);
         scratch.corrections.resize(nodes, Vec3::ZERO);
         scratch.work.resize(nodes, Vec4::ZERO);
@@ -184,6 +197,7 @@ impl Simulation {
             positions: &mut state.node_positions,
             velocities: &mut state.node_velocities,
             collision: &state.collision_forces,
+            wind: &mut scratch.wind,
             forces: &mut scratch.forces,
             corrections: &mut scratch.corrections,
             work: &mut scratch.work,
@@ -197,7 +211,7 @@ impl Simulation {
             halvings: &mut scratch.halvings,
         };
         let head_poses = &scratch.head_poses;
-        for_each_chain(&model.rest.offsets, slices, &|chain, chain_slices| {
+        let step_one_chain = |chain: usize, chain_slices: ChainWork<'_>| {
             let constants = ChainConstants {
                 masses: &model.node_masses[model.rest.nodes(chain)],
                 rest_lengths: &model.rest.segment_rest_lengths[model.rest.nodes(chain)],
@@ -220,7 +234,47 @@ impl Simulation {
             );
             *chain_slices.failure = failure;
             *chain_slices.halvings = halvings;
-        });
+        };
+        if settings.integrator == IntegratorKind::PositionBased && self.lanes {
+            let batch_step = BatchStep {
+                model,
+                settings: &settings,
+                environment,
+                head_poses,
+                time,
+            };
+            for_each_batch(
+                &model.rest.offsets,
+                slices,
+                &|first_chain, end_chain, batch: ChainSlices<'_>| {
+                    batch.backup_positions.copy_from_slice(batch.positions);
+                    batch.backup_velocities.copy_from_slice(batch.velocities);
+                    let failed = step_batch(
+                        &batch_step,
+                        BatchState {
+                            first_chain,
+                            end_chain,
+                            positions: &mut *batch.positions,
+                            velocities: &mut *batch.velocities,
+                            collision: batch.collision,
+                        },
+                    );
+                    // Chains the lanes did not step (or that failed there) take the one-chain
+                    // integrator with the failure policy; the others succeeded.
+                    let redo = failed.unwrap_or(u32::MAX);
+                    batch.for_each_chain_here(&model.rest.offsets, end_chain, |chain, work| {
+                        if redo & (1 << (chain - first_chain)) != 0 {
+                            step_one_chain(chain, work);
+                        } else {
+                            *work.failure = None;
+                            *work.halvings = 0;
+                        }
+                    });
+                },
+            );
+        } else {
+            for_each_chain(&model.rest.offsets, slices, &step_one_chain);
+        }
         if let Some(failure) = scratch.failures.iter().flatten().next() {
             let failure = *failure;
             state
@@ -271,6 +325,10 @@ fn step_chain(
 ) -> (Option<ChainFailure>, u32) {
     backup_positions.copy_from_slice(arrays.positions);
     backup_velocities.copy_from_slice(arrays.velocities);
+    // The wind at the nodes, sampled once per step at its start.
+    for (wind, position) in arrays.wind.iter_mut().zip(&*arrays.positions) {
+        *wind = environment.wind.velocity_at(*position, time);
+    }
     let max_halvings = match settings.on_failure {
         FailurePolicy::Error => 0,
         FailurePolicy::HalveSubstep { max_halvings } => max_halvings,
@@ -281,7 +339,6 @@ fn step_chain(
         let h = settings.time_step / substeps as f32;
         let mut solved = true;
         for k in 0..substeps {
-            let start_time = time + k as f64 * h as f64;
             let pose = |index: usize| {
                 if halvings == 0 {
                     head_poses[index]
@@ -294,12 +351,10 @@ fn step_chain(
             let head_start = pose(k);
             let head_end = pose(k + 1);
             let step = Substep {
-                time: start_time,
                 h,
                 head_start,
                 head_end,
                 head_spin: angular_velocity(head_start.rotation, head_end.rotation, h),
-                wind: &environment.wind,
                 gravity: environment.gravity,
                 params,
                 roots: settings.roots,

@@ -1,5 +1,9 @@
-// Clamped uniform B-spline of a strand, evaluated from the skeleton nodes (de Boor's algorithm).
+// Clamped uniform B-spline along a chain, evaluated from the skeleton nodes (de Boor's algorithm).
 // Mirrors `bspline.rs`: degree p = min(3, n - 1), knots t_i = clamp((i - p) / (n - p), 0, 1).
+//
+// Strands, cluster tubes and patch strips all have control points `node_k + s_k · (o.x · n_k +
+// o.y · b_k)`: a fixed offset o in the node frame, scaled by s_k interpolated from root to tip
+// (1 for strands, the cluster radius for tubes, the half width for patches).
 
 struct CurvePoint {
     position: vec3<f32>,
@@ -7,26 +11,25 @@ struct CurvePoint {
     derivative: vec3<f32>,
 }
 
-// Nodes of a strand's chain, or count 0 when the strand is unusable.
-struct StrandChain {
-    first_node: u32,
-    node_count: u32,
-}
-
-fn strand_chain(strand: Strand) -> StrandChain {
-    var chain: StrandChain;
+// The chain `index`, or one with no nodes when the index or its nodes are out of range.
+fn chain_at(index: u32) -> Chain {
+    var chain: Chain;
     chain.first_node = 0u;
     chain.node_count = 0u;
-    if (strand.chain + 1u >= arrayLength(&chain_offsets) || strand.chain >= globals.counts.y) {
+    chain.along_segments = 1u;
+    chain.around_segments = 1u;
+    chain.first_sample = 0u;
+    if (index >= arrayLength(&chains) || index >= globals.counts.y) {
         return chain;
     }
-    let first = chain_offsets[strand.chain];
-    let last = chain_offsets[strand.chain + 1u];
-    if (last <= first || last > globals.counts.z) {
+    let found = chains[index];
+    if (found.first_node + found.node_count > globals.counts.z
+        || found.first_node + found.node_count > arrayLength(&nodes)) {
         return chain;
     }
-    chain.first_node = first;
-    chain.node_count = last - first;
+    chain = found;
+    chain.along_segments = max(chain.along_segments, 1u);
+    chain.around_segments = max(chain.around_segments, 1u);
     return chain;
 }
 
@@ -34,13 +37,15 @@ fn knot(i: u32, n: u32, p: u32) -> f32 {
     return clamp((f32(i) - f32(p)) / f32(n - p), 0.0, 1.0);
 }
 
-// Control point k of a strand: node position plus the root offset in the node's (normal, binormal) plane.
-fn strand_control_point(first_node: u32, k: u32, offset: vec2<f32>) -> vec3<f32> {
-    let node = nodes[first_node + k];
-    return node.position.xyz + offset.x * node.normal.xyz + offset.y * node.binormal.xyz;
+// Control point k: node position plus the scaled offset in the node's (normal, binormal) plane.
+fn control_point(chain: Chain, k: u32, offset: vec2<f32>, root_scale: f32, tip_scale: f32) -> vec3<f32> {
+    let node = nodes[chain.first_node + k];
+    let t = f32(k) / f32(max(chain.node_count, 2u) - 1u);
+    let o = offset * mix(root_scale, tip_scale, t);
+    return node.position.xyz + o.x * node.normal.xyz + o.y * node.binormal.xyz;
 }
 
-fn evaluate_strand(chain: StrandChain, offset: vec2<f32>, u_in: f32) -> CurvePoint {
+fn evaluate_curve(chain: Chain, offset: vec2<f32>, root_scale: f32, tip_scale: f32, u_in: f32) -> CurvePoint {
     var result: CurvePoint;
     result.position = vec3<f32>(0.0);
     result.derivative = vec3<f32>(0.0);
@@ -49,7 +54,7 @@ fn evaluate_strand(chain: StrandChain, offset: vec2<f32>, u_in: f32) -> CurvePoi
         return result;
     }
     if (n == 1u) {
-        result.position = strand_control_point(chain.first_node, 0u, offset);
+        result.position = control_point(chain, 0u, offset, root_scale, tip_scale);
         return result;
     }
     let p = min(3u, n - 1u);
@@ -58,7 +63,7 @@ fn evaluate_strand(chain: StrandChain, offset: vec2<f32>, u_in: f32) -> CurvePoi
     let span = p + min(u32(floor(u * f32(segments))), segments - 1u);
     var d: array<vec3<f32>, 4>;
     for (var j = 0u; j < 4u; j++) {
-        d[j] = strand_control_point(chain.first_node, span - p + min(j, p), offset);
+        d[j] = control_point(chain, span - p + min(j, p), offset, root_scale, tip_scale);
     }
     // Fixed trip counts (levels r = 1..3, points j = 3..r), skipping steps above the degree.
     for (var r = 1u; r < 4u; r++) {
@@ -87,4 +92,36 @@ fn evaluate_strand(chain: StrandChain, offset: vec2<f32>, u_in: f32) -> CurvePoi
     }
     result.position = d[p];
     return result;
+}
+
+// The node frame (normal, binormal) interpolated at curve parameter u (for surface shading).
+fn frame_at(chain: Chain, u: f32) -> mat2x3<f32> {
+    let x = clamp(u, 0.0, 1.0) * f32(chain.node_count - 1u);
+    let k = min(u32(floor(x)), chain.node_count - 1u);
+    let k1 = min(k + 1u, chain.node_count - 1u);
+    let t = x - f32(k);
+    let a = nodes[chain.first_node + k];
+    let b = nodes[chain.first_node + k1];
+    return mat2x3<f32>(mix(a.normal.xyz, b.normal.xyz, t), mix(a.binormal.xyz, b.binormal.xyz, t));
+}
+
+// Kajiya-Kay in the Heidrich-Seidel form: diffuse ∝ sin(T, L),
+// specular ∝ (sin(T, L) sin(T, V) - (T·L)(T·V))^p. Returns (diffuse, specular).
+fn kajiya_kay(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>) -> vec2<f32> {
+    let tl = dot(tangent, to_light);
+    let tv = dot(tangent, to_eye);
+    let sin_tl = sqrt(max(0.0, 1.0 - tl * tl));
+    let sin_tv = sqrt(max(0.0, 1.0 - tv * tv));
+    let diffuse = sin_tl;
+    let specular = pow(max(sin_tl * sin_tv - tl * tv, 1e-6), globals.shading.z);
+    return vec2<f32>(diffuse, specular);
+}
+
+// Hair colour lit by Kajiya-Kay: `base · (ambient + light · kd · diffuse · occlusion) +
+// light · ks · specular · occlusion`.
+fn hair_color(base: vec3<f32>, tangent: vec3<f32>, world_position: vec3<f32>, occlusion: f32) -> vec3<f32> {
+    let to_eye = normalize(globals.camera_position.xyz - world_position);
+    let lighting = kajiya_kay(tangent, globals.light_direction.xyz, to_eye);
+    return base * (globals.ambient.rgb + globals.light_color.rgb * globals.shading.x * lighting.x * occlusion)
+        + globals.light_color.rgb * globals.shading.y * lighting.y * occlusion;
 }

@@ -1,0 +1,180 @@
+//! The per-frame node buffer of a groom's *active* skeletons: chains of the levels in use carry
+//! their nodes and frames, every other chain is empty (and draws nothing).
+
+use glam::Vec3;
+use hair_core::{Frame, Groom, Level};
+
+use crate::error::{Result, invalid};
+use crate::inputs::SkeletonFrame;
+
+/// Node positions and frames of the active skeletons, on the groom's chain numbering, reused from
+/// frame to frame (no allocation once grown).
+#[derive(Debug, Clone, Default)]
+pub struct ActiveSkeletons {
+    chain_offsets: Vec<u32>,
+    node_positions: Vec<Vec3>,
+    node_normals: Vec<Vec3>,
+    node_binormals: Vec<Vec3>,
+}
+
+impl ActiveSkeletons {
+    /// An empty buffer.
+    pub fn new() -> ActiveSkeletons {
+        ActiveSkeletons::default()
+    }
+
+    /// Removes every chain.
+    pub fn clear(&mut self) {
+        self.chain_offsets.clear();
+        self.node_positions.clear();
+        self.node_normals.clear();
+        self.node_binormals.clear();
+    }
+
+    /// Appends an active chain: node positions [m] and their frames, one per node.
+    pub fn push_chain(&mut self, node_positions: &[Vec3], node_frames: &[Frame]) -> Result<()> {
+        if node_positions.len() != node_frames.len() {
+            return Err(invalid(format!(
+                "chain {} has {} node positions but {} node frames",
+                self.chain_count(),
+                node_positions.len(),
+                node_frames.len()
+            )));
+        }
+        if self.chain_offsets.is_empty() {
+            self.chain_offsets.push(0);
+        }
+        self.node_positions.extend_from_slice(node_positions);
+        self.node_normals
+            .extend(node_frames.iter().map(|frame| frame.normal));
+        self.node_binormals
+            .extend(node_frames.iter().map(|frame| frame.binormal));
+        self.chain_offsets.push(self.node_positions.len() as u32);
+        Ok(())
+    }
+
+    /// Appends an inactive chain (no nodes: nothing on it is drawn).
+    pub fn push_inactive_chain(&mut self) {
+        if self.chain_offsets.is_empty() {
+            self.chain_offsets.push(0);
+        }
+        self.chain_offsets.push(self.node_positions.len() as u32);
+    }
+
+    /// Refills the buffer for `groom`: section `s` is drawn at `section_levels[s]`, so its chains
+    /// at that level take their nodes from `node_positions` [m] and `node_frames` (one per node of
+    /// `groom.skeletons`, every level, chain-major) and all its other chains are inactive.
+    pub fn gather(
+        &mut self,
+        groom: &Groom,
+        section_levels: &[Level],
+        node_positions: &[Vec3],
+        node_frames: &[Frame],
+    ) -> Result<()> {
+        let sections = groom.section_count();
+        if section_levels.len() != sections {
+            return Err(invalid(format!(
+                "{} section levels for a groom of {sections} sections",
+                section_levels.len()
+            )));
+        }
+        let nodes = groom.skeletons.node_count();
+        if node_positions.len() != nodes || node_frames.len() != nodes {
+            return Err(invalid(format!(
+                "the groom has {nodes} skeleton nodes but {} positions and {} frames were given",
+                node_positions.len(),
+                node_frames.len()
+            )));
+        }
+        self.clear();
+        for chain in 0..groom.skeletons.chain_count() {
+            let (section, level, _) = groom.chain_owner(chain);
+            if section_levels[section] == level {
+                let range = groom.skeletons.nodes(chain);
+                self.push_chain(&node_positions[range.clone()], &node_frames[range])?;
+            } else {
+                self.push_inactive_chain();
+            }
+        }
+        Ok(())
+    }
+
+    /// [`ActiveSkeletons::gather`] with every section at `level`.
+    pub fn gather_level(
+        &mut self,
+        groom: &Groom,
+        level: Level,
+        node_positions: &[Vec3],
+        node_frames: &[Frame],
+    ) -> Result<()> {
+        let levels = vec![level; groom.section_count()];
+        self.gather(groom, &levels, node_positions, node_frames)
+    }
+
+    /// Number of chains (active or not).
+    pub fn chain_count(&self) -> usize {
+        self.chain_offsets.len().saturating_sub(1)
+    }
+
+    /// Number of nodes of the active chains (what is uploaded per frame).
+    pub fn node_count(&self) -> usize {
+        self.node_positions.len()
+    }
+
+    /// The frame to hand to [`crate::Renderer::render`].
+    pub fn frame(&self) -> SkeletonFrame<'_> {
+        SkeletonFrame {
+            chain_offsets: &self.chain_offsets,
+            node_positions: &self.node_positions,
+            node_normals: &self.node_normals,
+            node_binormals: &self.node_binormals,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gather_keeps_only_the_chosen_level() {
+        let scene = hair_core::Scene::new(
+            &hair_core::HeadParams::default(),
+            &hair_core::GroomParams {
+                section_count: 3,
+                strands_per_group: 2,
+                ..hair_core::GroomParams::preset("straight").unwrap()
+            },
+        )
+        .unwrap();
+        let groom = &scene.groom;
+        let head = hair_core::RigidTransform::IDENTITY;
+        let positions = groom.skeletons.rest_positions(&head);
+        let mut frames = vec![Frame::default(); positions.len()];
+        groom
+            .skeletons
+            .node_frames_into(&head, &positions, &mut frames);
+        let mut active = ActiveSkeletons::new();
+        let levels = [Level::Patch, Level::Cluster, Level::StrandGroup];
+        active.gather(groom, &levels, &positions, &frames).unwrap();
+        assert_eq!(active.chain_count(), 9 * 3);
+        let per = groom.counts().nodes_per_skeleton;
+        assert_eq!(active.node_count(), (1 + 3 + 5) * per);
+        assert!(active.frame().validate().is_ok());
+        let frame = active.frame();
+        let nodes_of = |chain: usize| frame.chain_offsets[chain + 1] - frame.chain_offsets[chain];
+        assert_eq!(nodes_of(0) as usize, per); // patch of section 0
+        assert_eq!(nodes_of(1), 0); // patch of section 1
+        assert_eq!(
+            nodes_of(groom.section_chains(1, Level::Cluster).start) as usize,
+            per
+        );
+        assert!(
+            active
+                .gather(groom, &levels[..2], &positions, &frames)
+                .unwrap_err()
+                .to_string()
+                .contains("2 section levels")
+        );
+    }
+}

@@ -1,0 +1,262 @@
+//! Draw batching: items (strands, clusters, patches) sorted by chain at upload, a per-frame chain
+//! table with each chain's tessellation (chosen from its root's distance to the camera, §6), and
+//! runs of consecutive items with equal tessellation, each drawn with one instanced call so that no
+//! vertex is spent on collapsed points and chains without nodes (inactive skeletons) cost nothing.
+
+use glam::Vec3;
+
+use crate::inputs::SkeletonFrame;
+use crate::settings::Tessellation;
+
+/// One chain as the shaders read it (`Chain` in `common.wgsl`), 32 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuChain {
+    pub first_node: u32,
+    pub node_count: u32,
+    pub along_segments: u32,
+    pub around_segments: u32,
+    /// First slot of the chain's `along_segments + 1` samples in the chain-curve buffer (chains
+    /// with fewer than two nodes get none).
+    pub first_sample: u32,
+    /// 1 when the chain's strands are at most one pixel wide (drawn as lines), else 0.
+    pub thin: u32,
+    pub padding: [u32; 2],
+}
+
+/// Bytes per chain-curve sample (`ChainSample` in `chain_curve_types.wgsl`: six `vec4<f32>`).
+pub(crate) const CHAIN_SAMPLE_BYTES: u64 = 96;
+
+/// The chain table of a (validated) frame: nodes, tessellation and chain-curve slots of every
+/// chain, written into `out` (reusing its allocation). Returns the number of chain-curve samples.
+/// `is_thin(distance)` says whether strands at that distance [m] are at most one pixel wide.
+pub(crate) fn chain_table(
+    frame: &SkeletonFrame<'_>,
+    tessellation: &Tessellation,
+    camera_position: Vec3,
+    is_thin: impl Fn(f32) -> bool,
+    out: &mut Vec<GpuChain>,
+) -> u32 {
+    out.clear();
+    let mut samples = 0u32;
+    out.extend(frame.chain_offsets.windows(2).map(|w| {
+        let (first, end) = (w[0], w[1]);
+        let distance = frame
+            .node_positions
+            .get(first as usize)
+            .map_or(f32::INFINITY, |root| root.distance(camera_position));
+        let along_segments = tessellation.segments_at(distance);
+        let first_sample = samples;
+        if end - first >= 2 {
+            samples = samples.saturating_add(along_segments + 1);
+        }
+        GpuChain {
+            first_node: first,
+            node_count: end - first,
+            along_segments,
+            around_segments: tessellation.around_segments_at(distance),
+            first_sample,
+            thin: u32::from(is_thin(distance)),
+            padding: [0; 2],
+        }
+    }));
+    samples
+}
+
+/// Items of one kind sorted by chain (stable), with the runs of items sharing a chain.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ChainOrder {
+    /// Input index of the item at each sorted position.
+    pub sorted_to_input: Vec<u32>,
+    /// `(chain, first item, end item)` per distinct chain, by chain, in sorted positions.
+    pub runs: Vec<(u32, u32, u32)>,
+}
+
+impl ChainOrder {
+    /// Sorts items by the chain each follows.
+    pub fn new(item_chains: &[u32]) -> ChainOrder {
+        let mut sorted_to_input: Vec<u32> = (0..item_chains.len() as u32).collect();
+        sorted_to_input.sort_by_key(|&i| (item_chains[i as usize], i));
+        let mut runs: Vec<(u32, u32, u32)> = Vec::new();
+        for (position, &input) in sorted_to_input.iter().enumerate() {
+            let chain = item_chains[input as usize];
+            let position = position as u32;
+            match runs.last_mut() {
+                Some(run) if run.0 == chain => run.2 = position + 1,
+                _ => runs.push((chain, position, position + 1)),
+            }
+        }
+        ChainOrder {
+            sorted_to_input,
+            runs,
+        }
+    }
+
+    /// Number of items.
+    pub fn item_count(&self) -> usize {
+        self.sorted_to_input.len()
+    }
+
+    /// Chains the frame must have: the largest chain followed + 1 (0 without items).
+    pub fn chains_needed(&self) -> u32 {
+        self.runs.last().map_or(0, |run| run.0 + 1)
+    }
+
+    /// `items` (in input order) rearranged into sorted order.
+    pub fn sorted<T: Copy>(&self, items: &[T]) -> Vec<T> {
+        self.sorted_to_input
+            .iter()
+            .map(|&i| items[i as usize])
+            .collect()
+    }
+
+    /// Appends the draw batches of this frame to `out`: runs of consecutive items whose chains
+    /// have at least two nodes and equal tessellation.
+    pub fn batches(&self, chains: &[GpuChain], out: &mut Vec<Batch>) {
+        let first_new = out.len();
+        for &(chain, start, end) in &self.runs {
+            let Some(info) = chains.get(chain as usize) else {
+                continue;
+            };
+            if info.node_count < 2 {
+                continue;
+            }
+            let (along, around, thin) = (info.along_segments, info.around_segments, info.thin);
+            let mergeable = out.len() > first_new;
+            match out.last_mut() {
+                Some(batch)
+                    if mergeable
+                        && batch.along_segments == along
+                        && batch.around_segments == around
+                        && batch.thin == (thin != 0)
+                        && batch.items.end == start =>
+                {
+                    batch.items.end = end;
+                }
+                _ => out.push(Batch {
+                    items: start..end,
+                    along_segments: along,
+                    around_segments: around,
+                    thin: thin != 0,
+                }),
+            }
+        }
+    }
+}
+
+/// One instanced draw: items (sorted positions) that share a tessellation.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Batch {
+    pub items: std::ops::Range<u32>,
+    pub along_segments: u32,
+    pub around_segments: u32,
+    /// Strands at most a pixel wide: drawn as lines, not ribbons.
+    pub thin: bool,
+}
+
+impl Batch {
+    /// Vertices per strand ribbon (a strip straddling `along + 1` points).
+    pub fn ribbon_vertices(&self) -> u32 {
+        2 * (self.along_segments + 1)
+    }
+
+    /// Vertices per strand line strip.
+    pub fn line_vertices(&self) -> u32 {
+        self.along_segments + 1
+    }
+
+    /// Vertices per tube or strip of `bands` bands: a strip per band, joined by two degenerate
+    /// vertices (`surfaces.wgsl`).
+    pub fn surface_vertices(&self, bands: u32) -> u32 {
+        bands * (2 * (self.along_segments + 1) + 2) - 2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn items_sort_by_chain_and_form_runs() {
+        let order = ChainOrder::new(&[2, 0, 2, 1, 0]);
+        assert_eq!(order.sorted_to_input, vec![1, 4, 3, 0, 2]);
+        assert_eq!(order.runs, vec![(0, 0, 2), (1, 2, 3), (2, 3, 5)]);
+        assert_eq!(order.chains_needed(), 3);
+        assert_eq!(
+            order.sorted(&['a', 'b', 'c', 'd', 'e']),
+            vec!['b', 'e', 'd', 'a', 'c']
+        );
+        assert_eq!(ChainOrder::new(&[]).chains_needed(), 0);
+    }
+
+    #[test]
+    fn batches_merge_equal_tessellation_and_skip_empty_chains() {
+        let order = ChainOrder::new(&[0, 0, 1, 2, 3, 3]);
+        let chain = |nodes, along| GpuChain {
+            first_node: 0,
+            node_count: nodes,
+            along_segments: along,
+            around_segments: 4,
+            ..GpuChain::default()
+        };
+        let chains = [chain(5, 8), chain(5, 8), chain(0, 8), chain(5, 4)];
+        let mut batches = Vec::new();
+        order.batches(&chains, &mut batches);
+        let expected = vec![
+            Batch {
+                items: 0..3,
+                along_segments: 8,
+                around_segments: 4,
+                thin: false,
+            },
+            Batch {
+                items: 4..6,
+                along_segments: 4,
+                around_segments: 4,
+                thin: false,
+            },
+        ];
+        assert_eq!(batches, expected);
+        assert_eq!(expected[1].ribbon_vertices(), 10);
+        assert_eq!(expected[1].surface_vertices(1), 10);
+        assert_eq!(expected[1].surface_vertices(3), 34);
+    }
+
+    #[test]
+    fn chain_table_follows_camera_distance() {
+        let positions = [
+            Vec3::ZERO,
+            Vec3::NEG_Y,
+            Vec3::new(0.0, 0.0, -3.0),
+            Vec3::ONE,
+        ];
+        let axes = [Vec3::X; 4];
+        let frame = SkeletonFrame {
+            chain_offsets: &[0, 2, 2, 4],
+            node_positions: &positions,
+            node_normals: &axes,
+            node_binormals: &axes,
+        };
+        let mut table = Vec::new();
+        let tessellation = Tessellation::default();
+        let samples = chain_table(
+            &frame,
+            &tessellation,
+            Vec3::new(0.0, 0.0, 1.0),
+            |d| d > 2.0,
+            &mut table,
+        );
+        assert_eq!(table.len(), 3);
+        assert_eq!(table[2].first_sample, table[0].along_segments + 1);
+        assert_eq!(
+            samples,
+            table[0].along_segments + table[2].along_segments + 2
+        );
+        assert_eq!((table[0].first_node, table[0].node_count), (0, 2));
+        assert_eq!(table[1].node_count, 0);
+        assert_eq!(table[0].along_segments, tessellation.segments_at(1.0));
+        assert_eq!(table[2].along_segments, tessellation.segments_at(4.0));
+        assert!(table[2].along_segments < table[0].along_segments);
+        assert_eq!((table[0].thin, table[2].thin), (0, 1));
+    }
+}

@@ -1,0 +1,184 @@
+// Clusters (§3.4, closed tubes: 4 control points per node, periodic cubic around) and patches
+// (§3.3, ruled strips: 2 control points per node, linear across), evaluated from the skeleton nodes
+// by vertex pulling and shaded with Kajiya-Kay along the hair, a light-facing term from the surface
+// normal, and a procedural stripe texture in the hair colour range.
+
+// Static data of one cluster or patch (`GpuSurface` in `surfaces.rs`), uploaded once, sorted by
+// chain. Clusters: scales are the root and tip radii [m]; patches: both are half the width [m].
+struct Surface {
+    chain: u32,
+    root_scale: f32,
+    tip_scale: f32,
+    seed: u32,
+}
+
+@group(1) @binding(0) var<storage, read> surfaces: array<Surface>;
+
+// Texture stripes around a cluster and across a patch.
+const STRIPES_AROUND: f32 = 14.0;
+const STRIPES_ACROSS: f32 = 22.0;
+
+struct SurfaceVertex {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_position: vec3<f32>,
+    @location(1) tangent: vec3<f32>,
+    @location(2) normal: vec3<f32>,
+    // x: across (0..1 around a tube, 0..1 across a strip), y: along the hair (0 root, 1 tip).
+    @location(3) texcoord: vec2<f32>,
+    // 1: cluster, 2: patch.
+    @location(4) @interpolate(flat) kind: u32,
+    @location(5) @interpolate(flat) seed: u32,
+}
+
+// Offset direction on the unit control circle [cos(j·90°), sin(j·90°)], j = 0..3, blended by the
+// periodic uniform cubic B-spline at u ∈ [0, 1] (span s uses points s..s+3 mod 4).
+fn ring_offset(u: f32) -> vec2<f32> {
+    let x = fract(u) * 4.0;
+    let span = u32(floor(x)) % 4u;
+    let t = x - floor(x);
+    let t2 = t * t;
+    let t3 = t2 * t;
+    let weights = vec4<f32>(
+        (1.0 - t) * (1.0 - t) * (1.0 - t),
+        3.0 * t3 - 6.0 * t2 + 4.0,
+        -3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0,
+        t3,
+    ) / 6.0;
+    let directions = array<vec2<f32>, 4>(
+        vec2<f32>(1.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(-1.0, 0.0), vec2<f32>(0.0, -1.0));
+    var offset = vec2<f32>(0.0);
+    for (var m = 0u; m < 4u; m++) {
+        offset += weights[m] * directions[(span + m) % 4u];
+    }
+    return offset;
+}
+
+// Vertex `vertex` of surface `index`: one triangle strip per band around (clusters) or a single
+// band (patches), bands joined by two degenerate vertices.
+fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
+    var out: SurfaceVertex;
+    out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+    out.world_position = vec3<f32>(0.0);
+    out.tangent = vec3<f32>(0.0, 1.0, 0.0);
+    out.normal = vec3<f32>(0.0, 0.0, 1.0);
+    out.texcoord = vec2<f32>(0.0);
+    out.kind = kind;
+    out.seed = 0u;
+    if (index >= arrayLength(&surfaces)) {
+        return out;
+    }
+    let surface = surfaces[index];
+    let chain = chain_at(surface.chain);
+    if (chain.node_count < 2u) {
+        return out;
+    }
+    let segments = chain.along_segments;
+    var bands = 1u;
+    if (kind == 1u) {
+        bands = chain.around_segments;
+    }
+    let band_vertices = 2u * (segments + 1u);
+    let block = band_vertices + 2u;
+    var band = vertex / block;
+    let local = vertex % block;
+    var point = local / 2u;
+    var side = local & 1u;
+    if (local == band_vertices) {
+        // Repeat the band's last vertex.
+        point = segments;
+        side = 1u;
+    } else if (local == band_vertices + 1u) {
+        // Start the next band.
+        band += 1u;
+        point = 0u;
+        side = 0u;
+    }
+    if (band >= bands) {
+        return out;
+    }
+    let across = f32(band + side) / f32(bands);
+    let v = f32(point) / f32(segments);
+    var offset = vec2<f32>(0.0, 2.0 * across - 1.0);
+    if (kind == 1u) {
+        offset = ring_offset(across);
+    }
+    let curve = evaluate_curve(chain, offset, surface.root_scale, surface.tip_scale, v);
+    var tangent = curve.derivative;
+    if (dot(tangent, tangent) < 1e-20) {
+        tangent = vec3<f32>(0.0, 1.0, 0.0);
+    }
+    tangent = normalize(tangent);
+    let frame = frame_at(chain, v);
+    var normal: vec3<f32>;
+    if (kind == 1u) {
+        normal = offset.x * frame[0] + offset.y * frame[1];
+    } else {
+        normal = cross(tangent, frame[1]);
+    }
+    out.clip = globals.view_proj * vec4<f32>(curve.position, 1.0);
+    out.world_position = curve.position;
+    out.tangent = tangent;
+    out.normal = normal;
+    out.texcoord = vec2<f32>(across, v);
+    out.seed = surface.seed;
+    return out;
+}
+
+@vertex
+fn vs_cluster(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u32) -> SurfaceVertex {
+    return surface_vertex(index, vertex, 1u);
+}
+
+@vertex
+fn vs_patch(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u32) -> SurfaceVertex {
+    return surface_vertex(index, vertex, 2u);
+}
+
+// A well-mixed 32-bit hash (PCG output function).
+fn hash_u32(x: u32) -> u32 {
+    let state = x * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// Smooth value noise in 0..1 over stripes `x` (period `period` stripes), per surface `seed`.
+fn stripe_noise(x: f32, period: f32, seed: u32) -> f32 {
+    let cell = floor(x);
+    let f = x - cell;
+    let a = u32(cell - period * floor(cell / period));
+    let b = (a + 1u) % u32(period);
+    let ha = f32(hash_u32(seed ^ hash_u32(a)) >> 8u) / 16777215.0;
+    let hb = f32(hash_u32(seed ^ hash_u32(b)) >> 8u) / 16777215.0;
+    return mix(ha, hb, smoothstep(0.0, 1.0, f));
+}
+
+@fragment
+fn fs_surface(in: SurfaceVertex) -> @location(0) vec4<f32> {
+    if (globals.shading.w > 0.5) {
+        if (in.kind == 1u) {
+            return vec4<f32>(globals.cluster_code_color.rgb, 1.0);
+        }
+        return vec4<f32>(globals.patch_code_color.rgb, 1.0);
+    }
+    var stripes = STRIPES_ACROSS;
+    if (in.kind == 1u) {
+        stripes = STRIPES_AROUND;
+    }
+    // Texture: coarse locks and fine strands across the surface, constant along the hair.
+    let coarse = stripe_noise(in.texcoord.x * stripes, stripes, in.seed);
+    let fine = stripe_noise(in.texcoord.x * stripes * 3.0, stripes * 3.0, in.seed * 7919u + 1u);
+    let shade = clamp(0.6 * coarse + 0.4 * fine, 0.0, 1.0);
+    let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, shade);
+    let to_eye = normalize(globals.camera_position.xyz - in.world_position);
+    var normal = in.normal;
+    if (dot(normal, normal) < 1e-20) {
+        normal = to_eye;
+    }
+    normal = normalize(normal);
+    if (in.kind == 2u && dot(normal, to_eye) < 0.0) {
+        normal = -normal;
+    }
+    // Light-facing term: the side of a tube or strip away from the light is darker.
+    let occlusion = 0.35 + 0.65 * max(dot(normal, globals.light_direction.xyz), 0.0);
+    return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, occlusion), 1.0);
+}
