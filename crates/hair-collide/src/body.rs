@@ -12,6 +12,7 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use crate::error::{CollideError, Result, require_finite_points};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
+use crate::surface::Pseudonormals;
 use crate::volume::Pss;
 
 /// A rigid triangle mesh that hair collides with.
@@ -25,6 +26,7 @@ pub struct CollisionBody {
     bound: Pss,
     bvh: Bvh,
     workspace: BvhWorkspace,
+    pub(crate) pseudonormals: Pseudonormals,
 }
 
 impl std::fmt::Debug for CollisionBody {
@@ -35,6 +37,24 @@ impl std::fmt::Debug for CollisionBody {
             .field("rotation", &self.rotation)
             .field("translation", &self.translation)
             .finish_non_exhaustive()
+    }
+}
+
+impl Clone for CollisionBody {
+    /// A copy with its own (empty) refit workspace.
+    fn clone(&self) -> Self {
+        Self {
+            local_positions: self.local_positions.clone(),
+            indices: self.indices.clone(),
+            local_bound: self.local_bound,
+            rotation: self.rotation,
+            translation: self.translation,
+            triangles: self.triangles.clone(),
+            bound: self.bound,
+            bvh: self.bvh.clone(),
+            workspace: BvhWorkspace::default(),
+            pseudonormals: self.pseudonormals.clone(),
+        }
     }
 }
 
@@ -100,7 +120,9 @@ impl CollisionBody {
             BvhBuildStrategy::Binned,
             triangles.iter().map(triangle_aabb).enumerate(),
         );
+        let pseudonormals = Pseudonormals::of(mesh);
         Ok(Self {
+            pseudonormals,
             local_positions: mesh.positions.clone(),
             indices: mesh.triangles.clone(),
             local_bound,
@@ -160,6 +182,11 @@ impl CollisionBody {
     /// World-space triangles with their unit normals, indexed by triangle id.
     pub fn triangles(&self) -> &[Triangle] {
         &self.triangles
+    }
+
+    /// The mesh vertex index of corner `k` (0..3) of triangle `triangle`.
+    pub(crate) fn triangle_vertex(&self, triangle: u32, k: u8) -> u32 {
+        self.indices[triangle as usize][k as usize]
     }
 
     /// Number of triangles.

@@ -51,6 +51,9 @@ pub enum CollideError {
         /// Number of vertices in the mesh.
         vertex_count: usize,
     },
+    /// The dynamics step failed (see [`hair_core::dynamics::DynamicsError`]).
+    #[error("dynamics: {0}")]
+    Dynamics(#[from] hair_core::dynamics::DynamicsError),
 }
 
 /// Result alias for `hair-collide`.

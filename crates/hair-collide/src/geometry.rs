@@ -263,6 +263,53 @@ pub fn polygon_polygon_distance_squared<P: ConvexPlanar, Q: ConvexPlanar>(
     best
 }
 
+/// Whether segment `[p, q]` comes within `radius` \[m\] of a filled planar convex polygon:
+/// `segment_polygon_distance_squared(p, q, polygon).sqrt() <= radius`, exactly (the same
+/// candidates; `sqrt` is monotone, so "the smallest is within" is "some candidate is within"),
+/// returning at the first candidate within reach.
+pub fn segment_polygon_within<P: ConvexPlanar>(p: Vec3, q: Vec3, polygon: &P, radius: f32) -> bool {
+    if let Some((origin, normal)) = polygon.plane() {
+        let height_p = (p - origin).dot(normal);
+        let height_q = (q - origin).dot(normal);
+        let crosses = (height_p <= 0.0 && height_q >= 0.0) || (height_p >= 0.0 && height_q <= 0.0);
+        if crosses && height_p != height_q {
+            let t = height_p / (height_p - height_q);
+            let crossing = p + (q - p) * t;
+            let crossing = crossing - normal * (crossing - origin).dot(normal);
+            if polygon.contains_coplanar_point(crossing) {
+                return 0.0 <= radius;
+            }
+        }
+    }
+    let within = |d: f32| d.sqrt() <= radius;
+    if within(point_polygon_distance_squared(p, polygon))
+        || within(point_polygon_distance_squared(q, polygon))
+    {
+        return true;
+    }
+    (0..P::EDGE_COUNT).any(|k| {
+        let (a, b) = polygon.edge(k);
+        within(segment_segment_distance_squared(p, q, a, b))
+    })
+}
+
+/// Whether two filled planar convex polygons come within `radius` \[m\] of each other:
+/// `polygon_polygon_distance_squared(first, second).sqrt() <= radius`, exactly, returning at the
+/// first edge within reach.
+pub fn polygon_polygon_within<P: ConvexPlanar, Q: ConvexPlanar>(
+    first: &P,
+    second: &Q,
+    radius: f32,
+) -> bool {
+    (0..P::EDGE_COUNT).any(|k| {
+        let (a, b) = first.edge(k);
+        segment_polygon_within(a, b, second, radius)
+    }) || (0..Q::EDGE_COUNT).any(|k| {
+        let (a, b) = second.edge(k);
+        segment_polygon_within(a, b, first, radius)
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -13,15 +13,32 @@
 
 pub mod body;
 pub mod bvh;
+pub mod closest;
 pub mod error;
 pub mod fit;
+mod gather;
 pub mod geometry;
+pub mod hair_hair;
+pub mod layout;
+mod other_forces;
 pub mod query;
+pub mod response;
+pub mod solver;
+pub mod surface;
 pub mod volume;
 
 pub use body::CollisionBody;
 pub use bvh::{ChainVolume, HairBvh, aabb_padding};
 pub use error::{CollideError, Result};
 pub use geometry::{Rectangle, Triangle};
+pub use hair_hair::{HairHairSettings, add_repulsion_forces};
+pub use layout::{
+    ChainShape, CollisionChain, groom_active_chains, groom_chain, groom_level_chains,
+};
 pub use query::{SegmentContacts, query_body, query_body_brute_force};
+pub use solver::{
+    CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,
+    ProjectionReport,
+};
+pub use surface::SurfacePoint;
 pub use volume::{Lss, Pss, Rss, SweptSphere};

@@ -11,10 +11,12 @@ use parry3d::bounding_volume::Aabb;
 use parry3d::math::Pose;
 use parry3d::shape::{Ball, Capsule, Cuboid, RoundCuboid, SharedShape};
 
+use crate::closest::{point_polygon_closest, polygon_polygon_closest, segment_polygon_closest};
 use crate::geometry::{
-    Rectangle, Triangle, point_point_distance_squared, point_polygon_distance_squared,
-    point_segment_distance_squared, polygon_polygon_distance_squared,
-    segment_polygon_distance_squared, segment_segment_distance_squared,
+    Rectangle, Triangle, closest_parameter_on_segment, point_point_distance_squared,
+    point_polygon_distance_squared, point_segment_distance_squared,
+    polygon_polygon_distance_squared, polygon_polygon_within, segment_polygon_distance_squared,
+    segment_polygon_within, segment_segment_closest_points, segment_segment_distance_squared,
 };
 
 /// Point-swept sphere (PSS): a ball.
@@ -109,6 +111,32 @@ fn core_triangle_distance_squared(core: Core, triangle: &Triangle) -> f32 {
     }
 }
 
+/// Squared distance \[m²\] and closest points `(on_first, on_second)` between two core skeletons.
+fn core_closest(first: Core, second: Core) -> (f32, Vec3, Vec3) {
+    use Core::*;
+    let swap = |(d, a, b): (f32, Vec3, Vec3)| (d, b, a);
+    match (first, second) {
+        (Point(p), Point(q)) => (p.distance_squared(q), p, q),
+        (Point(p), Segment(a, b)) => {
+            let q = a + (b - a) * closest_parameter_on_segment(p, a, b);
+            (p.distance_squared(q), p, q)
+        }
+        (Segment(a, b), Point(p)) => {
+            let q = a + (b - a) * closest_parameter_on_segment(p, a, b);
+            (p.distance_squared(q), q, p)
+        }
+        (Point(p), Rectangle(r)) => point_polygon_closest(p, &r),
+        (Rectangle(r), Point(p)) => swap(point_polygon_closest(p, &r)),
+        (Segment(a, b), Segment(c, d)) => {
+            let (x, y) = segment_segment_closest_points(a, b, c, d);
+            (x.distance_squared(y), x, y)
+        }
+        (Segment(a, b), Rectangle(r)) => segment_polygon_closest(a, b, &r),
+        (Rectangle(r), Segment(a, b)) => swap(segment_polygon_closest(a, b, &r)),
+        (Rectangle(r), Rectangle(s)) => polygon_polygon_closest(&r, &s),
+    }
+}
+
 impl SweptSphere {
     fn core(&self) -> Core {
         match self {
@@ -132,6 +160,13 @@ impl SweptSphere {
         core_distance_squared(self.core(), other.core()).sqrt()
     }
 
+    /// Closest points `(on_self, on_other)` \[m\] of the two core skeletons and their distance
+    /// \[m\] (radii not subtracted). Where the cores cross, both points are the crossing point.
+    pub fn core_closest_points(&self, other: &SweptSphere) -> (Vec3, Vec3, f32) {
+        let (d, a, b) = core_closest(self.core(), other.core());
+        (a, b, d.sqrt())
+    }
+
     /// Signed separation \[m\]: core distance minus both radii. Positive: the gap between the
     /// surfaces (exact); zero or negative: the volumes intersect (then `-distance` is how much
     /// the radii overlap, a lower bound on penetration when the cores themselves intersect).
@@ -152,9 +187,67 @@ impl SweptSphere {
     /// Whether the closed volume touches the (filled) triangle.
     ///
     /// This is the exact leaf test of every hair–body query, shared by the BVH and the
-    /// brute-force paths so that they agree bit for bit.
+    /// brute-force paths so that they agree bit for bit. It equals
+    /// `triangle_distance(triangle) <= 0` but stops at the first candidate within reach.
     pub fn intersects_triangle(&self, triangle: &Triangle) -> bool {
-        core_triangle_distance_squared(self.core(), triangle).sqrt() <= self.radius()
+        if self.beyond_triangle_plane(triangle) {
+            return false;
+        }
+        let radius = self.radius();
+        match self.core() {
+            Core::Point(p) => point_polygon_distance_squared(p, triangle).sqrt() <= radius,
+            Core::Segment(a, b) => segment_polygon_within(a, b, triangle, radius),
+            Core::Rectangle(r) => polygon_polygon_within(&r, triangle, radius),
+        }
+    }
+
+    /// Quick exact reject for [`SweptSphere::intersects_triangle`]: a separating slab. The
+    /// volume lies within `radius` of its core, so it cannot touch the triangle when (a) the
+    /// core lies farther than the radius from the triangle's plane, on one side; or (b) for a
+    /// segment, the triangle lies wholly before its start or past its end along its axis, by
+    /// more than the radius; or (c) for a rectangle, the triangle lies wholly beyond the
+    /// rectangle's plane or one of its edges, by more than the radius. Each side is widened by a
+    /// rounding margin (see [`crate::aabb_padding`]) so that only pairs the full test rejects are
+    /// rejected. Most candidate pairs of a query end here, after a few dot products.
+    fn beyond_triangle_plane(&self, triangle: &Triangle) -> bool {
+        let origin = triangle.vertices[0];
+        let reach = self.radius()
+            + 64.0 * f32::EPSILON * (1.0 + self.magnitude() + origin.abs().max_element());
+        let outside = |low: f32, high: f32, values: &[f32]| {
+            values.iter().all(|&h| h > high) || values.iter().all(|&h| h < low)
+        };
+        let normal = triangle.normal;
+        if normal != Vec3::ZERO {
+            let height = |p: Vec3| (p - origin).dot(normal);
+            let separated = match self {
+                SweptSphere::Point(v) => outside(-reach, reach, &[height(v.center)]),
+                SweptSphere::Line(v) => outside(-reach, reach, &[height(v.start), height(v.end)]),
+                SweptSphere::Rectangle(v) => {
+                    outside(-reach, reach, &v.rectangle.corners().map(height))
+                }
+            };
+            if separated {
+                return true;
+            }
+        }
+        let along = |origin: Vec3, axis: Vec3| triangle.vertices.map(|p| (p - origin).dot(axis));
+        match self {
+            SweptSphere::Point(_) => false,
+            SweptSphere::Line(v) => {
+                let axis = v.end - v.start;
+                let length = axis.length();
+                length > 0.0 && outside(-reach, length + reach, &along(v.start, axis / length))
+            }
+            SweptSphere::Rectangle(v) => {
+                let r = &v.rectangle;
+                let n = r.axes[0].cross(r.axes[1]);
+                outside(-reach, reach, &along(r.center, n))
+                    || (0..2).any(|k| {
+                        let half = r.half_extents[k] + reach;
+                        outside(-half, half, &along(r.center, r.axes[k]))
+                    })
+            }
+        }
     }
 
     /// Axis-aligned bounds \[m\] of the volume, enlarged by `padding` \[m\] on every side.

@@ -147,3 +147,31 @@ pub fn point_rectangle_distance_f64(p: Vec3, rectangle: &hair_collide::Rectangle
     );
     (local - u * cu - v * cv).length()
 }
+
+/// parry3d's own signed distance to a closed mesh (a `TriMesh` with oriented pseudonormals),
+/// an independent reference for `CollisionBody::signed_distance`. Points are in the mesh's frame.
+pub struct ParrySignedDistance(parry3d::shape::TriMesh);
+
+impl ParrySignedDistance {
+    pub fn new(mesh: &hair_core::TriangleMesh) -> Self {
+        let trimesh = parry3d::shape::TriMesh::with_flags(
+            mesh.positions.clone(),
+            mesh.triangles.clone(),
+            parry3d::shape::TriMeshFlags::ORIENTED,
+        )
+        .expect("a valid mesh");
+        ParrySignedDistance(trimesh)
+    }
+
+    /// Signed distance [m] of `p` (mesh frame): negative inside.
+    pub fn at(&self, p: Vec3) -> f32 {
+        use parry3d::query::PointQuery;
+        let projection = self.0.project_local_point(p, false);
+        let distance = projection.point.distance(p);
+        if projection.is_inside {
+            -distance
+        } else {
+            distance
+        }
+    }
+}

@@ -1,0 +1,120 @@
+//! Collision benchmarks on the paper's groom (paper-curly: 91 sections, 37,765 strands) on the
+//! procedural head (12,096 triangles), at rest, per level:
+//!
+//! - `query/<level>/bvh`: hair hierarchy against head hierarchy ([`query_body`]);
+//! - `query/<level>/brute_force_subset`: every segment of every 8th chain against every triangle
+//!   ([`query_body_brute_force`]); the full brute force costs about 8× this (it is linear in the
+//!   segment count), which the note in `docs/collision.md` uses for the speedup;
+//! - `hair_hair/<level>`: the hair–hair repulsion query and forces ([`add_repulsion_forces`]);
+//! - `solver/<level>`: one collision stage around a step (`before_step` + `after_step`: refit,
+//!   query, response, friction, projection), the dynamics excluded.
+//!
+//! `cargo bench -p hair-collide --bench collide`
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::Vec3;
+use hair_collide::{
+    CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, HairHairSettings,
+    SegmentContacts, add_repulsion_forces, groom_level_chains, query_body, query_body_brute_force,
+};
+use hair_core::dynamics::{
+    DynamicsModel, DynamicsParams, Environment, IntegratorKind, Simulation, SimulationSettings,
+    SimulationState,
+};
+use hair_core::{Level, Scene};
+
+/// Brute force runs on every `SUBSET`-th chain.
+const SUBSET: usize = 8;
+
+struct Fixture {
+    simulation: Simulation,
+    state: SimulationState,
+    environment: Environment,
+    head: CollisionBody,
+}
+
+fn solver_for(fixture: &mut Fixture, chains: &[CollisionChain]) -> CollisionSolver {
+    let mut solver =
+        CollisionSolver::new(vec![fixture.head.clone()], CollisionSettings::default()).unwrap();
+    solver.set_chains(&fixture.simulation, chains).unwrap();
+    solver
+        .before_step(
+            &fixture.simulation,
+            &mut fixture.state,
+            &fixture.environment,
+        )
+        .unwrap();
+    solver
+}
+
+fn benches(c: &mut Criterion) {
+    let scene = Scene::preset("paper-curly").unwrap();
+    let groom = &scene.groom;
+    let model = DynamicsModel::new(
+        groom.skeletons.clone(),
+        DynamicsParams::for_style(&groom.params.style),
+    )
+    .unwrap();
+    let simulation = Simulation::new(
+        model,
+        SimulationSettings::recommended(IntegratorKind::PositionBased),
+    )
+    .unwrap();
+    let environment = Environment::default();
+    let state = simulation.rest_state(&environment, 0.0);
+    let mut fixture = Fixture {
+        simulation,
+        state,
+        environment,
+        head: CollisionBody::from_mesh(&scene.head.mesh).unwrap(),
+    };
+    let mut group = c.benchmark_group("collide");
+    group.sample_size(10);
+    for level in Level::ALL {
+        let chains = groom_level_chains(groom, level);
+        let subset: Vec<CollisionChain> = chains.iter().copied().step_by(SUBSET).collect();
+        let full = solver_for(&mut fixture, &chains);
+        let part = solver_for(&mut fixture, &subset);
+        let mut contacts = SegmentContacts::new();
+        let name = level.name();
+        group.bench_function(format!("query/{name}/bvh"), |b| {
+            b.iter(|| query_body(full.hierarchy().unwrap(), &fixture.head, &mut contacts))
+        });
+        group.bench_function(format!("query/{name}/bvh_subset"), |b| {
+            b.iter(|| query_body(part.hierarchy().unwrap(), &fixture.head, &mut contacts))
+        });
+        group.bench_function(format!("query/{name}/brute_force_subset"), |b| {
+            b.iter(|| {
+                query_body_brute_force(part.hierarchy().unwrap(), &fixture.head, &mut contacts)
+            })
+        });
+        let hair = full.hierarchy().unwrap();
+        let sections: Vec<u32> = chains.iter().map(|c| c.section).collect();
+        let node_count = *hair.chain_offsets().last().unwrap() as usize;
+        let masses = vec![1.0e-5; node_count];
+        let mut forces = vec![Vec3::ZERO; node_count];
+        let settings = HairHairSettings::default();
+        group.bench_function(format!("hair_hair/{name}"), |b| {
+            b.iter(|| {
+                forces.fill(Vec3::ZERO);
+                add_repulsion_forces(hair, &sections, &masses, &settings, &mut forces).unwrap()
+            })
+        });
+        let mut solver = solver_for(&mut fixture, &chains);
+        group.bench_function(format!("solver/{name}"), |b| {
+            b.iter(|| {
+                let f = &mut fixture;
+                solver
+                    .before_step(&f.simulation, &mut f.state, &f.environment)
+                    .unwrap();
+                solver
+                    .after_step(&f.simulation, &mut f.state, &f.environment)
+                    .unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(collide, benches);
+criterion_main!(collide);

@@ -1,0 +1,549 @@
+//! The collision stage of a simulation step: refit the hair hierarchy from the active skeletons,
+//! query the bodies, write response, friction (and optional hair–hair) forces into the state's
+//! F_col slot before the step, and project penetrating nodes out after it.
+//!
+//! ```text
+//! solver.before_step(&simulation, &mut state, &environment)?;   // F_col for this step
+//! simulation.step(&mut state, &environment)?;                    // any integrator
+//! solver.after_step(&simulation, &mut state, &environment)?;     // positional guarantee
+//! ```
+//! or [`CollisionSolver::step`], which does the three. Bodies are given in head space and move
+//! rigidly with `environment.head`.
+
+use glam::Vec3;
+use hair_core::dynamics::{Environment, RootMode, Simulation, SimulationState, StepReport};
+
+use crate::body::CollisionBody;
+use crate::bvh::HairBvh;
+use crate::error::{CollideError, Result};
+use crate::gather::ActiveHair;
+use crate::hair_hair::{HairHairSettings, add_repulsion_forces};
+use crate::layout::CollisionChain;
+use crate::other_forces::external_force;
+use crate::query::{SegmentContacts, query_body};
+use crate::response::{
+    approach_speed, average_normal, friction_force, response_force, rigid_point_velocity,
+};
+
+/// The positional guarantee \[m\]: after [`CollisionSolver::after_step`] no simulated node (other
+/// than an attached root, which the head carries) is deeper than this inside a closed body.
+/// Projection puts nodes [`CollisionSettings::skin`] outside; this allows for f32 rounding
+/// at head scale (~10⁻⁸ m) and for creases where the projection of one face lands near another.
+pub const PENETRATION_TOLERANCE: f32 = 1.0e-4;
+
+/// How the collision stage responds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CollisionSettings {
+    /// Response forces of §5.4 (cancel each touching node's approach over the step).
+    pub response: bool,
+    /// Friction coefficient μ in `[0, 1]` (§5.4: `−μ ×` the tangential part of the node's
+    /// other forces); 0 turns friction off.
+    pub friction: f32,
+    /// The positional guarantee: project nodes that end a step inside a body back out.
+    pub project_positions: bool,
+    /// Distance \[m\] outside the surface where projected nodes are placed, in
+    /// `[0, PENETRATION_TOLERANCE]`.
+    pub skin: f32,
+    /// Hair–hair repulsion between sections (beyond the paper); `None` (the default) is off.
+    pub hair_hair: Option<HairHairSettings>,
+}
+
+impl Default for CollisionSettings {
+    /// Response on, μ = 0.3, projection on with a 10 µm skin, hair–hair off.
+    fn default() -> Self {
+        CollisionSettings {
+            response: true,
+            friction: 0.3,
+            project_positions: true,
+            skin: 1.0e-5,
+            hair_hair: None,
+        }
+    }
+}
+
+impl CollisionSettings {
+    /// Checks every setting, naming the first one out of range.
+    pub fn validate(&self) -> Result<()> {
+        if !(0.0..=1.0).contains(&self.friction) {
+            return Err(CollideError::InvalidParameter {
+                name: "friction",
+                value: self.friction.to_string(),
+                allowed: "0..=1 (a larger coefficient would reverse the pull)",
+            });
+        }
+        if !(0.0..=PENETRATION_TOLERANCE).contains(&self.skin) {
+            return Err(CollideError::InvalidParameter {
+                name: "skin",
+                value: self.skin.to_string(),
+                allowed: "0..=1e-4 m",
+            });
+        }
+        if let Some(hair_hair) = &self.hair_hair {
+            hair_hair.validate()?;
+        }
+        Ok(())
+    }
+}
+
+/// What [`CollisionSolver::before_step`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactReport {
+    /// Segments touching a body (summed over bodies).
+    pub contact_segments: usize,
+    /// `(segment, triangle)` pairs touching (summed over bodies).
+    pub contact_pairs: usize,
+    /// Nodes that received a response or friction force.
+    pub contact_nodes: usize,
+    /// Overlapping segment pairs of different sections (0 when hair–hair is off).
+    pub hair_hair_pairs: usize,
+    /// Whether the hierarchy was rebuilt (layout changed) rather than refitted.
+    pub rebuilt: bool,
+}
+
+/// What [`CollisionSolver::after_step`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ProjectionReport {
+    /// Nodes found inside a body and projected out.
+    pub projected_nodes: usize,
+    /// The deepest penetration found \[m\] (0 when none).
+    pub max_depth: f32,
+}
+
+/// Both reports of one [`CollisionSolver::step`], and the dynamics'.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CollisionStepReport {
+    /// Contacts and forces before the step.
+    pub contacts: ContactReport,
+    /// The dynamics step.
+    pub dynamics: StepReport,
+    /// Projection after the step.
+    pub projection: ProjectionReport,
+}
+
+/// The collision stage: bodies, the active chains' hierarchy, and all scratch (nothing is
+/// allocated per step once the layout is set, except when the contact count grows).
+pub struct CollisionSolver {
+    settings: CollisionSettings,
+    bodies: Vec<CollisionBody>,
+    hair: ActiveHair,
+    hierarchy: Option<HairBvh>,
+    layout_changed: bool,
+    rebuild_count: u64,
+    contacts: SegmentContacts,
+    chain_sections: Vec<u32>,
+    /// Per gathered node: sum of the unit normals of its touching segments.
+    node_normals: Vec<Vec3>,
+    /// Per gathered node: hair–hair forces.
+    gathered_forces: Vec<Vec3>,
+    /// Per model node: positions at the previous `before_step`.
+    previous_positions: Vec<Vec3>,
+    previous_time: Option<f64>,
+    /// Per gathered node and body (node-major): the clearance cache of the projection.
+    clearances: Vec<Clearance>,
+}
+
+impl std::fmt::Debug for CollisionSolver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CollisionSolver")
+            .field("settings", &self.settings)
+            .field("bodies", &self.bodies.len())
+            .field("chains", &self.hair.chains.len())
+            .field("rebuild_count", &self.rebuild_count)
+            .finish_non_exhaustive()
+    }
+}
+
+impl CollisionSolver {
+    /// A solver for `bodies` (meshes in head space, moved by the head) with `settings`; no
+    /// chains yet (see [`CollisionSolver::set_chains`]).
+    pub fn new(bodies: Vec<CollisionBody>, settings: CollisionSettings) -> Result<Self> {
+        settings.validate()?;
+        Ok(CollisionSolver {
+            settings,
+            bodies,
+            hair: ActiveHair::default(),
+            hierarchy: None,
+            layout_changed: true,
+            rebuild_count: 0,
+            contacts: SegmentContacts::new(),
+            chain_sections: Vec::new(),
+            node_normals: Vec::new(),
+            gathered_forces: Vec::new(),
+            previous_positions: Vec::new(),
+            previous_time: None,
+            clearances: Vec::new(),
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &CollisionSettings {
+        &self.settings
+    }
+
+    /// Changes the settings (validated).
+    pub fn set_settings(&mut self, settings: CollisionSettings) -> Result<()> {
+        settings.validate()?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// The bodies.
+    pub fn bodies(&self) -> &[CollisionBody] {
+        &self.bodies
+    }
+
+    /// Sets the active chains of `simulation`'s model. When they differ from the current ones
+    /// (a section changed level) the hierarchy is rebuilt at the next step; otherwise nothing
+    /// happens and it keeps being refitted. Errors on an unknown or repeated chain or bad sizes.
+    pub fn set_chains(&mut self, simulation: &Simulation, chains: &[CollisionChain]) -> Result<()> {
+        if self.hierarchy.is_some() && self.hair.chains == chains {
+            return Ok(());
+        }
+        let model = simulation.model();
+        self.hair.set_layout(&model.rest, chains)?;
+        self.hair.masses.clear();
+        self.hair.masses.extend(
+            self.hair
+                .model_nodes
+                .iter()
+                .map(|&m| model.node_masses[m as usize]),
+        );
+        self.layout_changed = true;
+        let nodes = self.hair.model_nodes.len();
+        self.node_normals.resize(nodes, Vec3::ZERO);
+        self.gathered_forces.resize(nodes, Vec3::ZERO);
+        self.clearances.clear();
+        self.clearances
+            .resize(nodes * self.bodies.len(), Clearance::default());
+        self.chain_sections.clear();
+        self.chain_sections.extend(chains.iter().map(|c| c.section));
+        Ok(())
+    }
+
+    /// The active chains.
+    pub fn chains(&self) -> &[CollisionChain] {
+        &self.hair.chains
+    }
+
+    /// How many times the hierarchy has been built (once, then once per layout change).
+    pub fn rebuild_count(&self) -> u64 {
+        self.rebuild_count
+    }
+
+    /// The hair hierarchy of the last step (`None` before the first).
+    pub fn hierarchy(&self) -> Option<&HairBvh> {
+        self.hierarchy.as_ref()
+    }
+
+    /// Per node of the hierarchy (see [`HairBvh::chain_offsets`]), its index in the state.
+    pub fn hierarchy_model_nodes(&self) -> &[u32] {
+        &self.hair.model_nodes
+    }
+
+    /// Refits (or, after a layout change, rebuilds) the hierarchy from `state` with the bodies at
+    /// the head pose of `state.time`, queries every body and writes F_col into
+    /// `state.collision_forces`: response, friction and hair–hair forces on the active nodes,
+    /// zero elsewhere.
+    pub fn before_step(
+        &mut self,
+        simulation: &Simulation,
+        state: &mut SimulationState,
+        environment: &Environment,
+    ) -> Result<ContactReport> {
+        let model = simulation.model();
+        check_state(state, model.node_count())?;
+        let time_step = simulation.settings().time_step;
+        let attached = simulation.settings().roots == RootMode::Attached;
+        let head = environment.head.transform_at(state.time);
+        let head_before = environment
+            .head
+            .transform_at(state.time - f64::from(time_step));
+        for body in &mut self.bodies {
+            body.set_pose(head.rotation, head.translation)?;
+        }
+        self.hair
+            .gather(&model.rest, &state.node_positions, &head)?;
+        let mut report = ContactReport::default();
+        let hierarchy = match self.hierarchy.as_mut() {
+            Some(hierarchy) if !self.layout_changed => {
+                hierarchy.refit(&self.hair.positions, &self.hair.control_points)?;
+                hierarchy
+            }
+            _ => {
+                report.rebuilt = true;
+                self.rebuild_count += 1;
+                self.layout_changed = false;
+                self.hierarchy.insert(HairBvh::build(
+                    &self.hair.chain_offsets,
+                    &self.hair.chain_volumes,
+                    &self.hair.positions,
+                    &self.hair.control_points,
+                )?)
+            }
+        };
+        state.collision_forces.fill(Vec3::ZERO);
+        // Node velocities over the last step (positions' change), else the state's.
+        let elapsed = self
+            .previous_time
+            .map_or(0.0, |previous| (state.time - previous) as f32);
+        let finite_difference =
+            elapsed > 0.0 && self.previous_positions.len() == state.node_positions.len();
+        let respond = self.settings.response || self.settings.friction > 0.0;
+        self.node_normals.fill(Vec3::ZERO);
+        for body in &self.bodies {
+            query_body(hierarchy, body, &mut self.contacts);
+            report.contact_segments += self.contacts.segment_count();
+            report.contact_pairs += self.contacts.pair_count();
+            if !respond {
+                continue;
+            }
+            let triangles = body.triangles();
+            for (segment, touched) in self.contacts.iter() {
+                let Some(normal) = average_normal(triangles, touched) else {
+                    continue;
+                };
+                let top = hierarchy.segment_top_nodes()[segment as usize] as usize;
+                for node in [top, top + 1] {
+                    if attached && self.hair.is_root[node] {
+                        continue;
+                    }
+                    self.node_normals[node] += normal;
+                    if !self.settings.response {
+                        continue;
+                    }
+                    let m = self.hair.model_nodes[node] as usize;
+                    let p = state.node_positions[m];
+                    let velocity = if finite_difference {
+                        (p - self.previous_positions[m]) / elapsed
+                    } else {
+                        state.node_velocities[m]
+                    };
+                    let surface = rigid_point_velocity(&head_before, &head, p, time_step);
+                    let speed = approach_speed(velocity, surface, normal);
+                    state.collision_forces[m] +=
+                        response_force(model.node_masses[m], speed, time_step, normal);
+                }
+            }
+        }
+        report.contact_nodes = self
+            .node_normals
+            .iter()
+            .filter(|n| **n != Vec3::ZERO)
+            .count();
+        if let Some(hair_hair) = &self.settings.hair_hair {
+            self.gathered_forces.fill(Vec3::ZERO);
+            report.hair_hair_pairs = add_repulsion_forces(
+                hierarchy,
+                &self.chain_sections,
+                &self.hair.masses,
+                hair_hair,
+                &mut self.gathered_forces,
+            )?;
+            for (node, force) in self.gathered_forces.iter().enumerate() {
+                if !(attached && self.hair.is_root[node]) {
+                    state.collision_forces[self.hair.model_nodes[node] as usize] += *force;
+                }
+            }
+        }
+        if self.settings.friction > 0.0 {
+            for (node, normal) in self.node_normals.iter().enumerate() {
+                let Some(n) = normal.try_normalize() else {
+                    continue;
+                };
+                let m = self.hair.model_nodes[node] as usize;
+                let other = external_force(
+                    model,
+                    environment,
+                    m,
+                    state.node_positions[m],
+                    state.node_velocities[m],
+                    state.time,
+                );
+                state.collision_forces[m] += friction_force(other, n, self.settings.friction);
+            }
+        }
+        self.previous_positions.clear();
+        self.previous_positions
+            .extend_from_slice(&state.node_positions);
+        self.previous_time = Some(state.time);
+        Ok(report)
+    }
+
+    /// The positional guarantee: with the bodies at the head pose of `state.time`, every active
+    /// node inside a body (except attached roots) moves to its closest surface point plus
+    /// [`CollisionSettings::skin`], and loses the inward part of its velocity relative to the
+    /// surface. Nodes further down a chain than a projected node are first carried after it
+    /// (follow-the-leader: each keeps its segment's rest length and direction), so a chain is
+    /// pushed out whole instead of torn; only the projected segments change length. Afterwards no
+    /// such node is deeper than [`PENETRATION_TOLERANCE`] in a closed body, whatever the
+    /// integrator did. Does nothing when projection is off.
+    ///
+    /// Cost: nodes are skipped while they stay within their last measured clearance (in head
+    /// space), so only nodes near a surface pay for a closest-point search.
+    pub fn after_step(
+        &mut self,
+        simulation: &Simulation,
+        state: &mut SimulationState,
+        environment: &Environment,
+    ) -> Result<ProjectionReport> {
+        let mut report = ProjectionReport::default();
+        if !self.settings.project_positions {
+            return Ok(report);
+        }
+        check_state(state, simulation.model().node_count())?;
+        let time_step = simulation.settings().time_step;
+        let attached = simulation.settings().roots == RootMode::Attached;
+        let head = environment.head.transform_at(state.time);
+        let head_before = environment
+            .head
+            .transform_at(state.time - f64::from(time_step));
+        for body in &mut self.bodies {
+            body.set_pose(head.rotation, head.translation)?;
+        }
+        let to_head = head.inverse();
+        let lengths = &simulation.model().rest.segment_rest_lengths;
+        let body_count = self.bodies.len();
+        for index in 0..self.hair.chains.len() {
+            let gathered = self.hair.chain_offsets[index] as usize
+                ..self.hair.chain_offsets[index + 1] as usize;
+            let mut dragged = false;
+            for node in gathered.clone() {
+                let m = self.hair.model_nodes[node] as usize;
+                if dragged && node > gathered.start {
+                    // Follow the leader behind a projected node: keep the segment's length.
+                    let parent = state.node_positions[m - 1];
+                    if let Some(direction) = (state.node_positions[m] - parent).try_normalize() {
+                        state.node_positions[m] = parent + direction * lengths[m];
+                    }
+                }
+                if attached && self.hair.is_root[node] {
+                    continue;
+                }
+                for (b, body) in self.bodies.iter().enumerate() {
+                    let cache = &mut self.clearances[node * body_count + b];
+                    let local = to_head.transform_point(state.node_positions[m]);
+                    if local.distance(cache.local_position) + CLEARANCE_ROUNDING < cache.clearance {
+                        continue;
+                    }
+                    let outcome = project_out(
+                        body,
+                        &mut state.node_positions[m],
+                        &mut state.node_velocities[m],
+                        self.settings.skin,
+                        |p| rigid_point_velocity(&head_before, &head, p, time_step),
+                    );
+                    match outcome {
+                        Projection::Outside { clearance } => {
+                            *cache = Clearance {
+                                local_position: local,
+                                clearance,
+                            }
+                        }
+                        Projection::Moved { depth } => {
+                            *cache = Clearance::default();
+                            dragged = true;
+                            report.projected_nodes += 1;
+                            report.max_depth = report.max_depth.max(depth);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(report)
+    }
+
+    /// One full step: [`before_step`](Self::before_step), `simulation.step`,
+    /// [`after_step`](Self::after_step). A dynamics failure is returned as
+    /// [`CollideError::Dynamics`] (the state is then as the dynamics left it).
+    pub fn step(
+        &mut self,
+        simulation: &mut Simulation,
+        state: &mut SimulationState,
+        environment: &Environment,
+    ) -> Result<CollisionStepReport> {
+        let contacts = self.before_step(simulation, state, environment)?;
+        let dynamics = simulation.step(state, environment)?;
+        let projection = self.after_step(simulation, state, environment)?;
+        Ok(CollisionStepReport {
+            contacts,
+            dynamics,
+            projection,
+        })
+    }
+}
+
+/// What [`project_out`] found.
+enum Projection {
+    /// The point is outside, at least `clearance` \[m\] from the surface.
+    Outside { clearance: f32 },
+    /// The point was `depth` \[m\] inside and has been moved out.
+    Moved { depth: f32 },
+}
+
+/// A lower bound on a node's distance to a body, valid at a position in head space: while the
+/// node stays within `clearance` of `local_position` it cannot have crossed the surface (the
+/// distance to a surface is 1-Lipschitz, and head space moves with the bodies).
+#[derive(Debug, Clone, Copy, Default)]
+struct Clearance {
+    local_position: Vec3,
+    clearance: f32,
+}
+
+/// Rounding allowance \[m\] of the clearance test (the head transform's f32 rounding at 1 m).
+const CLEARANCE_ROUNDING: f32 = 1.0e-6;
+
+/// Moves `position` out of `body` when it is inside (to the closest surface point plus `skin`
+/// along the way out) and removes the inward normal part of `velocity` relative to the surface
+/// velocity `surface_velocity(p)`. Points outside the body's bounding ball are outside without a
+/// search (their clearance is the distance to the ball).
+fn project_out(
+    body: &CollisionBody,
+    position: &mut Vec3,
+    velocity: &mut Vec3,
+    skin: f32,
+    surface_velocity: impl Fn(Vec3) -> Vec3,
+) -> Projection {
+    let bound = body.bounding_volume();
+    let from_centre = position.distance(bound.center);
+    if from_centre > bound.radius {
+        return Projection::Outside {
+            clearance: from_centre - bound.radius,
+        };
+    }
+    let Some(surface) = body.closest_surface_point(*position) else {
+        return Projection::Outside { clearance: 0.0 };
+    };
+    if surface.signed_distance >= 0.0 {
+        return Projection::Outside {
+            clearance: surface.signed_distance,
+        };
+    }
+    let depth = -surface.signed_distance;
+    let outward = (surface.point - *position)
+        .try_normalize()
+        .unwrap_or(surface.normal);
+    *position = surface.point + outward * skin;
+    let relative = *velocity - surface_velocity(*position);
+    let inward = relative.dot(surface.normal);
+    if inward < 0.0 {
+        *velocity -= surface.normal * inward;
+    }
+    Projection::Moved { depth }
+}
+
+fn check_state(state: &SimulationState, node_count: usize) -> Result<()> {
+    for (what, actual) in [
+        ("node_positions", state.node_positions.len()),
+        ("node_velocities", state.node_velocities.len()),
+        ("collision_forces", state.collision_forces.len()),
+    ] {
+        if actual != node_count {
+            return Err(CollideError::SizeMismatch {
+                what,
+                actual,
+                expected: node_count,
+            });
+        }
+    }
+    Ok(())
+}
