@@ -444,6 +444,16 @@ impl CollisionSolver {
                             dragged = true;
                             report.projected_nodes += 1;
                             report.max_depth = report.max_depth.max(depth);
+                            if node > gathered.start {
+                                restore_length(
+                                    body,
+                                    &mut state.node_positions[m - 1..=m],
+                                    &mut state.node_velocities[m],
+                                    lengths[m],
+                                    self.settings.skin,
+                                    |p| rigid_point_velocity(&head_before, &head, p, time_step),
+                                );
+                            }
                         }
                     }
                 }
@@ -469,6 +479,36 @@ impl CollisionSolver {
             dynamics,
             projection,
         })
+    }
+}
+
+/// Alternates giving the segment `pair[0] → pair[1]` its rest `length` [m] (moving `pair[1]`
+/// along the segment) and projecting `pair[1]` out of `body`, a few times: on a smooth body the
+/// two constraints meet within rounding in two or three rounds. The last move is a projection, so
+/// the positional guarantee wins where both cannot hold (a segment shorter than a crease).
+fn restore_length(
+    body: &CollisionBody,
+    pair: &mut [Vec3],
+    velocity: &mut Vec3,
+    length: f32,
+    skin: f32,
+    surface_velocity: impl Fn(Vec3) -> Vec3 + Copy,
+) {
+    const ROUNDS: usize = 4;
+    for _ in 0..ROUNDS {
+        let parent = pair[0];
+        let Some(direction) = (pair[1] - parent).try_normalize() else {
+            return;
+        };
+        if ((pair[1] - parent).length() - length).abs() <= 1e-6 * length.max(1e-3) {
+            return;
+        }
+        pair[1] = parent + direction * length;
+        if let Projection::Outside { .. } =
+            project_out(body, &mut pair[1], velocity, skin, surface_velocity)
+        {
+            return;
+        }
     }
 }
 

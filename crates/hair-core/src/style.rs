@@ -15,7 +15,7 @@ pub enum StyleKind {
     Straight,
     /// θ0 = wave factor; φ0 alternates +90° (even nodes) / −90° (odd nodes): a zigzag.
     Wavy,
-    /// θ0 = curl factor; φ0 cycles 0°, 90°, 180°, −90° (node index mod 4): a ringlet spiral.
+    /// θ0 = curl factor; φ0 cycles 0°, 90°, 180°, −90° (from node 1, whose bend points away from the scalp): a ringlet spiral.
     Curly,
 }
 
@@ -142,7 +142,10 @@ impl HairStyle {
                     -FRAC_PI_2
                 }
             }
-            StyleKind::Curly => match node_index % 4 {
+            // Node 1 bends towards the root frame's normal (away from the scalp), then the bend
+            // turns a quarter each node: the first loop of the curl rises off the scalp instead of
+            // dipping into it.
+            StyleKind::Curly => match (node_index - 1) % 4 {
                 0 => 0.0,
                 1 => FRAC_PI_2,
                 2 => PI,
@@ -273,12 +276,13 @@ mod tests {
     fn curly_rest_shape_has_the_curl_period_in_its_azimuths() {
         let style = HairStyle::curly(50.0, 0.008, 0.05);
         let (frame, positions, angles) = build(&style, 0.25);
-        // Measured back from the built nodes, φ0 repeats every 4 nodes: 0°, 90°, 180°, −90°.
+        // Measured back from the built nodes, φ0 repeats every 4 nodes from node 1: 0°, 90°, 180°,
+        // −90°.
         let measured = measure_chain(&frame, &positions).unwrap();
         let expected = [0.0f32, 90.0, 180.0, -90.0];
         for i in 1..angles.node_count() {
             let degrees = measured.azimuth_angles[i].to_degrees();
-            let want = expected[i % 4];
+            let want = expected[(i - 1) % 4];
             let difference = (degrees - want + 180.0).rem_euclid(360.0) - 180.0;
             assert!(difference.abs() < 0.05, "node {i}: {degrees} vs {want}");
             assert!((measured.polar_angles[i].to_degrees() - 50.0).abs() < 0.01);
@@ -360,5 +364,30 @@ mod tests {
         assert!(HairStyle::straight(0.0).validate().is_err());
         let error = HairStyle::straight(0.02).chain_angles(-1.0).unwrap_err();
         assert!(error.to_string().contains("hair length"));
+    }
+
+    #[test]
+    fn curly_chains_rise_off_the_scalp_instead_of_dipping_into_it() {
+        // A root on a flat scalp (normal +Y), growing along +Z lifted by 0°, 15° or 30°: the first
+        // bend points away from the scalp, so no node of the helix goes below the scalp's plane
+        // (with the opposite phase the first loop dipped 3.6 cm into the head at 15°).
+        let style = HairStyle::curly(50.0, 0.008, 0.03);
+        let angles = style.chain_angles(0.25).unwrap();
+        for lift in [0.0f32, 15.0, 30.0] {
+            let (sin, cos) = lift.to_radians().sin_cos();
+            let frame = Frame::from_tangent_and_normal(Vec3::new(0.0, sin, cos), Vec3::Y).unwrap();
+            let mut positions = vec![Vec3::ZERO; angles.node_count()];
+            crate::skeleton::build_chain(
+                Vec3::ZERO,
+                &frame,
+                &angles.segment_lengths,
+                &angles.polar_angles,
+                &angles.azimuth_angles,
+                &mut positions,
+            )
+            .unwrap();
+            let lowest = positions.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+            assert!(lowest > -1e-6, "lift {lift}°: lowest node {lowest} m");
+        }
     }
 }
