@@ -145,6 +145,9 @@ impl ModeRun {
     }
 }
 
+/// How long the hair settles under gravity before the first frame [s] (see [`Pipeline::settle`]).
+pub const SETTLE_TIME: f32 = 1.0;
+
 /// Runs `settings` on `scene` over the benchmark's frames, rendering each frame with `renderer`
 /// when given; `on_frame` sees each frame's report and image (for writing, popping measures or
 /// progress).
@@ -156,6 +159,7 @@ pub fn run_mode(
     mut on_frame: impl FnMut(&FrameReport, Option<&image::RgbaImage>),
 ) -> Result<ModeRun> {
     let mut pipeline = Pipeline::new(scene.clone(), benchmark.environment(), settings)?;
+    pipeline.settle(SETTLE_TIME)?;
     if let Some(renderer) = renderer.as_deref_mut() {
         renderer.bind(&pipeline)?;
     }
@@ -250,4 +254,20 @@ impl PoppingMeter {
             steady_frames: self.steady.1,
         }
     }
+}
+
+/// Mean structural similarity (SSIM, on luma) of two images of the same size, in `[−1, 1]` (1:
+/// identical), from the `image-compare` crate.
+pub fn ssim(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
+    if a.dimensions() != b.dimensions() {
+        return 0.0;
+    }
+    image_compare::gray_similarity_structure(&image_compare::Algorithm::MSSIMSimple, a, b)
+        .map(|similarity| similarity.score)
+        .unwrap_or(0.0)
+}
+
+/// The luma of an RGBA image (what [`ssim`] compares).
+pub fn luma(image: &image::RgbaImage) -> image::GrayImage {
+    image::DynamicImage::ImageRgba8(image.clone()).to_luma8()
 }

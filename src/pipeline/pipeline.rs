@@ -8,7 +8,9 @@ use hair_collide::{
     CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, groom_chain,
 };
 use hair_core::dynamics::{DynamicsParams, Environment};
-use hair_core::lod::{LodSelector, SectionChoice, SectionObservation, motion_measure};
+use hair_core::lod::{
+    LodSelector, SectionChoice, SectionObservation, head_point_acceleration, motion_measure,
+};
 use hair_core::skeleton::node_frames;
 use hair_core::{Camera, Frame, Level, RigidTransform, Scene};
 use hair_render::ActiveSkeletons;
@@ -223,7 +225,8 @@ impl Pipeline {
         let started = Instant::now();
         let head = self.environment.head.transform_at(self.time);
         let level_changes = self.select_levels(camera, &head)?;
-        if level_changes > 0 || self.levels.blends_finished(self.time) {
+        let blends_ended = self.levels.blends_finished(self.time);
+        if level_changes > 0 || blends_ended {
             rebuild_blocks(
                 &self.scene.groom,
                 &mut self.blocks,
@@ -307,31 +310,26 @@ impl Pipeline {
                 .expect("a section is simulated at its level");
             let nodes = block.nodes(slot);
             let positions = &block.state.node_positions[nodes.clone()];
-            let motion = if self.frame == 0 {
-                // No previous frame: only the wind's drag counts.
-                motion_measure(
-                    positions,
-                    &block.state.node_velocities[nodes.clone()],
-                    &block.state.node_velocities[nodes.clone()],
-                    frame_time,
-                    self.params.air_drag_rate,
-                    |x| wind.velocity_at(x, time),
-                )
-            } else {
-                motion_measure(
-                    positions,
-                    &block.state.node_velocities[nodes.clone()],
-                    &block.previous_velocities[nodes.clone()],
-                    frame_time,
-                    self.params.air_drag_rate,
-                    |x| wind.velocity_at(x, time),
-                )
-            };
+            let velocities = &block.state.node_velocities[nodes.clone()];
+            let head_motion = &self.environment.head;
+            let motion = motion_measure(
+                positions,
+                velocities,
+                self.params.air_drag_rate,
+                |x| wind.velocity_at(x, time),
+                |x| head_point_acceleration(|t| head_motion.transform_at(t), time, frame_time, x),
+            );
             *observation = SectionObservation::of_section(groom, section, level, positions, motion);
         }
         let choices = selector.select(&self.observations, camera, head)?;
         self.choices.copy_from_slice(choices);
-        let blend = selector.settings().blend_time;
+        // The first frame picks the starting levels outright: there is nothing on screen to
+        // blend from.
+        let blend = if self.frame == 0 {
+            0.0
+        } else {
+            selector.settings().blend_time
+        };
         let mut changes = 0;
         for (section, choice) in self.choices.iter().enumerate() {
             if self.levels.current()[section] != choice.level {
@@ -387,7 +385,8 @@ impl Pipeline {
     }
 
     /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
-    /// every visible section at its level (and, while it blends, at its previous level too), with
+    /// every visible section at its level (and, while it blends, at its previous level too: the new
+    /// level's coverage rises from 0 to 1 over the blend as the old one's falls, a dissolve), with
     /// node frames computed from the simulated positions; everything else inactive.
     pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         let head = self.environment.head.transform_at(self.time);
@@ -415,7 +414,14 @@ impl Pipeline {
             self.frames_scratch.resize(count, Frame::default());
             let root_frame = groom.skeletons.world_root_frame(chain, &head);
             node_frames(&root_frame, positions, &mut self.frames_scratch);
-            active.push_chain(positions, &self.frames_scratch)?;
+            // While blending, the new level dissolves in as the old one dissolves out.
+            let weight = self.levels.blend_weight(section, self.time);
+            let coverage = if level == self.levels.current()[section] {
+                weight
+            } else {
+                1.0 - weight
+            };
+            active.push_chain_with_coverage(positions, &self.frames_scratch, coverage)?;
         }
         Ok(())
     }

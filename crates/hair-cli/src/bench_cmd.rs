@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use hairlod::benchmark::{
-    ModeRun, PAPER_TABLE_1, PAPER_TABLE_2, PaperBenchmark, Popping, PoppingMeter, paper_modes,
-    run_mode,
+    ModeRun, PAPER_TABLE_1, PAPER_TABLE_2, PaperBenchmark, Popping, PoppingMeter, luma,
+    paper_modes, run_mode, ssim,
 };
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
@@ -45,6 +45,9 @@ pub struct PaperArgs {
     /// Write every number (per mode, per stage, per frame) as JSON to FILE.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Screen-space error tolerance of the LOD selector [pixels]: larger means coarser levels.
+    #[arg(long, default_value_t = 1.0)]
+    pub pixel_tolerance: f32,
 }
 
 /// Parses `WIDTHxHEIGHT`.
@@ -75,7 +78,16 @@ struct PaperReport<'a> {
     speedup_lods_over_strands: Speedups,
     popping_blended: Popping,
     popping_instant: Popping,
+    pixel_tolerance: f32,
+    mean_ssim_against_strands: SsimAgainstStrands,
     paper_seconds_per_frame: [[f64; 4]; 3],
+}
+
+#[derive(Serialize, Clone, Copy)]
+struct SsimAgainstStrands {
+    lods: f64,
+    clusters: f64,
+    patches: f64,
 }
 
 #[derive(Serialize, Clone, Copy)]
@@ -107,7 +119,7 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
         height,
         ..PaperBenchmark::default()
     };
-    let report = paper_tables(&benchmark)?;
+    let report = paper_tables(&benchmark, args.pixel_tolerance)?;
     if let Some(path) = &args.json {
         write_json(path, &report)?;
     }
@@ -116,10 +128,14 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
 
 /// Runs the four modes (and the LODs again with instant switching for the popping measure),
 /// prints the table and returns the report.
-pub fn paper_tables(benchmark: &PaperBenchmark) -> Result<serde_json::Value> {
+pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<serde_json::Value> {
     let scene = Scene::preset("paper-curly")?;
     let options = RendererOptions::from_env()?;
-    let lod = benchmark.lod_settings();
+    let lod = hairlod::core::lod::LodSettings {
+        pixel_tolerance,
+        ..benchmark.lod_settings()
+    };
+    lod.validate()?;
     let first = Pipeline::new(
         scene.clone(),
         benchmark.environment(),
@@ -141,6 +157,10 @@ pub fn paper_tables(benchmark: &PaperBenchmark) -> Result<serde_json::Value> {
         .chain([(instant, "LODs, instant switching")])
         .collect();
     let mut popping_instant = Popping::default();
+    // Luma of the LODs and Strands frames, for SSIM against Strands (the finest level).
+    let mut lod_frames = Vec::new();
+    let mut strand_frames = Vec::new();
+    let mut ssim_sums = [0.0f64; 4];
     for (index, (mode, label)) in runs.iter().enumerate() {
         let bar = ProgressBar::new(benchmark.frames as u64).with_style(
             ProgressStyle::with_template("{prefix:>26} [{bar:30}] {pos}/{len} frames {elapsed}")
@@ -164,6 +184,17 @@ pub fn paper_tables(benchmark: &PaperBenchmark) -> Result<serde_json::Value> {
                         image,
                         report.level_changes > 0 || report.blending_sections > 0,
                     );
+                    let frame = report.frame;
+                    match index {
+                        0 => lod_frames.push(luma(image)),
+                        1 => {
+                            let gray = luma(image);
+                            ssim_sums[0] += ssim(&lod_frames[frame], &gray);
+                            strand_frames.push(gray);
+                        }
+                        2 | 3 => ssim_sums[index] += ssim(&strand_frames[frame], &luma(image)),
+                        _ => {}
+                    }
                 }
                 bar.inc(1);
             },
@@ -188,6 +219,17 @@ pub fn paper_tables(benchmark: &PaperBenchmark) -> Result<serde_json::Value> {
         ("Table 1: camera zooming out from the head", PAPER_TABLE_1)
     };
     let speedups = print_table(title, &modes, &paper, benchmark);
+    let frames = benchmark.frames as f64;
+    let mean_ssim = SsimAgainstStrands {
+        lods: ssim_sums[0] / frames,
+        clusters: ssim_sums[2] / frames,
+        patches: ssim_sums[3] / frames,
+    };
+    println!(
+        "mean SSIM against Strands, frame by frame: LODs {:.4}, Clusters {:.4}, Patches {:.4} \
+         (LOD pixel tolerance {pixel_tolerance} px)",
+        mean_ssim.lods, mean_ssim.clusters, mean_ssim.patches
+    );
     println!(
         "popping (mean |Δimage| between frames, changing / steady): blended {:.3} ({:.5} / {:.5}), \
          instant {:.3} ({:.5} / {:.5})",
@@ -206,6 +248,8 @@ pub fn paper_tables(benchmark: &PaperBenchmark) -> Result<serde_json::Value> {
         speedup_lods_over_strands: speedups,
         popping_blended,
         popping_instant,
+        pixel_tolerance,
+        mean_ssim_against_strands: mean_ssim,
         paper_seconds_per_frame: paper,
     };
     Ok(serde_json::to_value(&report)?)

@@ -31,6 +31,9 @@ pub struct DemoArgs {
     /// Only write the image sequences; skip the four-mode comparison.
     #[arg(long)]
     pub no_bench: bool,
+    /// Screen-space error tolerance of the LOD selector [pixels]: larger means coarser levels.
+    #[arg(long, default_value_t = 1.0)]
+    pub pixel_tolerance: f32,
 }
 
 /// Runs `hairlod demo`.
@@ -49,11 +52,16 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         ..PaperBenchmark::default()
     };
     let scene = Scene::preset("paper-curly")?;
+    let lod = hairlod::core::lod::LodSettings {
+        pixel_tolerance: args.pixel_tolerance,
+        ..benchmark.lod_settings()
+    };
     let settings = PipelineSettings {
-        lod: LodMode::Auto(benchmark.lod_settings()),
+        lod: LodMode::Auto(lod),
         ..PipelineSettings::default()
     };
     let mut pipeline = Pipeline::new(scene, benchmark.environment(), settings)?;
+    pipeline.settle(hairlod::benchmark::SETTLE_TIME)?;
     let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &pipeline)?;
     println!("rendering on {}", renderer.renderer().adapter_report());
     let shaded_dir = args.out.join("shaded");
@@ -89,7 +97,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         levels_dir.display()
     );
     if !args.no_bench {
-        let report = paper_tables(&benchmark)?;
+        let report = paper_tables(&benchmark, args.pixel_tolerance)?;
         write_json(&args.out.join("bench.json"), &report)?;
     }
     Ok(())

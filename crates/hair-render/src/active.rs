@@ -15,6 +15,7 @@ pub struct ActiveSkeletons {
     node_positions: Vec<Vec3>,
     node_normals: Vec<Vec3>,
     node_binormals: Vec<Vec3>,
+    chain_coverage: Vec<f32>,
 }
 
 impl ActiveSkeletons {
@@ -29,10 +30,28 @@ impl ActiveSkeletons {
         self.node_positions.clear();
         self.node_normals.clear();
         self.node_binormals.clear();
+        self.chain_coverage.clear();
     }
 
     /// Appends an active chain: node positions [m] and their frames, one per node.
     pub fn push_chain(&mut self, node_positions: &[Vec3], node_frames: &[Frame]) -> Result<()> {
+        self.push_chain_with_coverage(node_positions, node_frames, 1.0)
+    }
+
+    /// Appends an active chain drawn with `coverage` in `[0, 1]` (see
+    /// [`SkeletonFrame::chain_coverage`]): a level fading in or out during a transition.
+    pub fn push_chain_with_coverage(
+        &mut self,
+        node_positions: &[Vec3],
+        node_frames: &[Frame],
+        coverage: f32,
+    ) -> Result<()> {
+        if !(0.0..=1.0).contains(&coverage) {
+            return Err(invalid(format!(
+                "chain {} has coverage {coverage} (allowed: 0..=1)",
+                self.chain_count()
+            )));
+        }
         if node_positions.len() != node_frames.len() {
             return Err(invalid(format!(
                 "chain {} has {} node positions but {} node frames",
@@ -50,6 +69,7 @@ impl ActiveSkeletons {
         self.node_binormals
             .extend(node_frames.iter().map(|frame| frame.binormal));
         self.chain_offsets.push(self.node_positions.len() as u32);
+        self.chain_coverage.push(coverage);
         Ok(())
     }
 
@@ -59,6 +79,7 @@ impl ActiveSkeletons {
             self.chain_offsets.push(0);
         }
         self.chain_offsets.push(self.node_positions.len() as u32);
+        self.chain_coverage.push(0.0);
     }
 
     /// Refills the buffer for `groom`: section `s` is drawn at `section_levels[s]`, so its chains
@@ -128,6 +149,7 @@ impl ActiveSkeletons {
             node_positions: &self.node_positions,
             node_normals: &self.node_normals,
             node_binormals: &self.node_binormals,
+            chain_coverage: &self.chain_coverage,
         }
     }
 }

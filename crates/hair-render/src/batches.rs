@@ -10,7 +10,7 @@ use crate::settings::Tessellation;
 
 /// One chain as the shaders read it (`Chain` in `common.wgsl`), 32 bytes.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct GpuChain {
     pub first_node: u32,
     pub node_count: u32,
@@ -21,7 +21,9 @@ pub(crate) struct GpuChain {
     pub first_sample: u32,
     /// 1 when the chain's strands are at most one pixel wide (drawn as lines), else 0.
     pub thin: u32,
-    pub padding: [u32; 2],
+    /// Fraction drawn, 0..=1 (see [`SkeletonFrame::chain_coverage`]).
+    pub coverage: f32,
+    pub padding: u32,
 }
 
 /// Bytes per chain-curve sample (`ChainSample` in `chain_curve_types.wgsl`: six `vec4<f32>`).
@@ -39,27 +41,34 @@ pub(crate) fn chain_table(
 ) -> u32 {
     out.clear();
     let mut samples = 0u32;
-    out.extend(frame.chain_offsets.windows(2).map(|w| {
-        let (first, end) = (w[0], w[1]);
-        let distance = frame
-            .node_positions
-            .get(first as usize)
-            .map_or(f32::INFINITY, |root| root.distance(camera_position));
-        let along_segments = tessellation.segments_at(distance);
-        let first_sample = samples;
-        if end - first >= 2 {
-            samples = samples.saturating_add(along_segments + 1);
-        }
-        GpuChain {
-            first_node: first,
-            node_count: end - first,
-            along_segments,
-            around_segments: tessellation.around_segments_at(distance),
-            first_sample,
-            thin: u32::from(is_thin(distance)),
-            padding: [0; 2],
-        }
-    }));
+    out.extend(
+        frame
+            .chain_offsets
+            .windows(2)
+            .enumerate()
+            .map(|(chain, w)| {
+                let (first, end) = (w[0], w[1]);
+                let distance = frame
+                    .node_positions
+                    .get(first as usize)
+                    .map_or(f32::INFINITY, |root| root.distance(camera_position));
+                let along_segments = tessellation.segments_at(distance);
+                let first_sample = samples;
+                if end - first >= 2 {
+                    samples = samples.saturating_add(along_segments + 1);
+                }
+                GpuChain {
+                    first_node: first,
+                    node_count: end - first,
+                    along_segments,
+                    around_segments: tessellation.around_segments_at(distance),
+                    first_sample,
+                    thin: u32::from(is_thin(distance)),
+                    coverage: frame.chain_coverage.get(chain).copied().unwrap_or(1.0),
+                    padding: 0,
+                }
+            }),
+    );
     samples
 }
 
@@ -236,6 +245,7 @@ mod tests {
             node_positions: &positions,
             node_normals: &axes,
             node_binormals: &axes,
+            chain_coverage: &[],
         };
         let mut table = Vec::new();
         let tessellation = Tessellation::default();

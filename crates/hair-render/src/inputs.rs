@@ -21,6 +21,10 @@ pub struct SkeletonFrame<'a> {
     pub node_normals: &'a [Vec3],
     /// Unit node binormals, one per node, orthogonal to the normals.
     pub node_binormals: &'a [Vec3],
+    /// Coverage of each chain in `[0, 1]` for dissolving between levels of detail: a strand is
+    /// drawn when a hash of its index is below its chain's coverage, a cluster or patch covers that
+    /// fraction of its pixels (screen-door). Empty means every chain at 1 (fully drawn).
+    pub chain_coverage: &'a [f32],
 }
 
 impl SkeletonFrame<'_> {
@@ -43,6 +47,25 @@ impl SkeletonFrame<'_> {
                 self.node_normals.len(),
                 self.node_binormals.len()
             )));
+        }
+        if !self.chain_coverage.is_empty() {
+            if self.chain_coverage.len() != self.chain_count() {
+                return Err(invalid(format!(
+                    "{} chain coverages for {} chains (give one per chain, or none)",
+                    self.chain_coverage.len(),
+                    self.chain_count()
+                )));
+            }
+            if let Some(bad) = self
+                .chain_coverage
+                .iter()
+                .position(|c| !(0.0..=1.0).contains(c))
+            {
+                return Err(invalid(format!(
+                    "chain {bad} has coverage {} (allowed: 0..=1)",
+                    self.chain_coverage[bad]
+                )));
+            }
         }
         if u32::try_from(nodes).is_err() {
             return Err(invalid(format!("{nodes} nodes exceed the u32 index range")));
@@ -213,6 +236,7 @@ mod tests {
             node_positions: positions,
             node_normals: axes,
             node_binormals: axes,
+            chain_coverage: &[],
         }
     }
 
@@ -268,6 +292,7 @@ mod tests {
             node_positions: &positions,
             node_normals: &normals,
             node_binormals: &binormals,
+            chain_coverage: &[],
         };
         let points = f.strand_control_points(0, Vec2::new(0.1, 0.2));
         assert_eq!(

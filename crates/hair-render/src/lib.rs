@@ -55,6 +55,7 @@
 //!     node_positions: &positions,
 //!     node_normals: &normals,
 //!     node_binormals: &binormals,
+//!     chain_coverage: &[],
 //! };
 //! let image = renderer.render(&frame, &FrameSettings::new(320, 240, Camera::default()))?;
 //! hair_render::output::write_png_atomic(&image, std::path::Path::new("frame_00000.png"))?;

@@ -97,32 +97,44 @@ pub fn level_with_hysteresis(value: f32, limits: [f32; 2], current: Level, band:
     Level::ALL[rank]
 }
 
-/// The motion measure of one skeleton (§7.3): the strongest force per unit mass on any of its nodes
-/// [m/s²], gravity excluded, taken as the node's acceleration over the last frame plus the wind's
-/// drag on it:
+/// The motion measure of one skeleton (§7.3): the strongest external force per unit mass on any of
+/// its nodes [m/s²], gravity excluded: the wind's drag plus the inertial force of the moving head,
 ///
-/// `max_k |v_k − v_k⁻| / Δt + c_d · |w(x_k) − v_k|`
+/// `max_k c_d · |w(x_k) − v_k| + |a_head(x_k)|`
 ///
-/// with `v_k⁻` the velocity a frame `frame_time` [s] earlier, `c_d` the air drag rate [1/s] and
-/// `w(x_k)` the wind velocity at the node [m/s]. A steady wind keeps the measure up even when the
-/// hair has come to rest in it (its strands show), a head shake raises it through the acceleration.
+/// with `c_d` the air drag rate [1/s], `w(x_k)` the wind velocity at the node [m/s], `v_k` its
+/// velocity and `a_head(x_k)` the acceleration [m/s²] of the point rigidly attached to the head
+/// at the node (what a head shake or nod forces on the hair). A steady wind keeps the measure up
+/// even once the hair has come to rest in it (its strands show); a still head in calm air gives
+/// zero however the springs ring, so a section does not flip level on its own vibration.
 pub fn motion_measure(
     positions: &[Vec3],
     velocities: &[Vec3],
-    previous_velocities: &[Vec3],
-    frame_time: f32,
     drag_rate: f32,
     wind_at: impl Fn(Vec3) -> Vec3,
+    head_acceleration_at: impl Fn(Vec3) -> Vec3,
 ) -> f32 {
     let mut strongest = 0.0f32;
-    for ((&x, &v), &before) in positions.iter().zip(velocities).zip(previous_velocities) {
-        let acceleration = if frame_time > 0.0 {
-            (v - before).length() / frame_time
-        } else {
-            0.0
-        };
+    for (&x, &v) in positions.iter().zip(velocities) {
         let drag = drag_rate * (wind_at(x) - v).length();
-        strongest = strongest.max(acceleration + drag);
+        strongest = strongest.max(drag + head_acceleration_at(x).length());
     }
     strongest
+}
+
+/// The acceleration [m/s²] at time `time` [s] of the point rigidly attached to a head whose pose
+/// over time is `pose_at`, passing through `point` [m] (world) at that time: the central second
+/// difference of the point's path over `±step` [s] (exact for a uniform rotation's centripetal
+/// term to O(step²)).
+pub fn head_point_acceleration(
+    pose_at: impl Fn(f64) -> RigidTransform,
+    time: f64,
+    step: f32,
+    point: Vec3,
+) -> Vec3 {
+    let now = pose_at(time);
+    let local = now.inverse().transform_point(point);
+    let before = pose_at(time - f64::from(step)).transform_point(local);
+    let after = pose_at(time + f64::from(step)).transform_point(local);
+    (after - 2.0 * point + before) / (step * step)
 }

@@ -220,8 +220,7 @@ fn strong_wind_raises_levels() {
         .map(|section| {
             let positions = rest_section(&scene, section, Level::Patch, &RigidTransform::IDENTITY);
             let still = vec![Vec3::ZERO; positions.len()];
-            let motion =
-                motion_measure(&positions, &still, &still, 1.0 / 60.0, drag_rate, |_| wind);
+            let motion = motion_measure(&positions, &still, drag_rate, |_| wind, |_| Vec3::ZERO);
             assert!((motion - 15.0).abs() < 1e-4);
             SectionObservation::of_section(&scene.groom, section, Level::Patch, &positions, motion)
         })
@@ -460,4 +459,27 @@ fn hand_over_rejects_wrong_sizes() {
     )
     .unwrap_err();
     assert!(error.to_string().contains("source positions"), "{error}");
+}
+
+#[test]
+fn a_spinning_head_accelerates_its_points_centripetally() {
+    // A head turning at ω about +Y through the origin: a point at radius r has centripetal
+    // acceleration ω²r towards the axis. The central difference over ±h is exact to O((ωh)²).
+    let omega = 6.0f32;
+    let pose =
+        |t: f64| RigidTransform::new(glam::Quat::from_rotation_y(omega * t as f32), Vec3::ZERO);
+    let point = Vec3::new(0.1, 0.05, 0.0);
+    let step = 1.0 / 240.0;
+    let acceleration = head_point_acceleration(pose, 0.3, step, pose(0.3).transform_point(point));
+    let expected = omega * omega * 0.1;
+    let relative = (acceleration.length() - expected).abs() / expected;
+    assert!(
+        relative < (omega * step).powi(2),
+        "{acceleration} vs {expected}"
+    );
+    assert!(acceleration.y.abs() < 1e-3);
+    // A still head and calm air: no motion however fast the nodes move.
+    let velocities = [Vec3::new(0.3, -0.2, 0.1)];
+    let calm = motion_measure(&[point], &velocities, 0.0, |_| Vec3::ZERO, |_| Vec3::ZERO);
+    assert_eq!(calm, 0.0);
 }

@@ -46,10 +46,29 @@ struct Chain {
     first_sample: u32,
     // 1 when the chain's strands are drawn as lines (at most a pixel wide).
     thin: u32,
-    pad1: u32,
+    // Fraction drawn, 0..1: a level fading in or out during a transition.
+    coverage: f32,
     pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<storage, read> nodes: array<Node>;
 @group(0) @binding(2) var<storage, read> chains: array<Chain>;
+
+// Rank in 0..1 of item `index` for dissolving a level in or out: the item is drawn while its rank
+// is below its chain's coverage (a well-mixed hash, so the drawn items are spread evenly).
+fn dissolve_rank(index: u32) -> f32 {
+    var x = index * 747796405u + 2891336453u;
+    x = ((x >> ((x >> 28u) + 4u)) ^ x) * 277803737u;
+    x = (x >> 22u) ^ x;
+    return f32(x >> 8u) / 16777216.0;
+}
+
+// Screen-door threshold in 0..1 of a pixel (4×4 Bayer matrix): a surface with coverage c keeps the
+// pixels whose threshold is below c.
+fn screen_door_threshold(pixel: vec2<f32>) -> f32 {
+    let x = u32(pixel.x) & 3u;
+    let y = u32(pixel.y) & 3u;
+    let bayer = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    return (f32(bayer[y * 4u + x]) + 0.5) / 16.0;
+}

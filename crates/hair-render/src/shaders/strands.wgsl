@@ -40,7 +40,7 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     }
     let strand = strands[strand_index];
     let chain = chain_at(strand.chain);
-    if (chain.node_count < 2u) {
+    if (chain.node_count < 2u || dissolve_rank(strand_index) >= chain.coverage) {
         return out;
     }
     let slot = chain.first_sample + min(point_index, chain.along_segments);

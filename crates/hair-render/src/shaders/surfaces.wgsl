@@ -28,6 +28,7 @@ struct SurfaceVertex {
     // 1: cluster, 2: patch.
     @location(4) @interpolate(flat) kind: u32,
     @location(5) @interpolate(flat) seed: u32,
+    @location(6) @interpolate(flat) coverage: f32,
 }
 
 // Offset direction on the unit control circle [cos(j·90°), sin(j·90°)], j = 0..3, blended by the
@@ -64,6 +65,7 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.texcoord = vec2<f32>(0.0);
     out.kind = kind;
     out.seed = 0u;
+    out.coverage = 1.0;
     if (index >= arrayLength(&surfaces)) {
         return out;
     }
@@ -121,6 +123,7 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.normal = normal;
     out.texcoord = vec2<f32>(across, v);
     out.seed = surface.seed;
+    out.coverage = chain.coverage;
     return out;
 }
 
@@ -154,6 +157,9 @@ fn stripe_noise(x: f32, period: f32, seed: u32) -> f32 {
 
 @fragment
 fn fs_surface(in: SurfaceVertex) -> @location(0) vec4<f32> {
+    if (in.coverage < 1.0 && screen_door_threshold(in.clip.xy) >= in.coverage) {
+        discard;
+    }
     if (globals.shading.w > 0.5) {
         if (in.kind == 1u) {
             return vec4<f32>(globals.cluster_code_color.rgb, 1.0);

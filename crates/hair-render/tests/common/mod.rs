@@ -75,6 +75,7 @@ impl Chains {
             node_positions: &self.positions,
             node_normals: &self.normals,
             node_binormals: &self.binormals,
+            chain_coverage: &[],
         }
     }
 }

@@ -1,0 +1,64 @@
+//! Dissolving between levels: a chain's coverage decides which of its strands are drawn (by a
+//! hash of the strand index) and what fraction of a surface's pixels are (screen-door).
+
+mod common;
+
+use common::{Chains, Strands, is_lit, renderer, settings};
+use glam::{Vec2, Vec3};
+use hair_render::SkeletonFrame;
+
+/// Lit pixels of a frame of `chains` (one chain, many strands side by side) at `coverage`.
+fn lit_pixels(renderer: &mut hair_render::Renderer, chains: &Chains, coverage: f32) -> usize {
+    let base = chains.frame();
+    let coverages = vec![coverage; base.chain_count()];
+    let frame = SkeletonFrame {
+        chain_coverage: &coverages,
+        ..base
+    };
+    let image = renderer.render(&frame, &settings(800, 600, 1.0)).unwrap();
+    image.pixels().filter(|p| is_lit(p)).count()
+}
+
+#[test]
+fn strand_coverage_draws_that_fraction_of_the_strands() {
+    let mut renderer = renderer();
+    let mut chains = Chains::default();
+    chains.push_line(Vec3::new(0.0, 0.1, 0.0), Vec3::new(0.0, -0.1, 0.0), 4);
+    // 150 strands 2 mm apart, about two pixels at this scale (1 m away, 35°, 600 px tall), so
+    // the lit area counts the drawn strands.
+    let mut strands = Strands::default();
+    let count = 150;
+    for i in 0..count {
+        let x = -0.15 + 0.3 * i as f32 / (count - 1) as f32;
+        strands.push(0, Vec2::new(0.0, x), 0.5);
+    }
+    renderer.upload_strands(&strands.set()).unwrap();
+    let full = lit_pixels(&mut renderer, &chains, 1.0);
+    let none = lit_pixels(&mut renderer, &chains, 0.0);
+    let half = lit_pixels(&mut renderer, &chains, 0.5);
+    assert_eq!(none, 0, "coverage 0 draws nothing");
+    assert!(full > 1000, "{full} lit pixels at full coverage");
+    // Each strand is kept with probability 1/2 (a hash), so the kept count is binomial with
+    // σ = √(150·¼) ≈ 6.1 strands, 0.041 of them; four σ either side: 0.5 ± 0.17.
+    let fraction = half as f32 / full as f32;
+    assert!(
+        (0.33..0.67).contains(&fraction),
+        "half coverage lit {fraction} of the pixels"
+    );
+}
+
+#[test]
+fn bad_coverage_is_rejected() {
+    let mut renderer = renderer();
+    let mut chains = Chains::default();
+    chains.push_line(Vec3::ZERO, Vec3::NEG_Y * 0.1, 3);
+    let base = chains.frame();
+    for coverages in [vec![1.5f32], vec![f32::NAN], vec![1.0, 1.0]] {
+        let frame = SkeletonFrame {
+            chain_coverage: &coverages,
+            ..base
+        };
+        let error = renderer.render(&frame, &settings(64, 64, 1.0)).unwrap_err();
+        assert!(error.to_string().contains("coverage"), "{error}");
+    }
+}
