@@ -54,7 +54,7 @@ impl PipelineRenderer {
         pipeline.gather_drawn(&mut self.active)?;
         let settings = FrameSettings {
             mode,
-            ..FrameSettings::new(width, height, render_camera(camera))
+            ..FrameSettings::new(width, height, *camera)
         };
         let image = self.renderer.render(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
@@ -71,22 +71,10 @@ impl PipelineRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         pipeline.gather_drawn(&mut self.active)?;
-        let settings = FrameSettings::new(width, height, render_camera(camera));
+        let settings = FrameSettings::new(width, height, *camera);
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
-    }
-}
-
-/// The renderer's camera with the same pose and lens.
-fn render_camera(camera: &Camera) -> hair_render::Camera {
-    hair_render::Camera {
-        position: camera.position,
-        target: camera.target,
-        up: camera.up,
-        vertical_fov: camera.vertical_fov,
-        near: camera.near,
-        far: camera.far,
     }
 }

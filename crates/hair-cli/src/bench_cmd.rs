@@ -180,10 +180,7 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
             Some(&mut renderer),
             |report, image| {
                 if let Some(image) = image {
-                    meter.add(
-                        image,
-                        report.level_changes > 0 || report.blending_sections > 0,
-                    );
+                    meter.add(image, report.level_changes > 0);
                     let frame = report.frame;
                     match index {
                         0 => lod_frames.push(luma(image)),

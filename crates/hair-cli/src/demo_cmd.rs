@@ -16,7 +16,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::bench_cmd::{paper_tables, parse_size, write_json};
 
-/// Arguments of `hairlod demo`.
+/// Arguments of `hairlod demo` (also writes `side_by_side.png`: a frame a quarter through, shaded |
+/// colour-coded).
 #[derive(Debug, Args)]
 pub struct DemoArgs {
     /// Output folder: `shaded/` and `levels/` image sequences and `bench.json`.
@@ -84,6 +85,11 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         ] {
             let (image, _) = renderer.render(&mut pipeline, &camera, width, height, mode)?;
             write_png_atomic(&image, &frame_path(dir, frame as u64, frames))?;
+        }
+        if frame == args.frames / 4 {
+            // One picture like the paper's Fig. 6: shaded | colour-coded.
+            let (image, _) = renderer.render_side_by_side(&mut pipeline, &camera, width, height)?;
+            write_png_atomic(&image, &args.out.join("side_by_side.png"))?;
         }
         let [p, c, s] = report.sections_at;
         bar.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));

@@ -239,7 +239,9 @@ impl FrameSettings {
                 self.width, self.height
             )));
         }
-        self.camera.validate()?;
+        self.camera
+            .validate()
+            .map_err(|error| invalid(error.to_string()))?;
         let colors = [
             ("light direction", self.light.direction),
             ("light colour", self.light.color),
