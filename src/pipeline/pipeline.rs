@@ -63,7 +63,7 @@ impl Pipeline {
         let params = DynamicsParams::for_style(&groom.params.style);
         let (selector, start_level) = match settings.lod {
             LodMode::Auto(lod) => (
-                Some(LodSelector::new(groom, scene.head.inner_box(), lod)?),
+                Some(LodSelector::new(groom, &scene.head.occluder_boxes(), lod)?),
                 Level::Patch,
             ),
             LodMode::Fixed(level) => (None, level),

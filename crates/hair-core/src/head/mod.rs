@@ -139,4 +139,34 @@ impl Head {
             (shape::CRANIUM_CENTRE + half).as_vec3(),
         )
     }
+
+    /// Axis-aligned boxes `(min, max)` [m] inside the head whose union blocks more of the view
+    /// than [`Head::inner_box`] alone, for the occlusion test: that box; three boxes stretched along
+    /// x, y and z inside the cranium ellipsoid (half-extents `0.9, 0.3, 0.3` of the semi-axes in
+    /// some order, so `0.81 + 0.09 + 0.09 < 1` puts their corners inside it), shrunk to 95 %; and
+    /// the square inscribed in the neck's cross-section (half side `r/√2`, 95 %) from near its
+    /// bottom to the cranium. Every point of every box is inside the head.
+    pub fn occluder_boxes(&self) -> Vec<(Vec3, Vec3)> {
+        let mut boxes = vec![self.inner_box()];
+        for stretched in [
+            DVec3::new(0.9, 0.3, 0.3),
+            DVec3::new(0.3, 0.9, 0.3),
+            DVec3::new(0.3, 0.3, 0.9),
+        ] {
+            let half = shape::CRANIUM_SEMI_AXES * stretched * INNER_BOX_SCALE;
+            boxes.push((
+                (shape::CRANIUM_CENTRE - half).as_vec3(),
+                (shape::CRANIUM_CENTRE + half).as_vec3(),
+            ));
+        }
+        let side = shape::NECK_RADIUS / 2f64.sqrt() * INNER_BOX_SCALE;
+        let neck_low = DVec3::new(
+            -side,
+            shape::NECK_BOTTOM_Y + 0.02,
+            shape::NECK_AXIS_Z - side,
+        );
+        let neck_high = DVec3::new(side, shape::CRANIUM_CENTRE.y, shape::NECK_AXIS_Z + side);
+        boxes.push((neck_low.as_vec3(), neck_high.as_vec3()));
+        boxes
+    }
 }

@@ -280,6 +280,32 @@ fn inner_box_is_inside_the_head() {
 }
 
 #[test]
+fn occluder_boxes_are_inside_the_head() {
+    let head = default_head();
+    let boxes = head.occluder_boxes();
+    assert_eq!(boxes.len(), 5);
+    for (low, high) in boxes {
+        assert!(low.cmplt(high).all());
+        let steps = 8;
+        for i in 0..=steps {
+            for j in 0..=steps {
+                for k in 0..=steps {
+                    let t = Vec3::new(i as f32, j as f32, k as f32) / steps as f32;
+                    let p = low + (high - low) * t;
+                    // The head is star-shaped about the origin: inside means nearer the origin
+                    // than the surface point in the same direction.
+                    let surface = head.surface_point(p).0;
+                    assert!(
+                        p.length() < surface.length(),
+                        "{p} of {low}..{high} outside"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn bad_parameters_are_errors() {
     let error = Head::procedural(&HeadParams {
         part_offset: 0.3,

@@ -36,21 +36,26 @@ pub fn segment_hits_box(from: Vec3, to: Vec3, min: Vec3, max: Vec3) -> bool {
     true
 }
 
-/// The paper's conservative occlusion test (§7.1): rays from the camera to the top (root) and the
-/// bottom (tip) of a section both cross the box `inner_box` (head space [m], inside the head, see
-/// [`Head::inner_box`](crate::Head::inner_box)) posed by `head`.
+/// The paper's conservative occlusion test (§7.1), with a union of boxes: the segments from the
+/// camera to the top (root) and to the bottom (tip) of a section both cross some box of
+/// `occluders` (head space [m], all inside the head, see
+/// [`Head::occluder_boxes`](crate::Head::occluder_boxes)) posed by `head`.
 pub fn is_occluded(
     camera_position: Vec3,
     top: Vec3,
     bottom: Vec3,
-    inner_box: (Vec3, Vec3),
+    occluders: &[(Vec3, Vec3)],
     head: &RigidTransform,
 ) -> bool {
     let to_head = head.inverse();
     let eye = to_head.transform_point(camera_position);
-    let (min, max) = inner_box;
-    segment_hits_box(eye, to_head.transform_point(top), min, max)
-        && segment_hits_box(eye, to_head.transform_point(bottom), min, max)
+    let blocked = |point: Vec3| {
+        let point = to_head.transform_point(point);
+        occluders
+            .iter()
+            .any(|&(min, max)| segment_hits_box(eye, point, min, max))
+    };
+    !occluders.is_empty() && blocked(top) && blocked(bottom)
 }
 
 /// Length [pixels] of the line from `first` to `last` [m] projected into a `width`×`height` image;

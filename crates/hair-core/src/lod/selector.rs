@@ -107,13 +107,14 @@ pub struct LodSelector {
     settings: LodSettings,
     constants: Vec<SectionConstants>,
     choices: Vec<SectionChoice>,
-    inner_box: (Vec3, Vec3),
+    occluders: Vec<(Vec3, Vec3)>,
 }
 
 impl LodSelector {
-    /// A selector for `groom` on a head whose occlusion box is `inner_box` (head space [m]); every
-    /// section starts as a visible patch.
-    pub fn new(groom: &Groom, inner_box: (Vec3, Vec3), settings: LodSettings) -> Result<Self> {
+    /// A selector for `groom` on a head whose occluding boxes are `occluders` (head space [m],
+    /// inside the head: [`Head::occluder_boxes`](crate::Head::occluder_boxes)); every section
+    /// starts as a visible patch.
+    pub fn new(groom: &Groom, occluders: &[(Vec3, Vec3)], settings: LodSettings) -> Result<Self> {
         settings.validate()?;
         let patches = groom.level_chains(Level::Patch);
         let constants = groom
@@ -152,7 +153,7 @@ impl LodSelector {
             settings,
             constants,
             choices,
-            inner_box,
+            occluders: occluders.to_vec(),
         })
     }
 
@@ -217,7 +218,7 @@ impl LodSelector {
                 observation,
                 camera,
                 head,
-                self.inner_box,
+                &self.occluders,
                 &settings,
                 aspect,
             );
@@ -234,7 +235,7 @@ fn choose(
     observation: &SectionObservation,
     camera: &Camera,
     head: &RigidTransform,
-    inner_box: (Vec3, Vec3),
+    occluders: &[(Vec3, Vec3)],
     settings: &LodSettings,
     aspect: f32,
 ) -> SectionChoice {
@@ -251,7 +252,7 @@ fn choose(
             camera.position,
             observation.top,
             observation.bottom,
-            inner_box,
+            occluders,
             head,
         )
     {
