@@ -20,6 +20,7 @@
 //! # Ok::<(), hairlod::HairError>(())
 //! ```
 
+pub mod accuracy;
 pub mod benchmark;
 pub mod pipeline;
 

@@ -1,6 +1,7 @@
 //! The `hairlod` command-line tool: grooms, OBJ export (and, as they land, simulation, rendering and
 //! benchmarks).
 
+mod accuracy_cmd;
 mod bench_cmd;
 mod demo_cmd;
 mod groom_cmd;
@@ -34,6 +35,8 @@ enum Command {
     /// The main job: the benchmark scene with wind and LODs rendered to ./out (shaded and
     /// colour-coded), then the Table 2 comparison.
     Demo(demo_cmd::DemoArgs),
+    /// Speed against accuracy: fixed levels and LODs against the strand-level reference.
+    Accuracy(accuracy_cmd::AccuracyArgs),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +47,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render_cmd::run(&args),
         Command::Bench(args) => bench_cmd::run(&args),
         Command::Demo(args) => demo_cmd::run(&args),
+        Command::Accuracy(args) => accuracy_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
