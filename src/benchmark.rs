@@ -271,3 +271,65 @@ pub fn ssim(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
 pub fn luma(image: &image::RgbaImage) -> image::GrayImage {
     image::DynamicImage::ImageRgba8(image.clone()).to_luma8()
 }
+
+/// Mean absolute difference of two luma images of the same size, in `[0, 1]`.
+fn luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
+    if a.dimensions() != b.dimensions() {
+        return 1.0;
+    }
+    let sum: u64 = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| u64::from(p.0[0].abs_diff(q.0[0])))
+        .sum();
+    sum as f64 / (255.0 * f64::from(a.width()) * f64::from(a.height())).max(1.0)
+}
+
+/// Popping beyond what the camera's own motion explains: per frame `t ≥ 1`, the mean absolute
+/// luma difference between consecutive frames of a LOD run minus the same between consecutive
+/// frames of the Strands run over the same camera path, averaged over the frames where some
+/// section switched level (`at_switches`) and over the others (`elsewhere`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct ExcessPopping {
+    /// Mean excess difference over frames where a switch started, in `[−1, 1]`.
+    pub at_switches: f64,
+    /// Mean excess difference over the other frames.
+    pub elsewhere: f64,
+    /// Frames with a switch.
+    pub switch_frames: usize,
+}
+
+/// [`ExcessPopping`] of the LOD frames `lod` against the Strands frames `strands` (luma, same
+/// frames), with `switched[t]` true where a section switched level in frame `t`.
+pub fn excess_popping(
+    lod: &[image::GrayImage],
+    strands: &[image::GrayImage],
+    switched: &[bool],
+) -> ExcessPopping {
+    let frames = lod.len().min(strands.len()).min(switched.len());
+    let (mut at, mut at_count, mut other, mut other_count) = (0.0, 0usize, 0.0, 0usize);
+    for t in 1..frames {
+        let excess =
+            luma_difference(&lod[t], &lod[t - 1]) - luma_difference(&strands[t], &strands[t - 1]);
+        if switched[t] {
+            at += excess;
+            at_count += 1;
+        } else {
+            other += excess;
+            other_count += 1;
+        }
+    }
+    ExcessPopping {
+        at_switches: if at_count > 0 {
+            at / at_count as f64
+        } else {
+            0.0
+        },
+        elsewhere: if other_count > 0 {
+            other / other_count as f64
+        } else {
+            0.0
+        },
+        switch_frames: at_count,
+    }
+}

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use hairlod::benchmark::{
-    ModeRun, PAPER_TABLE_1, PAPER_TABLE_2, PaperBenchmark, Popping, PoppingMeter, luma,
-    paper_modes, run_mode, ssim,
+    ExcessPopping, ModeRun, PAPER_TABLE_1, PAPER_TABLE_2, PaperBenchmark, Popping, PoppingMeter,
+    excess_popping, luma, paper_modes, run_mode, ssim,
 };
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
@@ -78,6 +78,8 @@ struct PaperReport<'a> {
     speedup_lods_over_strands: Speedups,
     popping_blended: Popping,
     popping_instant: Popping,
+    excess_popping_blended: ExcessPopping,
+    excess_popping_instant: ExcessPopping,
     pixel_tolerance: f32,
     mean_ssim_against_strands: SsimAgainstStrands,
     paper_seconds_per_frame: [[f64; 4]; 3],
@@ -160,6 +162,8 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
     // Luma of the LODs and Strands frames, for SSIM against Strands (the finest level).
     let mut lod_frames = Vec::new();
     let mut strand_frames = Vec::new();
+    let mut instant_frames = Vec::new();
+    let mut instant_switched = Vec::new();
     let mut ssim_sums = [0.0f64; 4];
     for (index, (mode, label)) in runs.iter().enumerate() {
         let bar = ProgressBar::new(benchmark.frames as u64).with_style(
@@ -190,7 +194,10 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
                             strand_frames.push(gray);
                         }
                         2 | 3 => ssim_sums[index] += ssim(&strand_frames[frame], &luma(image)),
-                        _ => {}
+                        _ => {
+                            instant_frames.push(luma(image));
+                            instant_switched.push(report.level_changes > 0);
+                        }
                     }
                 }
                 bar.inc(1);
@@ -216,6 +223,23 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
         ("Table 1: camera zooming out from the head", PAPER_TABLE_1)
     };
     let speedups = print_table(title, &modes, &paper, benchmark);
+    let blended_switched: Vec<bool> = modes[0]
+        .frames
+        .iter()
+        .map(|f| f.level_changes > 0)
+        .collect();
+    let excess_blended = excess_popping(&lod_frames, &strand_frames, &blended_switched);
+    let excess_instant = excess_popping(&instant_frames, &strand_frames, &instant_switched);
+    println!(
+        "popping beyond the camera's motion (mean |Δluma| between frames, LODs minus Strands): \
+         blended {:.5} at {} switch frames ({:.5} elsewhere), instant {:.5} at {} ({:.5} elsewhere)",
+        excess_blended.at_switches,
+        excess_blended.switch_frames,
+        excess_blended.elsewhere,
+        excess_instant.at_switches,
+        excess_instant.switch_frames,
+        excess_instant.elsewhere
+    );
     let frames = benchmark.frames as f64;
     let mean_ssim = SsimAgainstStrands {
         lods: ssim_sums[0] / frames,
@@ -245,6 +269,8 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
         speedup_lods_over_strands: speedups,
         popping_blended,
         popping_instant,
+        excess_popping_blended: excess_blended,
+        excess_popping_instant: excess_instant,
         pixel_tolerance,
         mean_ssim_against_strands: mean_ssim,
         paper_seconds_per_frame: paper,
