@@ -386,7 +386,8 @@ impl Pipeline {
 
     /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
     /// every visible section at its level (and, while it blends, at its previous level too: the new
-    /// level's coverage rises from 0 to 1 over the blend as the old one's falls, a dissolve), with
+    /// level's coverage rises from 0 to 1 over the first half of the blend, then the old one's falls
+    /// from 1 to 0 over the second half, a dissolve), with
     /// node frames computed from the simulated positions; everything else inactive.
     pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         let head = self.environment.head.transform_at(self.time);
@@ -414,12 +415,14 @@ impl Pipeline {
             self.frames_scratch.resize(count, Frame::default());
             let root_frame = groom.skeletons.world_root_frame(chain, &head);
             node_frames(&root_frame, positions, &mut self.frames_scratch);
-            // While blending, the new level dissolves in as the old one dissolves out.
+            // While blending, the new level dissolves in over the first half of the blend on top
+            // of the whole old level, which then dissolves out over the second half: no frame
+            // shows less hair than either level, and the switch frame itself changes little.
             let weight = self.levels.blend_weight(section, self.time);
             let coverage = if level == self.levels.current()[section] {
-                weight
+                (2.0 * weight).min(1.0)
             } else {
-                1.0 - weight
+                (2.0 * (1.0 - weight)).min(1.0)
             };
             active.push_chain_with_coverage(positions, &self.frames_scratch, coverage)?;
         }
