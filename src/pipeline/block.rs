@@ -7,7 +7,6 @@ use glam::Vec3;
 use hair_core::dynamics::{
     DynamicsModel, DynamicsParams, Simulation, SimulationSettings, SimulationState,
 };
-use hair_core::skeleton::ChainAngles;
 use hair_core::{Groom, Level, SkeletonRest};
 
 use super::error::Result;
@@ -68,24 +67,12 @@ impl LevelBlock {
             return Ok(block);
         }
         let mut rest = SkeletonRest::default();
-        let skeletons = &groom.skeletons;
         for &section in &sections {
             for chain in groom.section_chains(section, level) {
-                let nodes = skeletons.nodes(chain);
-                let angles = ChainAngles {
-                    segment_lengths: skeletons.segment_rest_lengths[nodes.clone()].to_vec(),
-                    polar_angles: skeletons.rest_polar_angles[nodes.clone()].to_vec(),
-                    azimuth_angles: skeletons.rest_azimuth_angles[nodes].to_vec(),
-                };
-                rest.push_chain(
-                    skeletons.root_positions[chain],
-                    skeletons.root_frames[chain],
-                    &angles,
-                )?;
+                rest.push_chain_from(&groom.skeletons, chain)?;
                 block.chains.push(chain);
             }
-            let nodes_so_far = rest.node_count();
-            block.node_start.push(nodes_so_far);
+            block.node_start.push(rest.node_count());
         }
         let node_count = rest.node_count();
         block.sections = sections;

@@ -9,7 +9,8 @@ use hair_collide::{
 };
 use hair_core::dynamics::{DynamicsParams, Environment};
 use hair_core::lod::{
-    LodSelector, SectionChoice, SectionObservation, head_point_acceleration, motion_measure,
+    LodSelector, SectionChoice, SectionObservation, head_point_acceleration_from_poses,
+    motion_measure,
 };
 use hair_core::skeleton::node_frames;
 use hair_core::{Camera, Frame, Level, RigidTransform, Scene};
@@ -300,6 +301,12 @@ impl Pipeline {
             return Ok(0);
         };
         let frame_time = self.settings.dynamics.time_step;
+        // The head's poses a frame before, now and a frame after, once for every node.
+        let head_poses = [-1.0, 0.0, 1.0].map(|k| {
+            self.environment
+                .head
+                .transform_at(self.time + k * f64::from(frame_time))
+        });
         let wind = &self.environment.wind;
         let time = self.time;
         for (section, observation) in self.observations.iter_mut().enumerate() {
@@ -311,13 +318,12 @@ impl Pipeline {
             let nodes = block.nodes(slot);
             let positions = &block.state.node_positions[nodes.clone()];
             let velocities = &block.state.node_velocities[nodes.clone()];
-            let head_motion = &self.environment.head;
             let motion = motion_measure(
                 positions,
                 velocities,
                 self.params.air_drag_rate,
                 |x| wind.velocity_at(x, time),
-                |x| head_point_acceleration(|t| head_motion.transform_at(t), time, frame_time, x),
+                |x| head_point_acceleration_from_poses(&head_poses, frame_time, x),
             );
             *observation = SectionObservation::of_section(groom, section, level, positions, motion);
         }
@@ -395,8 +401,8 @@ impl Pipeline {
         active.clear();
         for chain in 0..groom.skeletons.chain_count() {
             let (section, level, _) = groom.chain_owner(chain);
-            let drawn =
-                self.choices[section].visible && self.levels.drawn(section).contains(&level);
+            let drawn = self.choices[section].visible
+                && self.levels.drawn(section).any(|drawn| drawn == level);
             let block = &self.blocks[level as usize];
             let located = block.slot(section).filter(|_| drawn);
             let Some(slot) = located else {

@@ -78,10 +78,8 @@ impl SectionLevels {
 
     /// The levels section `section` is drawn at: its current level, and its previous one while
     /// blending.
-    pub fn drawn(&self, section: usize) -> Vec<Level> {
-        let mut levels = vec![self.current[section]];
-        levels.extend(self.previous(section));
-        levels
+    pub fn drawn(&self, section: usize) -> impl Iterator<Item = Level> + use<> {
+        std::iter::once(self.current[section]).chain(self.previous(section))
     }
 
     /// The sections simulated at `level` (current or blending from it), ascending.

@@ -8,26 +8,15 @@ use crate::error::{HairError, Result};
 use crate::frame::Frame;
 use crate::groom::Groom;
 use crate::level::Level;
-use crate::skeleton::{ChainAngles, SkeletonRest, measure_chain};
+use crate::skeleton::{SkeletonRest, measure_chain};
 use crate::transform::RigidTransform;
 
 /// The skeletons of `groom` at `level` alone, in the groom's order (chain `c` of the result is
 /// chain `groom.level_chains(level).start + c` of the groom): `S`, `3S` or `5S` chains.
 pub fn level_skeletons(groom: &Groom, level: Level) -> Result<SkeletonRest> {
-    let skeletons = &groom.skeletons;
     let mut rest = SkeletonRest::default();
     for chain in groom.level_chains(level) {
-        let nodes = skeletons.nodes(chain);
-        let angles = ChainAngles {
-            segment_lengths: skeletons.segment_rest_lengths[nodes.clone()].to_vec(),
-            polar_angles: skeletons.rest_polar_angles[nodes.clone()].to_vec(),
-            azimuth_angles: skeletons.rest_azimuth_angles[nodes].to_vec(),
-        };
-        rest.push_chain(
-            skeletons.root_positions[chain],
-            skeletons.root_frames[chain],
-            &angles,
-        )?;
+        rest.push_chain_from(&groom.skeletons, chain)?;
     }
     Ok(rest)
 }

@@ -137,9 +137,24 @@ pub fn head_point_acceleration(
     step: f32,
     point: Vec3,
 ) -> Vec3 {
-    let now = pose_at(time);
+    let poses = [
+        pose_at(time - f64::from(step)),
+        pose_at(time),
+        pose_at(time + f64::from(step)),
+    ];
+    head_point_acceleration_from_poses(&poses, step, point)
+}
+
+/// [`head_point_acceleration`] from the head's poses at `time − step`, `time` and `time + step`
+/// (for many points in one frame: the poses are computed once).
+pub fn head_point_acceleration_from_poses(
+    poses: &[RigidTransform; 3],
+    step: f32,
+    point: Vec3,
+) -> Vec3 {
+    let [before, now, after] = poses;
     let local = now.inverse().transform_point(point);
-    let before = pose_at(time - f64::from(step)).transform_point(local);
-    let after = pose_at(time + f64::from(step)).transform_point(local);
+    let before = before.transform_point(local);
+    let after = after.transform_point(local);
     (after - 2.0 * point + before) / (step * step)
 }

@@ -18,8 +18,8 @@ mod transfer;
 mod tests;
 
 pub use criteria::{
-    distance_limits, head_point_acceleration, is_occluded, level_with_hysteresis, motion_measure,
-    projected_length, segment_hits_box,
+    distance_limits, head_point_acceleration, head_point_acceleration_from_poses, is_occluded,
+    level_with_hysteresis, motion_measure, projected_length, segment_hits_box,
 };
 pub use selector::{LodSelector, Reason, SectionChoice, SectionObservation};
 pub use settings::LodSettings;

@@ -65,6 +65,22 @@ impl SkeletonRest {
         self.nodes(chain).len()
     }
 
+    /// Appends a copy of chain `chain` of `source` (root, root frame, segment lengths and rest
+    /// angles) and returns its index here.
+    pub fn push_chain_from(&mut self, source: &SkeletonRest, chain: usize) -> Result<usize> {
+        let nodes = source.nodes(chain);
+        let angles = ChainAngles {
+            segment_lengths: source.segment_rest_lengths[nodes.clone()].to_vec(),
+            polar_angles: source.rest_polar_angles[nodes.clone()].to_vec(),
+            azimuth_angles: source.rest_azimuth_angles[nodes].to_vec(),
+        };
+        self.push_chain(
+            source.root_positions[chain],
+            source.root_frames[chain],
+            &angles,
+        )
+    }
+
     /// Appends a chain and returns its index. `angles` has one entry per node, at least 2 nodes,
     /// positive finite segment lengths (after the root) and finite angles.
     pub fn push_chain(
