@@ -6,14 +6,17 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use hairlod::benchmark::{
-    ExcessPopping, ModeRun, PAPER_TABLE_1, PAPER_TABLE_2, PaperBenchmark, Popping, PoppingMeter,
-    excess_popping, luma, paper_modes, run_mode, ssim,
+    BudgetedRun, ExcessPopping, ModeRun, PAPER_TABLE_1, PAPER_TABLE_2, PaperBenchmark, Popping,
+    PoppingMeter, excess_popping, luma, paper_modes, run_budgeted, run_mode, ssim,
 };
+use hairlod::core::lod::{BudgetSettings, LodSettings};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
 use hairlod::{Pipeline, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
+
+use crate::charts::{ModelSeries, ModelSizeChart, write_png_and_svg};
 
 /// Arguments of `hairlod bench`.
 #[derive(Debug, Args)]
@@ -48,6 +51,23 @@ pub struct PaperArgs {
     /// Screen-space error tolerance of the LOD selector [pixels]: larger means coarser levels.
     #[arg(long, default_value_t = 1.0)]
     pub pixel_tolerance: f32,
+    /// Also run the LODs in frame-budget mode: the pixel tolerance (starting from
+    /// --pixel-tolerance) is steered so that a frame costs at most MS milliseconds.
+    #[arg(long, value_name = "MS")]
+    pub budget_ms: Option<f64>,
+    /// Chart the simulated nodes and drawn segments per frame under LODs and Strands against the
+    /// camera distance, to FILE.png and FILE.svg.
+    #[arg(long, value_name = "FILE")]
+    pub chart: Option<PathBuf>,
+}
+
+/// What `bench paper` runs beyond the four modes.
+#[derive(Debug, Clone, Default)]
+pub struct PaperExtras {
+    /// Frame budget [ms] for a budgeted LODs run.
+    pub budget_ms: Option<f64>,
+    /// Model-size chart path.
+    pub chart: Option<PathBuf>,
 }
 
 /// Parses `WIDTHxHEIGHT`.
@@ -83,6 +103,16 @@ struct PaperReport<'a> {
     pixel_tolerance: f32,
     mean_ssim_against_strands: SsimAgainstStrands,
     paper_seconds_per_frame: [[f64; 4]; 3],
+    budgeted: Option<Budgeted>,
+}
+
+/// The frame-budget run and the error it paid.
+#[derive(Serialize)]
+struct Budgeted {
+    #[serde(flatten)]
+    run: BudgetedRun,
+    /// Mean SSIM of its frames against the Strands frames.
+    mean_ssim_against_strands: f64,
 }
 
 #[derive(Serialize, Clone, Copy)]
@@ -121,7 +151,11 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
         height,
         ..PaperBenchmark::default()
     };
-    let report = paper_tables(&benchmark, args.pixel_tolerance)?;
+    let extras = PaperExtras {
+        budget_ms: args.budget_ms,
+        chart: args.chart.clone(),
+    };
+    let report = paper_tables(&benchmark, args.pixel_tolerance, &extras)?;
     if let Some(path) = &args.json {
         write_json(path, &report)?;
     }
@@ -130,7 +164,11 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
 
 /// Runs the four modes (and the LODs again with instant switching for the popping measure),
 /// prints the table and returns the report.
-pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<serde_json::Value> {
+pub fn paper_tables(
+    benchmark: &PaperBenchmark,
+    pixel_tolerance: f32,
+    extras: &PaperExtras,
+) -> Result<serde_json::Value> {
     let scene = Scene::preset("paper-curly")?;
     let options = RendererOptions::from_env()?;
     let lod = hairlod::core::lod::LodSettings {
@@ -138,6 +176,13 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
         ..benchmark.lod_settings()
     };
     lod.validate()?;
+    let budget = extras
+        .budget_ms
+        .map(|ms| {
+            let settings = BudgetSettings::new(ms / 1e3);
+            settings.validate().map(|()| settings)
+        })
+        .transpose()?;
     let first = Pipeline::new(
         scene.clone(),
         benchmark.environment(),
@@ -166,12 +211,7 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
     let mut instant_switched = Vec::new();
     let mut ssim_sums = [0.0f64; 4];
     for (index, (mode, label)) in runs.iter().enumerate() {
-        let bar = ProgressBar::new(benchmark.frames as u64).with_style(
-            ProgressStyle::with_template("{prefix:>26} [{bar:30}] {pos}/{len} frames {elapsed}")
-                .expect("a valid template")
-                .progress_chars("=> "),
-        );
-        bar.set_prefix(label.to_string());
+        let bar = progress_bar(benchmark.frames, label);
         let settings = PipelineSettings {
             lod: *mode,
             ..PipelineSettings::default()
@@ -261,6 +301,20 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
         popping_instant.changing,
         popping_instant.steady
     );
+    let budgeted = match budget {
+        Some(budget) => Some(budgeted_run(
+            benchmark,
+            &scene,
+            lod,
+            budget,
+            &mut renderer,
+            &strand_frames,
+        )?),
+        None => None,
+    };
+    if let Some(path) = &extras.chart {
+        model_size_chart(path, benchmark, &modes)?;
+    }
     let report = PaperReport {
         benchmark: *benchmark,
         adapter,
@@ -274,8 +328,109 @@ pub fn paper_tables(benchmark: &PaperBenchmark, pixel_tolerance: f32) -> Result<
         pixel_tolerance,
         mean_ssim_against_strands: mean_ssim,
         paper_seconds_per_frame: paper,
+        budgeted,
     };
     Ok(serde_json::to_value(&report)?)
+}
+
+/// Runs the LODs under a frame budget and prints how often it was met and the SSIM it paid.
+fn budgeted_run(
+    benchmark: &PaperBenchmark,
+    scene: &Scene,
+    lod: LodSettings,
+    budget: BudgetSettings,
+    renderer: &mut PipelineRenderer,
+    strand_frames: &[image::GrayImage],
+) -> Result<Budgeted> {
+    let bar = progress_bar(benchmark.frames, "LODs, frame budget");
+    let mut ssim_sum = 0.0;
+    let run = run_budgeted(
+        benchmark,
+        scene,
+        lod,
+        budget,
+        renderer,
+        |report, image, tolerance| {
+            if let Some(strands) = strand_frames.get(report.frame) {
+                ssim_sum += ssim(strands, &luma(image));
+            }
+            bar.set_message(format!("τ {tolerance:.2} px"));
+            bar.inc(1);
+        },
+    )
+    .context("the frame-budget run failed")?;
+    bar.finish();
+    let mean_ssim = ssim_sum / benchmark.frames.max(1) as f64;
+    let b = &run.budget;
+    println!(
+        "frame budget {:.1} ms: met in {} of {} frames ({:.0} %), mean cost {:.1} ms, mean \
+         tolerance {:.2} px (largest {:.2}), mean SSIM against Strands {:.4}",
+        1e3 * b.budget,
+        b.met,
+        b.frames,
+        100.0 * b.met_fraction,
+        1e3 * b.mean_cost,
+        b.mean_tolerance,
+        b.max_tolerance,
+        mean_ssim
+    );
+    Ok(Budgeted {
+        run,
+        mean_ssim_against_strands: mean_ssim,
+    })
+}
+
+/// A progress bar over `frames` frames labelled `label`.
+fn progress_bar(frames: usize, label: &str) -> ProgressBar {
+    let bar = ProgressBar::new(frames as u64).with_style(
+        ProgressStyle::with_template("{prefix:>26} [{bar:30}] {pos}/{len} frames {elapsed} {msg}")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_prefix(label.to_string());
+    bar
+}
+
+/// Charts the simulated nodes and drawn segments per frame of the LODs and Strands runs with the
+/// camera distance.
+fn model_size_chart(
+    path: &std::path::Path,
+    benchmark: &PaperBenchmark,
+    modes: &[ModeRun],
+) -> Result<()> {
+    let distances: Vec<f64> = (0..benchmark.frames)
+        .map(|f| {
+            f64::from({
+                let camera = benchmark.camera(f);
+                camera.position.distance(camera.target)
+            })
+        })
+        .collect();
+    let series: Vec<ModelSeries> = modes
+        .iter()
+        .take(2)
+        .map(|run| ModelSeries {
+            label: run.mode.clone(),
+            nodes: run
+                .frames
+                .iter()
+                .map(|f| f.simulated_nodes as f64)
+                .collect(),
+            segments: run.frames.iter().map(|f| f.drawn_segments as f64).collect(),
+        })
+        .collect();
+    let title = format!(
+        "Model size over the zoom-out ({}): LODs against Strands",
+        if benchmark.wind { "wind" } else { "calm" }
+    );
+    let chart = ModelSizeChart {
+        title,
+        distances: &distances,
+        series: &series,
+    };
+    let (png, svg) = write_png_and_svg(path, (1000, 560), &chart)?;
+    println!("wrote {} and {}", png.display(), svg.display());
+    Ok(())
 }
 
 /// Prints the table in the paper's layout (ours, paper's in brackets) and returns the speedups.

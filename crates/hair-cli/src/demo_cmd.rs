@@ -14,7 +14,7 @@ use hairlod::render::{RendererOptions, ShadingMode};
 use hairlod::{Pipeline, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::bench_cmd::{paper_tables, parse_size, write_json};
+use crate::bench_cmd::{PaperExtras, paper_tables, parse_size, write_json};
 
 /// Arguments of `hairlod demo` (also writes `side_by_side.png`: a frame a quarter through, shaded |
 /// colour-coded).
@@ -103,7 +103,11 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         levels_dir.display()
     );
     if !args.no_bench {
-        let report = paper_tables(&benchmark, args.pixel_tolerance)?;
+        let extras = PaperExtras {
+            budget_ms: None,
+            chart: Some(args.out.join("model_size.png")),
+        };
+        let report = paper_tables(&benchmark, args.pixel_tolerance, &extras)?;
         write_json(&args.out.join("bench.json"), &report)?;
     }
     Ok(())

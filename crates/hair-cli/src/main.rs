@@ -3,6 +3,7 @@
 
 mod accuracy_cmd;
 mod bench_cmd;
+mod charts;
 mod demo_cmd;
 mod groom_cmd;
 mod render_cmd;

@@ -4,14 +4,11 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::charts::{recompress_png, register_chart_font};
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::core::dynamics::stability::{Outcome, StabilityReport, SweepConfig, run_sweep};
 use plotters::prelude::*;
-use plotters::style::{FontStyle, register_font};
-
-/// The font the chart is drawn with.
-const FONT_PATH: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
 /// Arguments of `hairlod stability`.
 #[derive(Debug, Args)]
@@ -116,20 +113,6 @@ fn outcome_colour(outcome: Outcome) -> RGBColor {
     }
 }
 
-/// Registers DejaVu Sans as "sans-serif" for plotters.
-fn register_chart_font() -> Result<()> {
-    let bytes = std::fs::read(FONT_PATH).with_context(|| {
-        format!(
-            "the chart needs the font {FONT_PATH} (Debian/Ubuntu package fonts-dejavu-core); \
-             install it or leave out --chart"
-        )
-    })?;
-    let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-    register_font("sans-serif", FontStyle::Normal, bytes)
-        .map_err(|_| anyhow::anyhow!("{FONT_PATH} is not a usable font"))?;
-    Ok(())
-}
-
 /// One heat map per integrator, side by side.
 fn draw_chart(report: &StabilityReport, path: &Path) -> Result<()> {
     register_chart_font()?;
@@ -223,25 +206,4 @@ fn draw_chart(report: &StabilityReport, path: &Path) -> Result<()> {
         .with_context(|| format!("writing {}", path.display()))?;
     drop(root);
     recompress_png(path)
-}
-
-/// Re-encodes a PNG with the best compression (plotters writes a fast, large one): a few flat
-/// colours and text compress to well under half.
-fn recompress_png(path: &Path) -> Result<()> {
-    use image::ImageEncoder;
-    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-    let picture = image::open(path)
-        .with_context(|| format!("reading back {}", path.display()))?
-        .into_rgb8();
-    let mut bytes = Vec::new();
-    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
-        .write_image(
-            picture.as_raw(),
-            picture.width(),
-            picture.height(),
-            image::ExtendedColorType::Rgb8,
-        )
-        .with_context(|| format!("encoding {}", path.display()))?;
-    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
 }

@@ -7,8 +7,11 @@
 //!   head, projected skeleton length, motion measure, a level with hysteresis);
 //! - [`LodSelector`]: the per-frame choice for every section ([`SectionChoice`]) from what it sees of
 //!   each ([`SectionObservation`]);
-//! - [`hand_over`]: a section's skeleton state from one level to another (split and merge).
+//! - [`hand_over`]: a section's skeleton state from one level to another (split and merge);
+//! - [`BudgetController`]: the frame-budget mode, the pixel tolerance steered to meet a time
+//!   budget per frame.
 
+mod budget;
 pub mod criteria;
 mod selector;
 mod settings;
@@ -17,6 +20,7 @@ mod transfer;
 #[cfg(test)]
 mod tests;
 
+pub use budget::{BudgetController, BudgetReport, BudgetSettings};
 pub use criteria::{
     distance_limits, head_point_acceleration, head_point_acceleration_from_poses, is_occluded,
     level_with_hysteresis, motion_measure, projected_length, segment_hits_box,

@@ -1,0 +1,336 @@
+//! Charts the CLI draws with plotters, each written as PNG and SVG: the speed-against-accuracy
+//! scatter with its Pareto fronts (`hairlod accuracy --chart`) and the model size over the
+//! zoom-out (`hairlod bench paper --chart`). The stability heat map lives with its command.
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use anyhow::{Context, Result, anyhow};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+
+/// The font the charts are drawn with.
+const FONT_PATH: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+/// Registers DejaVu Sans as "sans-serif" for plotters (once per process).
+pub fn register_chart_font() -> Result<()> {
+    static REGISTERED: OnceLock<std::result::Result<(), String>> = OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            let bytes = std::fs::read(FONT_PATH).map_err(|_| {
+                format!(
+                    "the chart needs the font {FONT_PATH} (Debian/Ubuntu package \
+                     fonts-dejavu-core); install it or leave out --chart"
+                )
+            })?;
+            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            register_font("sans-serif", FontStyle::Normal, bytes)
+                .map_err(|_| format!("{FONT_PATH} is not a usable font"))
+        })
+        .clone()
+        .map_err(|message| anyhow!(message))
+}
+
+/// Re-encodes a PNG with the best compression (plotters writes a fast, large one).
+pub fn recompress_png(path: &Path) -> Result<()> {
+    use image::ImageEncoder;
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    let picture = image::open(path)
+        .with_context(|| format!("reading back {}", path.display()))?
+        .into_rgb8();
+    let mut bytes = Vec::new();
+    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
+        .write_image(
+            picture.as_raw(),
+            picture.width(),
+            picture.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+        .with_context(|| format!("encoding {}", path.display()))?;
+    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+/// Turns a plotters error (generic over the backend) into an `anyhow` one.
+fn plot_error(error: impl std::fmt::Display) -> anyhow::Error {
+    anyhow!("drawing the chart: {error}")
+}
+
+/// A chart that can draw itself on any plotters backend.
+pub trait Chart {
+    /// Draws the chart on `root` (already filled white).
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>;
+}
+
+/// Draws `chart` into `path` with the extension `png` and into the same path with the extension
+/// `svg`; both are written under a temporary name first and renamed, so a stopped run leaves no
+/// half-written chart. Returns the two paths.
+pub fn write_png_and_svg(
+    path: &Path,
+    size: (u32, u32),
+    chart: &impl Chart,
+) -> Result<(PathBuf, PathBuf)> {
+    register_chart_font()?;
+    let png = path.with_extension("png");
+    let svg = path.with_extension("svg");
+    let png_partial = path.with_extension("partial.png");
+    let svg_partial = path.with_extension("partial.svg");
+    {
+        let root = BitMapBackend::new(&png_partial, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        chart.draw(&root)?;
+        root.present()
+            .with_context(|| format!("writing {}", png_partial.display()))?;
+    }
+    recompress_png(&png_partial)?;
+    {
+        let root = SVGBackend::new(&svg_partial, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        chart.draw(&root)?;
+        root.present()
+            .with_context(|| format!("writing {}", svg_partial.display()))?;
+    }
+    std::fs::rename(&png_partial, &png).with_context(|| format!("writing {}", png.display()))?;
+    std::fs::rename(&svg_partial, &svg).with_context(|| format!("writing {}", svg.display()))?;
+    Ok((png, svg))
+}
+
+/// One point of the speed-against-accuracy scatter.
+#[derive(Debug, Clone)]
+pub struct ScatterPoint {
+    /// Label drawn beside the point.
+    pub label: String,
+    /// Median cost per frame [ms].
+    pub cost_ms: f64,
+    /// Errors, one per panel (SSIM loss, mean pixel error).
+    pub errors: [f64; 2],
+    /// On the Pareto front of each panel's error against cost.
+    pub pareto: [bool; 2],
+    /// Colour group: 0 fixed levels, 1 LODs, 2 integrators and steps, 3 budgets.
+    pub group: usize,
+}
+
+const GROUP_COLOURS: [RGBColor; 4] = [
+    RGBColor(33, 102, 172),
+    RGBColor(214, 96, 77),
+    RGBColor(77, 146, 33),
+    RGBColor(118, 42, 131),
+];
+
+/// Two panels side by side, SSIM loss and mean pixel error against the median cost per frame (log
+/// scale), each with its Pareto front as a step line through the front's points.
+pub struct ParetoChart<'a> {
+    /// Title over both panels.
+    pub title: String,
+    /// The points.
+    pub points: &'a [ScatterPoint],
+}
+
+impl Chart for ParetoChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw_pareto(root, &self.title, self.points)
+    }
+}
+
+fn draw_pareto<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    points: &[ScatterPoint],
+) -> Result<()> {
+    let (header, body) = root.split_vertically(40);
+    header
+        .draw(&Text::new(
+            title.to_string(),
+            (12, 10),
+            ("sans-serif", 18).into_font(),
+        ))
+        .map_err(plot_error)?;
+    let panels = body.split_evenly((1, 2));
+    let names = [
+        "SSIM loss (1 − mean SSIM vs reference)",
+        "mean pixel error vs reference [px]",
+    ];
+    let min_cost = points
+        .iter()
+        .map(|p| p.cost_ms)
+        .fold(f64::INFINITY, f64::min);
+    let max_cost = points.iter().map(|p| p.cost_ms).fold(0.0, f64::max);
+    let (low, high) = (min_cost.max(1e-3) / 1.5, max_cost.max(1e-3) * 1.5);
+    for (panel, area) in panels.iter().enumerate() {
+        let max_error = points
+            .iter()
+            .map(|p| p.errors[panel])
+            .fold(0.0, f64::max)
+            .max(1e-6);
+        let mut chart = ChartBuilder::on(area)
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d((low..high).log_scale(), 0.0..max_error * 1.15)
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("median cost per frame [ms] (log scale)")
+            .y_desc(names[panel])
+            .label_style(("sans-serif", 12))
+            .axis_desc_style(("sans-serif", 13))
+            .draw()
+            .map_err(plot_error)?;
+        let mut front: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|p| p.pareto[panel])
+            .map(|p| (p.cost_ms, p.errors[panel]))
+            .collect();
+        front.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut steps = Vec::new();
+        for (i, &(cost, error)) in front.iter().enumerate() {
+            if i > 0 {
+                steps.push((cost, front[i - 1].1));
+            }
+            steps.push((cost, error));
+        }
+        chart
+            .draw_series(LineSeries::new(steps, BLACK.stroke_width(1)))
+            .map_err(plot_error)?;
+        for point in points {
+            let colour = GROUP_COLOURS[point.group.min(3)];
+            let at = (point.cost_ms, point.errors[panel]);
+            let marker: EmptyElement<(f64, f64), DB> = EmptyElement::at(at);
+            let size = if point.pareto[panel] { 6 } else { 4 };
+            let element = marker
+                + Circle::new((0, 0), size, colour.filled())
+                + Text::new(
+                    point.label.clone(),
+                    (7, -12),
+                    ("sans-serif", 11).into_font().color(&colour),
+                );
+            chart
+                .draw_series(std::iter::once(element))
+                .map_err(plot_error)?;
+        }
+    }
+    Ok(())
+}
+
+/// The model a run keeps per frame, for [`ModelSizeChart`].
+#[derive(Debug, Clone)]
+pub struct ModelSeries {
+    /// `LODs`, `Strands`...
+    pub label: String,
+    /// Simulated skeleton nodes per frame.
+    pub nodes: Vec<f64>,
+    /// Drawn segments per frame.
+    pub segments: Vec<f64>,
+}
+
+/// Simulated nodes and drawn segments per frame (log scale, left) for each run, and the camera
+/// distance (right axis) over the frames.
+pub struct ModelSizeChart<'a> {
+    /// Title.
+    pub title: String,
+    /// Camera distance per frame [m].
+    pub distances: &'a [f64],
+    /// One series per run.
+    pub series: &'a [ModelSeries],
+}
+
+impl Chart for ModelSizeChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw_model_size(root, &self.title, self.distances, self.series)
+    }
+}
+
+fn draw_model_size<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    distances: &[f64],
+    series: &[ModelSeries],
+) -> Result<()> {
+    let frames = distances.len().max(2);
+    let all = series
+        .iter()
+        .flat_map(|s| s.nodes.iter().chain(&s.segments))
+        .copied()
+        .filter(|&v| v > 0.0);
+    let (low, high) = all.fold((f64::INFINITY, 0.0f64), |(l, h), v| (l.min(v), h.max(v)));
+    let (low, high) = if low.is_finite() {
+        (low / 2.0, high * 2.0)
+    } else {
+        (1.0, 10.0)
+    };
+    let far = distances.iter().copied().fold(0.0, f64::max).max(1e-3);
+    let near = distances
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .min(far);
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 18))
+        .margin(14)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .right_y_label_area_size(60)
+        .build_cartesian_2d(0..frames - 1, (low..high).log_scale())
+        .map_err(plot_error)?
+        .set_secondary_coord(0..frames - 1, (near / 1.2..far * 1.2).log_scale());
+    chart
+        .configure_mesh()
+        .x_desc("frame")
+        .y_desc("simulated nodes, drawn segments (log scale)")
+        .label_style(("sans-serif", 12))
+        .axis_desc_style(("sans-serif", 13))
+        .draw()
+        .map_err(plot_error)?;
+    chart
+        .configure_secondary_axes()
+        .y_desc("camera distance [m] (dashed)")
+        .label_style(("sans-serif", 12))
+        .axis_desc_style(("sans-serif", 13))
+        .draw()
+        .map_err(plot_error)?;
+    let palette = [
+        RGBColor(214, 96, 77),
+        RGBColor(33, 102, 172),
+        RGBColor(77, 146, 33),
+    ];
+    for (i, s) in series.iter().enumerate() {
+        let colour = palette[i % palette.len()];
+        for (values, what, width) in [
+            (&s.nodes, "simulated nodes", 1),
+            (&s.segments, "drawn segments", 3),
+        ] {
+            let line = values
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| **v > 0.0)
+                .map(|(f, &v)| (f, v));
+            chart
+                .draw_series(LineSeries::new(line, colour.stroke_width(width)))
+                .map_err(plot_error)?
+                .label(format!("{}: {what}", s.label))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(width))
+                });
+        }
+    }
+    let dashes = distances
+        .iter()
+        .enumerate()
+        .map(|(f, &d)| (f, d))
+        .collect::<Vec<_>>();
+    chart
+        .draw_secondary_series(DashedLineSeries::new(dashes, 6, 4, BLACK.stroke_width(1)))
+        .map_err(plot_error)?
+        .label("camera distance")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 12))
+        .draw()
+        .map_err(plot_error)?;
+    Ok(())
+}
