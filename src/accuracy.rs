@@ -1,7 +1,8 @@
 //! How far a configuration's frames are from the reference's: image, geometric and physical error
 //! metrics (issue 7).
 //!
-//! The *reference* is the most accurate run of a scene (every section at strand level); any other
+//! The *reference* is the most accurate run of a scene ([`reference_settings`]: every section at
+//! strand level, the linear-implicit integrator at 1/6000 s, collision on); any other
 //! configuration is run on the same control inputs (camera, head motion, wind) and compared with
 //! it frame by frame:
 //!
@@ -9,7 +10,8 @@
 //!   squared error over the RGB channels) of the rendered frame against the reference frame;
 //! - **geometric**: [`geometric_error`], the mean and 95th-percentile screen-space distance
 //!   [pixels] between corresponding hair samples (see [`strand_skeletons`] for the
-//!   correspondence);
+//!   correspondence), over the samples the viewer sees of the reference
+//!   ([`geometric_error_of_visible`], [`visible_samples`]: hair behind the head does not count);
 //! - **physical**: [`segment_length_error`] (relative, max over every simulated segment) and
 //!   [`penetration_depth`] [m] (max over every simulated node) against a collision body.
 //!
@@ -32,14 +34,33 @@
 //! ```
 
 use glam::Vec3;
-use hair_collide::CollisionBody;
+use hair_collide::{CollisionBody, LineOfSight};
+use hair_core::dynamics::{IntegratorKind, SimulationSettings};
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::{Camera, Groom, Level};
 use serde::{Deserialize, Serialize};
 
-use crate::pipeline::{Pipeline, Result};
+use crate::pipeline::{LodMode, Pipeline, PipelineSettings, Result};
 
 pub use crate::benchmark::{luma, ssim};
+
+/// Substeps per 60 Hz frame of the reference run: 100, a step of 1/6000 s, the step at which the
+/// stability map (`hairlod stability`, `docs/dynamics.md`) takes linear-implicit as converged.
+pub const REFERENCE_SUBSTEPS: u32 = 100;
+
+/// The reference configuration: every section at strand level, the linear-implicit integrator
+/// (the widest stable region) at [`REFERENCE_SUBSTEPS`] per 60 Hz frame, collision on.
+pub fn reference_settings() -> PipelineSettings {
+    PipelineSettings {
+        lod: LodMode::Fixed(Level::StrandGroup),
+        dynamics: SimulationSettings::new(
+            IntegratorKind::LinearImplicit,
+            1.0 / 60.0,
+            REFERENCE_SUBSTEPS,
+        ),
+        collision: true,
+    }
+}
 
 /// Peak signal-to-noise ratio [dB] of two RGBA images of the same size over their RGB channels:
 /// `10 · log10(255² / MSE)`, with MSE the mean squared difference of the 8-bit channel values.
@@ -205,11 +226,63 @@ pub fn geometric_error(
     reference: &[Vec3],
     samples: &[Vec3],
 ) -> GeometricError {
+    geometric_error_where(camera, width, height, reference, samples, |_| true)
+}
+
+/// [`geometric_error`] over the samples a viewer sees of the reference: only samples whose
+/// `visible` entry is true count (`visible` from [`visible_samples`] on the reference; entries
+/// past its end count as hidden).
+pub fn geometric_error_of_visible(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    reference: &[Vec3],
+    samples: &[Vec3],
+    visible: &[bool],
+) -> GeometricError {
+    geometric_error_where(camera, width, height, reference, samples, |i| {
+        visible.get(i).copied().unwrap_or(false)
+    })
+}
+
+/// How far in front of a body's surface a sample still counts as seen [m]: hair roots sit on the
+/// scalp, and the head's tessellation may put the true surface up to about a millimetre away.
+pub const SIGHT_MARGIN: f32 = 2e-3;
+
+/// Which of `samples` [m] a viewer at `camera`'s position sees past the head (`sight`, posed
+/// where the head is): see [`LineOfSight::is_visible`] with [`SIGHT_MARGIN`]. Hair hiding hair
+/// is not counted as hidden (the strands are thin and the reference's own strands show through).
+pub fn visible_samples(camera: &Camera, sight: &LineOfSight, samples: &[Vec3]) -> Vec<bool> {
+    samples
+        .iter()
+        .map(|&p| sight.is_visible(camera.position, p, SIGHT_MARGIN))
+        .collect()
+}
+
+/// The head of `pipeline`'s scene as a line-of-sight blocker, posed where the head is at the
+/// pipeline's current time (for [`visible_samples`]).
+pub fn head_sight(pipeline: &Pipeline) -> Result<LineOfSight> {
+    let mut sight = LineOfSight::new(&pipeline.scene().head.mesh)?;
+    let pose = pipeline.environment().head.transform_at(pipeline.time());
+    sight.set_pose(pose.rotation, pose.translation)?;
+    Ok(sight)
+}
+
+fn geometric_error_where(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    reference: &[Vec3],
+    samples: &[Vec3],
+    counts: impl Fn(usize) -> bool,
+) -> GeometricError {
     let diagonal = f64::from(width).hypot(f64::from(height));
     let mut distances: Vec<f64> = reference
         .iter()
         .zip(samples)
-        .filter_map(|(&r, &s)| {
+        .enumerate()
+        .filter(|(i, _)| counts(*i))
+        .filter_map(|(_, (&r, &s))| {
             let r = camera.project_to_pixel(r, width, height)?;
             let inside =
                 (0.0..=width as f32).contains(&r.x) && (0.0..=height as f32).contains(&r.y);

@@ -1,27 +1,51 @@
 //! `hairlod accuracy`: speed against accuracy (issue 7). Runs the reference (every section at
-//! strand level) and a sweep of configurations (fixed clusters and patches, LODs at several pixel
-//! tolerances) over the paper benchmark's camera path and control inputs, and prints for each the
-//! median cost per frame against its error: mean SSIM loss and mean screen-space pixel error
-//! against the reference, frame by frame (see `hairlod::accuracy`).
+//! strand level, linear-implicit at 1/6000 s: `hairlod::accuracy::reference_settings`) and a
+//! sweep of configurations over the paper benchmark's camera path and control inputs: the fixed
+//! levels (Strands, Clusters, Patches at the default integrator), LODs at several pixel
+//! tolerances, and strands under each integrator at several steps. For each it prints the median
+//! cost per frame against its error (mean SSIM loss and mean screen-space pixel error against the
+//! reference, frame by frame), marks the Pareto fronts, and can chart them (`--chart`).
+//!
+//! A configuration whose integrator fails (an unstable step, detected by the dynamics) is
+//! reported as failed with the error, and the sweep goes on.
+
+mod sweep;
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::accuracy::{
-    GeometricError, PhysicalError, geometric_error, head_body, image_error, sample_skeletons,
-    strand_skeletons,
+    PhysicalError, geometric_error_of_visible, head_body, head_sight, image_error,
+    reference_settings, sample_skeletons, strand_skeletons, visible_samples,
 };
 use hairlod::benchmark::{PaperBenchmark, SETTLE_TIME};
-use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
+use hairlod::core::dynamics::{IntegratorKind, SimulationSettings};
+use hairlod::pipeline::{LodMode, PipelineError, PipelineRenderer, PipelineSettings};
 use hairlod::render::{RendererOptions, ShadingMode};
 use hairlod::{Level, Pipeline, Scene};
-use serde::Serialize;
 
-use crate::bench_cmd::parse_size;
+use crate::bench_cmd::{parse_size, progress_bar, write_json};
+use crate::charts::{ParetoChart, write_png_and_svg};
+use sweep::{FrameErrors, Group, Point, mark_pareto};
 
 /// Samples per strand-group skeleton for the geometric error.
 const SAMPLES_PER_SKELETON: usize = 8;
+
+/// The integrator sweep: each integrator at a coarser and a finer step around its recommended
+/// substeps per 60 Hz frame (16, 4, 4). Linear-implicit ×4 is the `Strands` point itself.
+const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 7] = [
+    (IntegratorKind::SemiImplicitEuler, 4),
+    (IntegratorKind::SemiImplicitEuler, 16),
+    (IntegratorKind::SemiImplicitEuler, 64),
+    (IntegratorKind::PositionBased, 1),
+    (IntegratorKind::PositionBased, 16),
+    (IntegratorKind::LinearImplicit, 1),
+    (IntegratorKind::LinearImplicit, 16),
+];
+
+/// The issue's accuracy target: the mean SSIM a cheap configuration must keep.
+const TARGET_SSIM: f64 = 0.95;
 
 /// Arguments of `hairlod accuracy`.
 #[derive(Debug, Args)]
@@ -33,60 +57,111 @@ pub struct AccuracyArgs {
     #[arg(long)]
     pub wind: bool,
     /// Frames per configuration (the benchmark's zoom-out path over that many frames).
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = 40)]
     pub frames: usize,
     /// Image size WIDTHxHEIGHT [pixels].
     #[arg(long, default_value = "640x360")]
     pub size: String,
     /// LOD pixel tolerances to sweep [pixels], comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "0.5,1,2,4")]
+    #[arg(long, value_delimiter = ',', default_value = "0.5,1,2,4,8,16")]
     pub tolerances: Vec<f32>,
+    /// Integrator of the fixed levels and the LODs (the integrator sweep tries the others).
+    #[arg(long, default_value_t = IntegratorKind::DEFAULT)]
+    pub integrator: IntegratorKind,
+    /// Substeps per 60 Hz frame of that integrator.
+    #[arg(long, default_value_t = SimulationSettings::recommended(IntegratorKind::DEFAULT).substeps)]
+    pub substeps: u32,
+    /// Leave out the integrator sweep (each integrator at several steps, at strand level).
+    #[arg(long)]
+    pub no_integrators: bool,
     /// Write every point (and every frame's errors) as JSON to FILE.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Chart error against cost with the Pareto fronts to FILE.png and FILE.svg.
+    #[arg(long, value_name = "FILE")]
+    pub chart: Option<PathBuf>,
 }
 
-/// One frame of one configuration against the reference.
-#[derive(Debug, Clone, Copy, Serialize)]
-struct FrameErrors {
-    /// Total cost of the frame (LOD, dynamics, collision, rendering) [s].
-    cost: f64,
-    /// SSIM against the reference frame.
-    ssim: f64,
-    /// PSNR against the reference frame [dB] (`null` in JSON when infinite).
-    psnr: f64,
-    /// Screen-space error of the hair samples [pixels].
-    geometric: GeometricError,
-    /// Segment-length error and penetration depth.
-    physical: PhysicalError,
-}
-
-/// One configuration of the sweep.
-#[derive(Debug, Clone, Serialize)]
-struct Point {
-    /// `Strands` (the reference), `Clusters`, `Patches`, `LODs 1px`...
+/// One configuration to run.
+struct Configuration {
     label: String,
-    /// Median total cost per frame [s].
-    median_cost: f64,
-    /// 1 − mean SSIM against the reference.
-    ssim_loss: f64,
-    /// Mean over frames of the mean pixel error [pixels].
-    mean_pixel_error: f64,
-    /// Mean over frames of the 95th-percentile pixel error [pixels].
-    mean_p95_pixel_error: f64,
-    /// Worst segment-length error and penetration over the run.
-    physical: PhysicalError,
-    /// On the Pareto front of (median cost, SSIM loss): no other point is at least as cheap and
-    /// at least as accurate and better in one.
-    pareto: bool,
-    /// Every frame.
-    frames: Vec<FrameErrors>,
+    group: Group,
+    settings: PipelineSettings,
 }
 
 /// What the reference leaves per frame for the others to be compared with.
 struct ReferenceFrame {
     image: image::RgbaImage,
     samples: Vec<glam::Vec3>,
+    /// Which samples the viewer sees past the head.
+    visible: Vec<bool>,
+}
+
+/// The sweep's configurations, the reference first.
+fn configurations(args: &AccuracyArgs, benchmark: &PaperBenchmark) -> Result<Vec<Configuration>> {
+    let dynamics = SimulationSettings::new(args.integrator, 1.0 / 60.0, args.substeps);
+    dynamics.validate()?;
+    let fixed = |label: &str, level: Level| Configuration {
+        label: label.to_string(),
+        group: Group::FixedLevel,
+        settings: PipelineSettings {
+            lod: LodMode::Fixed(level),
+            dynamics,
+            ..PipelineSettings::default()
+        },
+    };
+    let mut list = vec![
+        Configuration {
+            label: "Reference".into(),
+            group: Group::Reference,
+            settings: reference_settings(),
+        },
+        fixed("Strands", Level::StrandGroup),
+        fixed("Clusters", Level::Cluster),
+        fixed("Patches", Level::Patch),
+    ];
+    for &tolerance in &args.tolerances {
+        let lod = hairlod::core::lod::LodSettings {
+            pixel_tolerance: tolerance,
+            ..benchmark.lod_settings()
+        };
+        lod.validate()?;
+        list.push(Configuration {
+            label: format!("LODs {tolerance}px"),
+            group: Group::Lods,
+            settings: PipelineSettings {
+                lod: LodMode::Auto(lod),
+                dynamics,
+                ..PipelineSettings::default()
+            },
+        });
+    }
+    if !args.no_integrators {
+        for (integrator, substeps) in INTEGRATOR_SWEEP {
+            list.push(Configuration {
+                label: format!("{integrator} ×{substeps}"),
+                group: Group::Integrator,
+                settings: PipelineSettings {
+                    lod: LodMode::Fixed(Level::StrandGroup),
+                    dynamics: SimulationSettings::new(integrator, 1.0 / 60.0, substeps),
+                    ..PipelineSettings::default()
+                },
+            });
+        }
+    }
+    Ok(list)
+}
+
+/// Whether `error` is the method failing (an unstable step, reported by the dynamics) rather
+/// than the run (rendering, a bad setting).
+fn is_method_failure(error: &PipelineError) -> bool {
+    matches!(
+        error,
+        PipelineError::Dynamics(hairlod::core::dynamics::DynamicsError::Unstable(_))
+            | PipelineError::Collision(hairlod::collide::CollideError::Dynamics(
+                hairlod::core::dynamics::DynamicsError::Unstable(_)
+            ))
+    )
 }
 
 /// Runs `hairlod accuracy`.
@@ -105,19 +180,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         ..PaperBenchmark::default()
     };
     let scene = Scene::preset(&args.preset)?;
-    let mut configurations = vec![
-        ("Strands".to_string(), LodMode::Fixed(Level::StrandGroup)),
-        ("Clusters".to_string(), LodMode::Fixed(Level::Cluster)),
-        ("Patches".to_string(), LodMode::Fixed(Level::Patch)),
-    ];
-    for &tolerance in &args.tolerances {
-        let lod = hairlod::core::lod::LodSettings {
-            pixel_tolerance: tolerance,
-            ..benchmark.lod_settings()
-        };
-        lod.validate()?;
-        configurations.push((format!("LODs {tolerance}px"), LodMode::Auto(lod)));
-    }
+    let configurations = configurations(args, &benchmark)?;
     let first = Pipeline::new(
         scene.clone(),
         benchmark.environment(),
@@ -126,83 +189,37 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &first)?;
     drop(first);
     println!(
-        "rendering on {}; {} frames at {width}x{height} of {}",
+        "rendering on {}; {} configurations × {} frames at {width}x{height} of {}",
         renderer.renderer().adapter_report(),
+        configurations.len(),
         args.frames,
         args.preset
     );
     let mut reference: Vec<ReferenceFrame> = Vec::with_capacity(args.frames);
     let mut points = Vec::new();
-    for (label, mode) in configurations {
-        let settings = PipelineSettings {
-            lod: mode,
-            ..PipelineSettings::default()
-        };
-        let mut pipeline = Pipeline::new(scene.clone(), benchmark.environment(), settings)?;
-        pipeline.settle(SETTLE_TIME)?;
-        renderer.bind(&pipeline)?;
+    for configuration in configurations {
         let is_reference = reference.is_empty();
-        let mut frames = Vec::with_capacity(args.frames);
-        for frame in 0..args.frames {
-            let camera = benchmark.camera(frame);
-            let report = pipeline.advance(&camera)?;
-            let (image, seconds) =
-                renderer.render(&mut pipeline, &camera, width, height, ShadingMode::Shaded)?;
-            let samples = sample_skeletons(
-                &pipeline.scene().groom,
-                &strand_skeletons(&pipeline)?,
-                SAMPLES_PER_SKELETON,
-            );
-            let physical = PhysicalError::of(&pipeline, &head_body(&pipeline)?);
-            if is_reference {
-                reference.push(ReferenceFrame { image, samples });
-                let reference = &reference[frame];
-                frames.push(FrameErrors {
-                    cost: report.times.total() - report.times.rendering + seconds,
-                    ssim: 1.0,
-                    psnr: f64::INFINITY,
-                    geometric: geometric_error(
-                        &camera,
-                        width,
-                        height,
-                        &reference.samples,
-                        &reference.samples,
-                    ),
-                    physical,
-                });
-                continue;
-            }
-            let reference = &reference[frame];
-            let image_errors = image_error(&reference.image, &image);
-            frames.push(FrameErrors {
-                cost: report.times.total() - report.times.rendering + seconds,
-                ssim: image_errors.ssim,
-                psnr: image_errors.psnr,
-                geometric: geometric_error(&camera, width, height, &reference.samples, &samples),
-                physical,
-            });
-        }
-        let point = summarise(label, frames);
-        println!(
-            "{:>14}: {:8.2} ms/frame  SSIM loss {:.4}  pixel error {:.2} (p95 {:.2})",
-            point.label,
-            1e3 * point.median_cost,
-            point.ssim_loss,
-            point.mean_pixel_error,
-            point.mean_p95_pixel_error
+        let outcome = run_configuration(
+            &configuration,
+            &benchmark,
+            &scene,
+            &mut renderer,
+            &mut reference,
         );
+        let point = match outcome {
+            Ok(frames) => Point::new(configuration.label, configuration.group, frames),
+            Err(error) if !is_reference && is_method_failure(&error) => {
+                Point::failed(configuration.label, configuration.group, error.to_string())
+            }
+            Err(error) => {
+                return Err(error).with_context(|| format!("running {}", configuration.label));
+            }
+        };
+        print_point(&point);
         points.push(point);
     }
     mark_pareto(&mut points);
-    println!("\nPareto front (cost against SSIM loss):");
-    for point in points.iter().filter(|p| p.pareto) {
-        println!(
-            "  {:>14}: {:8.2} ms/frame  SSIM {:.4}",
-            point.label,
-            1e3 * point.median_cost,
-            1.0 - point.ssim_loss
-        );
-    }
+    print_fronts(&points);
     if let Some(path) = &args.json {
         let report = serde_json::json!({
             "preset": args.preset,
@@ -210,47 +227,163 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
             "width": width,
             "height": height,
             "wind": args.wind,
-            "reference": "Strands",
+            "reference": "Reference",
+            "reference_settings": reference_settings().dynamics,
+            "levels_integrator": args.integrator.name(),
+            "levels_substeps": args.substeps,
             "points": points,
         });
-        let text = serde_json::to_string_pretty(&report)?;
-        std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
+        write_json(path, &report)?;
+    }
+    if let Some(path) = &args.chart {
+        let scatter: Vec<_> = points
+            .iter()
+            .filter(|p| p.failed.is_none() && p.label != "Reference")
+            .map(Point::scatter)
+            .collect();
+        let chart = ParetoChart {
+            title: format!(
+                "Error against cost, {} ({}), {} frames at {width}x{height}; levels and LODs \
+                 with {} ×{}: fixed levels (blue), LODs (red), strands with other integrators \
+                 (green)",
+                args.preset,
+                if args.wind { "wind" } else { "calm" },
+                args.frames,
+                args.integrator,
+                args.substeps
+            ),
+            points: &scatter,
+        };
+        let (png, svg) = write_png_and_svg(path, (1400, 620), &chart)?;
+        println!("wrote {} and {}", png.display(), svg.display());
     }
     Ok(())
 }
 
-fn summarise(label: String, frames: Vec<FrameErrors>) -> Point {
-    let n = frames.len().max(1) as f64;
-    let mut costs: Vec<f64> = frames.iter().map(|f| f.cost).collect();
-    costs.sort_by(f64::total_cmp);
-    let median_cost = costs.get(costs.len() / 2).copied().unwrap_or(0.0);
-    let physical = frames
-        .iter()
-        .fold(PhysicalError::default(), |worst, f| worst.max(f.physical));
-    Point {
-        label,
-        median_cost,
-        ssim_loss: 1.0 - frames.iter().map(|f| f.ssim).sum::<f64>() / n,
-        mean_pixel_error: frames.iter().map(|f| f.geometric.mean_pixels).sum::<f64>() / n,
-        mean_p95_pixel_error: frames.iter().map(|f| f.geometric.p95_pixels).sum::<f64>() / n,
-        physical,
-        pareto: false,
-        frames,
+/// Runs one configuration over the benchmark's frames and compares each frame with the
+/// reference; the first configuration run (with `reference` empty) fills `reference`.
+fn run_configuration(
+    configuration: &Configuration,
+    benchmark: &PaperBenchmark,
+    scene: &Scene,
+    renderer: &mut PipelineRenderer,
+    reference: &mut Vec<ReferenceFrame>,
+) -> Result<Vec<FrameErrors>, PipelineError> {
+    let (width, height) = (benchmark.width, benchmark.height);
+    let is_reference = reference.is_empty();
+    let bar = progress_bar(benchmark.frames, &configuration.label);
+    let mut pipeline = Pipeline::new(
+        scene.clone(),
+        benchmark.environment(),
+        configuration.settings,
+    )?;
+    pipeline.settle(SETTLE_TIME)?;
+    renderer.bind(&pipeline)?;
+    let mut frames = Vec::with_capacity(benchmark.frames);
+    for frame in 0..benchmark.frames {
+        let camera = benchmark.camera(frame);
+        let report = pipeline.advance(&camera)?;
+        let (image, seconds) =
+            renderer.render(&mut pipeline, &camera, width, height, ShadingMode::Shaded)?;
+        let cost = report.times.total() - report.times.rendering + seconds;
+        let samples = sample_skeletons(
+            &pipeline.scene().groom,
+            &strand_skeletons(&pipeline)?,
+            SAMPLES_PER_SKELETON,
+        );
+        let physical = PhysicalError::of(&pipeline, &head_body(&pipeline)?);
+        if is_reference {
+            let visible = visible_samples(&camera, &head_sight(&pipeline)?, &samples);
+            reference.push(ReferenceFrame {
+                image: image.clone(),
+                samples: samples.clone(),
+                visible,
+            });
+        }
+        let reference = &reference[frame];
+        let (ssim, psnr) = if is_reference {
+            (1.0, f64::INFINITY)
+        } else {
+            let errors = image_error(&reference.image, &image);
+            (errors.ssim, errors.psnr)
+        };
+        let geometric = geometric_error_of_visible(
+            &camera,
+            width,
+            height,
+            &reference.samples,
+            &samples,
+            &reference.visible,
+        );
+        frames.push(FrameErrors {
+            cost,
+            ssim,
+            psnr,
+            geometric,
+            physical,
+        });
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(frames)
+}
+
+fn print_point(point: &Point) {
+    match &point.failed {
+        Some(reason) => println!("{:>26}: failed: {reason}", point.label),
+        None => println!(
+            "{:>26}: {:8.2} ms/frame  SSIM {:.4}  pixel error {:.2} (p95 {:.2})  length error \
+             {:.1e}  penetration {:.2} mm",
+            point.label,
+            1e3 * point.median_cost,
+            1.0 - point.ssim_loss,
+            point.mean_pixel_error,
+            point.mean_p95_pixel_error,
+            point.physical.segment_length,
+            1e3 * point.physical.penetration
+        ),
     }
 }
 
-/// Marks the points that no other point dominates in (median cost, SSIM loss).
-fn mark_pareto(points: &mut [Point]) {
-    let keys: Vec<(f64, f64)> = points
+/// Prints both fronts and the cheapest configuration that keeps the target SSIM, with its
+/// speedup over Strands.
+fn print_fronts(points: &[Point]) {
+    for (name, on_front) in [
+        (
+            "SSIM loss",
+            (|p: &Point| p.pareto_ssim) as fn(&Point) -> bool,
+        ),
+        ("mean pixel error", |p: &Point| p.pareto_pixels),
+    ] {
+        let mut front: Vec<&Point> = points.iter().filter(|p| on_front(p)).collect();
+        front.sort_by(|a, b| a.median_cost.total_cmp(&b.median_cost));
+        println!("\nPareto front, median cost against {name}:");
+        for point in front {
+            println!(
+                "{:>26}: {:8.2} ms/frame  SSIM {:.4}  pixel error {:.2}",
+                point.label,
+                1e3 * point.median_cost,
+                1.0 - point.ssim_loss,
+                point.mean_pixel_error
+            );
+        }
+    }
+    let strands = points.iter().find(|p| p.label == "Strands");
+    let cheapest = points
         .iter()
-        .map(|p| (p.median_cost, p.ssim_loss))
-        .collect();
-    for (i, point) in points.iter_mut().enumerate() {
-        let (cost, loss) = keys[i];
-        point.pareto = !keys
-            .iter()
-            .enumerate()
-            .any(|(j, &(c, l))| j != i && c <= cost && l <= loss && (c < cost || l < loss));
+        .filter(|p| p.group == Group::Lods && p.pareto_ssim && 1.0 - p.ssim_loss >= TARGET_SSIM)
+        .min_by(|a, b| a.median_cost.total_cmp(&b.median_cost));
+    if let (Some(strands), Some(lods)) = (strands, cheapest) {
+        println!(
+            "\ncheapest LODs on the SSIM front with mean SSIM >= {TARGET_SSIM}: {} at {:.2} ms, \
+             {:.1}x cheaper than Strands ({:.2} ms), SSIM {:.4}",
+            lods.label,
+            1e3 * lods.median_cost,
+            strands.median_cost / lods.median_cost.max(1e-12),
+            1e3 * strands.median_cost,
+            1.0 - lods.ssim_loss
+        );
+    } else {
+        println!("\nno LODs configuration on the SSIM front keeps a mean SSIM of {TARGET_SSIM}");
     }
 }

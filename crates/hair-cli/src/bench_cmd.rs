@@ -381,7 +381,7 @@ fn budgeted_run(
 }
 
 /// A progress bar over `frames` frames labelled `label`.
-fn progress_bar(frames: usize, label: &str) -> ProgressBar {
+pub fn progress_bar(frames: usize, label: &str) -> ProgressBar {
     let bar = ProgressBar::new(frames as u64).with_style(
         ProgressStyle::with_template("{prefix:>26} [{bar:30}] {pos}/{len} frames {elapsed} {msg}")
             .expect("a valid template")

@@ -171,6 +171,8 @@ fn draw_pareto<DB: DrawingBackend>(
             .map_err(plot_error)?;
         chart
             .configure_mesh()
+            .x_labels(8)
+            .x_label_formatter(&|v| format!("{v:.0}"))
             .x_desc("median cost per frame [ms] (log scale)")
             .y_desc(names[panel])
             .label_style(("sans-serif", 12))

@@ -8,6 +8,7 @@
 //!   refitted from new positions each step.
 //! - [`body`]: [`CollisionBody`], a rigid mesh with its triangle hierarchy.
 //! - [`query`]: [`query_body`] and its brute-force reference [`query_body_brute_force`].
+//! - [`sight`]: [`LineOfSight`], whether a body hides a point from an eye.
 //!
 //! Units are metres; vectors are `glam::Vec3` (the same type parry3d 0.31 uses).
 
@@ -23,6 +24,7 @@ pub mod layout;
 mod other_forces;
 pub mod query;
 pub mod response;
+pub mod sight;
 pub mod solver;
 pub mod surface;
 pub mod volume;
@@ -36,6 +38,7 @@ pub use layout::{
     ChainShape, CollisionChain, groom_active_chains, groom_chain, groom_level_chains,
 };
 pub use query::{SegmentContacts, query_body, query_body_brute_force};
+pub use sight::LineOfSight;
 pub use solver::{
     CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,
     ProjectionReport,
