@@ -56,7 +56,9 @@ pub struct Pipeline {
 
 impl Pipeline {
     /// A pipeline for `scene` driven by `environment` (head motion, wind, gravity), every section
-    /// at rest, as patches (automatic mode) or at the fixed level.
+    /// at rest at the finest level, strand groups (automatic mode: [`settle`](Self::settle) lets
+    /// the hair fall into place at full detail, and the first frame hands each section down to
+    /// the level it is given), or at the fixed level.
     pub fn new(scene: Scene, environment: Environment, settings: PipelineSettings) -> Result<Self> {
         settings.dynamics.validate()?;
         let groom = &scene.groom;
@@ -65,7 +67,7 @@ impl Pipeline {
         let (selector, start_level) = match settings.lod {
             LodMode::Auto(lod) => (
                 Some(LodSelector::new(groom, &scene.head.occluder_boxes(), lod)?),
-                Level::Patch,
+                Level::StrandGroup,
             ),
             LodMode::Fixed(level) => (None, level),
         };
