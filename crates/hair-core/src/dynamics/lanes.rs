@@ -250,6 +250,18 @@ impl Sub for LaneVec3 {
     }
 }
 
+impl Neg for LaneVec3 {
+    type Output = LaneVec3;
+    #[inline(always)]
+    fn neg(self) -> LaneVec3 {
+        LaneVec3 {
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
+    }
+}
+
 impl AddAssign for LaneVec3 {
     #[inline(always)]
     fn add_assign(&mut self, o: LaneVec3) {

@@ -37,6 +37,8 @@ mod error;
 mod forces;
 mod head_motion;
 mod integrators;
+mod lane_model;
+mod lane_springs;
 mod lanes;
 mod model;
 mod parallel;

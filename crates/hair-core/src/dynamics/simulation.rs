@@ -10,6 +10,7 @@ use crate::dynamics::head_motion::{HeadMotion, angular_velocity};
 use crate::dynamics::integrators::{
     ChainArrays, ChainConstants, Substep, linear_implicit, position_based, semi_implicit_euler,
 };
+use crate::dynamics::lane_model::LaneModel;
 use crate::dynamics::model::DynamicsModel;
 use crate::dynamics::parallel::{ChainSlices, ChainWork, for_each_batch, for_each_chain};
 use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings};
@@ -66,6 +67,8 @@ struct Scratch {
     halvings: Vec<u32>,
     /// Head poses at the substep boundaries of the current step (`substeps + 1`).
     head_poses: Vec<RigidTransform>,
+    /// Their rotations as matrices.
+    head_rotations: Vec<Mat3>,
 }
 
 /// A skeleton simulation: the model, its settings and the solver's scratch.
@@ -74,6 +77,8 @@ pub struct Simulation {
     model: DynamicsModel,
     settings: SimulationSettings,
     scratch: Scratch,
+    /// The model's constants in lane form for the lane-parallel position-based step.
+    lane_model: LaneModel,
     /// Whether the position-based integrator may step chains lane-parallel (tests compare it
     /// with the one-chain step).
     lanes: bool,
@@ -82,10 +87,12 @@ pub struct Simulation {
 impl Simulation {
     /// A simulation of `model` with `settings` (validated); allocates all scratch.
     pub fn new(model: DynamicsModel, settings: SimulationSettings) -> Result<Self, DynamicsError> {
+        let lane_model = LaneModel::new(&model);
         let mut simulation = Simulation {
             model,
             settings,
             scratch: Scratch::default(),
+            lane_model,
             lanes: true,
         };
         simulation.set_settings(settings)?;
@@ -140,6 +147,9 @@ impl Simulation {
         scratch
             .head_poses
             .resize(settings.substeps as usize + 1, RigidTransform::IDENTITY);
+        scratch
+            .head_rotations
+            .resize(settings.substeps as usize + 1, Mat3::IDENTITY);
         Ok(())
     }
 
@@ -189,6 +199,14 @@ impl Simulation {
                 .transform_at(state.time + (k as f64) * h as f64);
         }
         debug_assert_eq!(self.scratch.head_poses.len(), substeps + 1);
+        for (rotation, pose) in self
+            .scratch
+            .head_rotations
+            .iter_mut()
+            .zip(&self.scratch.head_poses)
+        {
+            *rotation = Mat3::from_quat(pose.rotation);
+        }
         let scratch = &mut self.scratch;
         let model = &self.model;
         let time = state.time;
@@ -237,18 +255,18 @@ impl Simulation {
         };
         if settings.integrator == IntegratorKind::PositionBased && self.lanes {
             let batch_step = BatchStep {
-                model,
+                lanes: &self.lane_model,
                 settings: &settings,
                 environment,
                 head_poses,
+                head_rotations: &scratch.head_rotations,
+                air_drag_rate: model.params.air_drag_rate,
                 time,
             };
             for_each_batch(
                 &model.rest.offsets,
                 slices,
                 &|first_chain, end_chain, batch: ChainSlices<'_>| {
-                    batch.backup_positions.copy_from_slice(batch.positions);
-                    batch.backup_velocities.copy_from_slice(batch.velocities);
                     let failed = step_batch(
                         &batch_step,
                         BatchState {
@@ -257,11 +275,19 @@ impl Simulation {
                             positions: &mut *batch.positions,
                             velocities: &mut *batch.velocities,
                             collision: batch.collision,
+                            backup_positions: &mut *batch.backup_positions,
+                            backup_velocities: &mut *batch.backup_velocities,
                         },
                     );
                     // Chains the lanes did not step (or that failed there) take the one-chain
-                    // integrator with the failure policy; the others succeeded.
+                    // integrator with the failure policy (which backs them up); the others
+                    // succeeded.
                     let redo = failed.unwrap_or(u32::MAX);
+                    if redo == 0 {
+                        batch.failures.fill(None);
+                        batch.halvings.fill(0);
+                        return;
+                    }
                     batch.for_each_chain_here(&model.rest.offsets, end_chain, |chain, work| {
                         if redo & (1 << (chain - first_chain)) != 0 {
                             step_one_chain(chain, work);
