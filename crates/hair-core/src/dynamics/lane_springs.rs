@@ -4,7 +4,8 @@
 //! damping, written for the lane-parallel position-based step.
 //!
 //! The same arithmetic in a cheaper order: one reciprocal of `1 + t·d` serves the twist binormal
-//! and the frame transport, `r × g` is the bend axis already at hand, the forces of a joint are
+//! and the frame transport, `r × g` is the bend axis already at hand, the bend angle and
+//! `α/sin α` share one division ([`Lanes::bend_angle_and_factor`]), the forces of a joint are
 //! carried in registers until their node is complete, and the transported normal is not
 //! re-orthonormalised (the transport is a rotation: it keeps the normal's f32 rounding error at the
 //! size it had, ~1e-7 per node, instead of letting it grow). The results agree with the one-chain
@@ -91,12 +92,7 @@ fn joint<const N: usize>(
     let axis = direction.cross(rest);
     let sin = axis.length_squared().sqrt();
     let cos = direction.dot(rest);
-    let angle = Lanes::atan2_upper(sin, cos);
-    let factor = Lanes::select(
-        sin.greater(Lanes::splat(1e-3)),
-        angle / sin,
-        one + angle * angle * Lanes::splat(1.0 / 6.0),
-    );
+    let (angle, factor) = Lanes::bend_angle_and_factor(sin, cos);
     *energy = *energy + Lanes::splat(0.5) * k * angle * angle;
     let scaled = factor * k;
     let torque = axis.scale(scaled);

@@ -114,50 +114,62 @@ impl Lanes {
         self.zip(other, |a, b| if a > b { 1.0 } else { 0.0 })
     }
 
-    /// `atan2(y, x)` for `y ≥ 0` (the bend angle of two unit vectors from `|a × b|` and `a·b`):
-    /// a polynomial without library calls, absolute error below 2e-7 rad over `[0, π]`.
+    /// Whether any lane is above 0 (a lane-wise condition as 1.0 / 0.0).
     #[inline(always)]
-    pub fn atan2_upper(y: Lanes, x: Lanes) -> Lanes {
-        let mut out = [0.0; LANES];
-        for l in 0..LANES {
-            out[l] = atan2_upper(y.0[l], x.0[l]);
-        }
-        Lanes(out)
+    pub fn any(self) -> bool {
+        self.0.iter().fold(false, |any, &x| any | (x > 0.0))
     }
-}
 
-/// `atan2(y, x)` for `y ≥ 0` without a library call: the ratio of the smaller to the larger
-/// magnitude `t ∈ [0, 1]` into an odd polynomial for `atan t` on `[0, 1]` (degree 15, error
-/// < 4e-8 rad before f32 rounding), then the octant.
-#[inline(always)]
-#[allow(clippy::excessive_precision)] // the fitted coefficients, as printed
-pub(crate) fn atan2_upper(y: f32, x: f32) -> f32 {
-    let ax = x.abs();
-    let swap = y > ax;
-    let (numerator, denominator) = if swap { (ax, y) } else { (y, ax) };
-    let t = if denominator > 0.0 {
-        numerator / denominator
-    } else {
-        0.0
-    };
-    let s = t * t;
-    // atan t ≈ t·P(t²) on [0, 1] (weighted least-squares fit, |error| < 4e-8 in exact arithmetic).
-    let p = -0.004_049_165_6_f32;
-    let p = p * s + 0.021_842_73;
-    let p = p * s - 0.055_882_04;
-    let p = p * s + 0.096_398_89;
-    let p = p * s - 0.139_076_88;
-    let p = p * s + 0.199_463_69;
-    let p = p * s - 0.333_298_43;
-    let p = p * s + 0.999_999_33;
-    let mut angle = t * p;
-    if swap {
-        angle = std::f32::consts::FRAC_PI_2 - angle;
+    /// The bend angle `α = atan2(sin, cos)` [rad] of two unit vectors from `sin = |a × b| ≥ 0` and
+    /// `cos = a·b`, and the factor `α / sin α` (→ 1 as α → 0), without library calls and with one
+    /// division except where some lane bends back by more than 135°.
+    ///
+    /// The ratio `t` of the smaller to the larger of `sin`, `|cos|` goes into an odd polynomial
+    /// for `atan t` on `[0, 1]` (degree 15, error < 4e-8 rad before f32 rounding; evaluated in
+    /// Estrin's scheme for a short dependency chain), then the octant: the angle is within 2e-7
+    /// rad of `f32::atan2`. Below 45° `α/sin α = P(t²)/cos` (`t = tan α`), from 45° to 135° it is
+    /// `α/max`, beyond it `α/sin` (or `1 + α²/6` where `sin ≤ 1e-3`).
+    #[inline(always)]
+    #[allow(clippy::excessive_precision)] // the fitted coefficients, as printed
+    pub fn bend_angle_and_factor(sin: Lanes, cos: Lanes) -> (Lanes, Lanes) {
+        let zero = Lanes::splat(0.0);
+        let magnitude = cos.abs();
+        let swap = sin.greater(magnitude);
+        let numerator = Lanes::select(swap, magnitude, sin);
+        let denominator = Lanes::select(swap, sin, magnitude);
+        let inverse = Lanes::select(
+            denominator.greater(zero),
+            Lanes::splat(1.0) / denominator,
+            zero,
+        );
+        let t = numerator * inverse;
+        let s = t * t;
+        // atan t ≈ t·P(t²) on [0, 1] (weighted least-squares fit, |error| < 4e-8 in exact
+        // arithmetic), P = Σ c_k s^k in pairs.
+        let c = |value: f32| Lanes::splat(value);
+        let s2 = s * s;
+        let s4 = s2 * s2;
+        let low = (c(0.999_999_33) + c(-0.333_298_43) * s)
+            + (c(0.199_463_69) + c(-0.139_076_88) * s) * s2;
+        let high = (c(0.096_398_89) + c(-0.055_882_04) * s)
+            + (c(0.021_842_73) + c(-0.004_049_165_6) * s) * s2;
+        let p = low + high * s4;
+        let along = t * p;
+        let angle = Lanes::select(swap, c(std::f32::consts::FRAC_PI_2) - along, along);
+        let backward = zero.greater(cos);
+        let angle = Lanes::select(backward, c(std::f32::consts::PI) - angle, angle);
+        let mut factor = Lanes::select(swap, angle * inverse, p * inverse);
+        let far = Lanes::select(swap, zero, backward);
+        if far.any() {
+            let beyond = Lanes::select(
+                sin.greater(c(1e-3)),
+                angle / sin,
+                c(1.0) + angle * angle * c(1.0 / 6.0),
+            );
+            factor = Lanes::select(far, beyond, factor);
+        }
+        (angle, factor)
     }
-    if x < 0.0 {
-        angle = std::f32::consts::PI - angle;
-    }
-    angle
 }
 
 /// One 3-vector per lane, stored by component.
@@ -281,22 +293,35 @@ mod tests {
     use super::*;
 
     #[test]
-    fn polynomial_atan2_matches_the_library() {
-        // Reference: f32::atan2 on y ≥ 0 over every octant; bound 2e-7 rad (the polynomial's 4e-8
-        // error plus f32 rounding of its evaluation) plus a few ulp of π (octant reflections).
-        let mut worst = 0.0f32;
+    fn bend_angle_and_factor_match_the_library() {
+        // Reference: f64 atan2 and α/sin α on y ≥ 0 over every octant. Angle bound 2e-7 rad (the
+        // polynomial's 4e-8 error plus f32 rounding of its evaluation) plus a few ulp of π
+        // (octant reflections); factor bound 1e-6 relative (P(0) = 1 − 7e-7, the fit's weight)
+        // plus the angle's error over sin α.
+        let mut worst_angle = 0.0f64;
+        let mut worst_factor = 0.0f64;
         for k in 0..=20_000 {
-            let angle = std::f32::consts::PI * k as f32 / 20_000.0;
-            for radius in [1e-3f32, 1.0, 7.5] {
-                let (y, x) = (angle.sin().abs() * radius, angle.cos() * radius);
-                worst = worst.max((atan2_upper(y, x) - y.atan2(x)).abs());
+            let exact = std::f64::consts::PI * k as f64 / 20_000.0;
+            let (y, x) = (exact.sin().abs() as f32, exact.cos() as f32);
+            let (angle, factor) = Lanes::bend_angle_and_factor(Lanes::splat(y), Lanes::splat(x));
+            let reference = (y as f64).atan2(x as f64);
+            worst_angle = worst_angle.max((angle.0[0] as f64 - reference).abs());
+            if y > 1e-3 {
+                let expected = reference / y as f64;
+                let bound = 1e-6 * expected + 2.5e-7 / y as f64;
+                let error = (factor.0[0] as f64 - expected).abs();
+                worst_factor = worst_factor.max(error / bound);
+            } else if x > 0.0 {
+                assert!((factor.0[0] - 1.0).abs() < 1e-6, "{y} {x}: {}", factor.0[0]);
             }
         }
         assert!(
-            worst < 2e-7 + 4.0 * f32::EPSILON * std::f32::consts::PI,
-            "{worst}"
+            worst_angle < 2e-7 + 4.0 * f64::from(f32::EPSILON) * std::f64::consts::PI,
+            "{worst_angle}"
         );
-        assert_eq!(atan2_upper(0.0, 0.0), 0.0);
-        assert_eq!(atan2_upper(0.0, 1.0), 0.0);
+        assert!(worst_factor <= 1.0, "{worst_factor}");
+        let (angle, factor) = Lanes::bend_angle_and_factor(Lanes::splat(0.0), Lanes::splat(1.0));
+        assert_eq!(angle.0[0], 0.0);
+        assert!((factor.0[0] - 1.0).abs() < 1e-6);
     }
 }
