@@ -9,13 +9,15 @@
 //! 4. the skeletons to draw, gathered for the renderer ([`Pipeline::gather_drawn`]).
 //!
 //! Fixed-level modes ([`LodMode::Fixed`]) run through the same code for comparison. Each stage's
-//! wall-clock time is in the frame's [`FrameReport`].
+//! wall-clock time is in the frame's [`FrameReport`]. [`measure_popping`] measures the image
+//! change that level decisions make on their own, with blended transitions and without.
 
 mod block;
 mod draw;
 mod error;
 #[allow(clippy::module_inception)]
 mod pipeline;
+mod popping;
 mod report;
 mod settings;
 mod transitions;
@@ -24,6 +26,10 @@ pub use block::LevelBlock;
 pub use draw::PipelineRenderer;
 pub use error::{PipelineError, Result};
 pub use pipeline::Pipeline;
-pub use report::{FrameReport, StageTimes};
+pub use popping::{
+    PoppingComparison, PoppingFrame, SwitchPopping, advance_measured, compare_popping,
+    measure_popping, switch_popping,
+};
+pub use report::{FrameReport, LodChanges, StageTimes};
 pub use settings::{LodMode, PipelineSettings};
 pub use transitions::SectionLevels;

@@ -18,7 +18,7 @@ use hair_render::ActiveSkeletons;
 
 use super::block::LevelBlock;
 use super::error::Result;
-use super::report::{FrameReport, StageTimes};
+use super::report::{FrameReport, LodChanges, StageTimes};
 use super::settings::{LodMode, PipelineSettings};
 use super::transitions::{SectionLevels, rebuild_blocks};
 
@@ -52,6 +52,16 @@ pub struct Pipeline {
     time: f64,
     frames_scratch: Vec<Frame>,
     collision_chains: Vec<CollisionChain>,
+    /// A frame whose levels are chosen but whose dynamics step has not run
+    /// ([`Pipeline::begin_frame`]).
+    pending: Option<PendingFrame>,
+}
+
+/// What [`Pipeline::begin_frame`] leaves for [`Pipeline::finish_frame`].
+#[derive(Debug, Clone, Copy, Default)]
+struct PendingFrame {
+    changes: LodChanges,
+    times: StageTimes,
 }
 
 impl Pipeline {
@@ -102,6 +112,7 @@ impl Pipeline {
             time: 0.0,
             frames_scratch: Vec::new(),
             collision_chains: Vec::new(),
+            pending: None,
             scene,
         };
         pipeline.start_at_rest()?;
@@ -222,14 +233,30 @@ impl Pipeline {
 
     /// Advances one frame of `settings.dynamics.time_step` seconds seen by `camera`: chooses
     /// levels, hands state over where a section changed level, steps every block with collision.
+    /// The same as [`Pipeline::begin_frame`] then [`Pipeline::finish_frame`].
     pub fn advance(&mut self, camera: &Camera) -> Result<FrameReport> {
+        self.begin_frame(camera)?;
+        self.finish_frame()
+    }
+
+    /// The level-of-detail stage of a frame seen by `camera`: chooses levels, starts and ends
+    /// blends and hands state over where a section changed level, without stepping the dynamics;
+    /// returns how many sections changed level or visibility. Drawing now ([`Pipeline::gather_drawn`]) shows the
+    /// frame's levels and blend coverages on the skeletons of the frame before, so the image change
+    /// that the level decisions alone make can be measured (the popping measure). A frame already
+    /// begun is not begun again (its changes are returned).
+    pub fn begin_frame(&mut self, camera: &Camera) -> Result<LodChanges> {
+        if let Some(pending) = self.pending {
+            return Ok(pending.changes);
+        }
         camera.validate()?;
         let mut times = StageTimes::default();
         let started = Instant::now();
         let head = self.environment.head.transform_at(self.time);
-        let level_changes = self.select_levels(camera, &head)?;
+        let (levels, visibility) = self.select_levels(camera, &head)?;
+        let changes = LodChanges { levels, visibility };
         let blends_ended = self.levels.blends_finished(self.time);
-        if level_changes > 0 || blends_ended {
+        if levels > 0 || blends_ended {
             rebuild_blocks(
                 &self.scene.groom,
                 &mut self.blocks,
@@ -242,6 +269,15 @@ impl Pipeline {
             self.refresh_collision_chains()?;
         }
         times.lod = started.elapsed().as_secs_f64();
+        self.pending = Some(PendingFrame { changes, times });
+        Ok(changes)
+    }
+
+    /// The rest of a frame begun with [`Pipeline::begin_frame`]: one dynamics step with collision
+    /// per block, the clock advanced by `settings.dynamics.time_step`. Without a begun frame it
+    /// steps with the levels as they are (no selection).
+    pub fn finish_frame(&mut self) -> Result<FrameReport> {
+        let PendingFrame { changes, mut times } = self.pending.take().unwrap_or_default();
         let mut contacts = 0;
         for (block, solver) in self.blocks.iter_mut().zip(self.solvers.iter_mut()) {
             let Some(simulation) = block.simulation.as_mut() else {
@@ -284,7 +320,8 @@ impl Pipeline {
                     .count()
             }),
             visible_sections: self.choices.iter().filter(|c| c.visible).count(),
-            level_changes,
+            level_changes: changes.levels,
+            visibility_changes: changes.visibility,
             blending_sections: self.levels.blending_count(),
             simulated_nodes: self.blocks.iter().map(LevelBlock::node_count).sum(),
             drawn_segments: self.drawn_segments(),
@@ -296,11 +333,12 @@ impl Pipeline {
     }
 
     /// Observes every section on its current level and chooses levels; returns how many sections
-    /// changed level (their transitions are started in `self.levels`).
-    fn select_levels(&mut self, camera: &Camera, head: &RigidTransform) -> Result<usize> {
+    /// changed level and how many came into view or left it (their transitions and fades are
+    /// started in `self.levels`).
+    fn select_levels(&mut self, camera: &Camera, head: &RigidTransform) -> Result<(usize, usize)> {
         let groom = &self.scene.groom;
         let Some(selector) = self.selector.as_mut() else {
-            return Ok(0);
+            return Ok((0, 0));
         };
         let frame_time = self.settings.dynamics.time_step;
         // The head's poses a frame before, now and a frame after, once for every node.
@@ -339,13 +377,22 @@ impl Pipeline {
             selector.settings().blend_time
         };
         let mut changes = 0;
+        let mut visibility_changes = 0;
         for (section, choice) in self.choices.iter().enumerate() {
             if self.levels.current()[section] != choice.level {
                 self.levels.switch(section, choice.level, time, blend);
                 changes += 1;
             }
+            // Coming into view or leaving it fades over the blend too: a section drawn at once
+            // where the conservative occlusion test or the frustum let it through would pop.
+            if self
+                .levels
+                .set_visible(section, choice.visible, time, blend)
+            {
+                visibility_changes += 1;
+            }
         }
-        Ok(changes)
+        Ok((changes, visibility_changes))
     }
 
     /// Points every collision solver at its block's chains (rebuilds hierarchies on change).
@@ -368,12 +415,22 @@ impl Pipeline {
         Ok(())
     }
 
+    /// The time [s] the drawn skeletons are shown at: the end of the frame, also when a frame is
+    /// begun and not yet stepped (the clock has not advanced yet).
+    fn display_time(&self) -> f64 {
+        match self.pending {
+            Some(_) => self.time + f64::from(self.settings.dynamics.time_step),
+            None => self.time,
+        }
+    }
+
     /// Skeleton segments drawn this frame (strand groups count each of their strands).
     fn drawn_segments(&self) -> usize {
         let groom = &self.scene.groom;
+        let display_time = self.display_time();
         let mut segments = 0;
-        for (section, choice) in self.choices.iter().enumerate() {
-            if !choice.visible {
+        for section in 0..groom.section_count() {
+            if self.levels.shown_weight(section, display_time) <= 0.0 {
                 continue;
             }
             for level in self.levels.drawn(section) {
@@ -395,16 +452,18 @@ impl Pipeline {
     /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
     /// every visible section at its level (and, while it blends, at its previous level too: the new
     /// level's coverage rises from 0 to 1 over the first half of the blend, then the old one's falls
-    /// from 1 to 0 over the second half, a dissolve), with
-    /// node frames computed from the simulated positions; everything else inactive.
+    /// from 1 to 0 over the second half, a dissolve; a section coming into view or leaving it
+    /// dissolves in or out over the blend as a whole), with node frames computed from the simulated
+    /// positions; everything else inactive.
     pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         let head = self.environment.head.transform_at(self.time);
+        let display_time = self.display_time();
         let groom = &self.scene.groom;
         active.clear();
         for chain in 0..groom.skeletons.chain_count() {
             let (section, level, _) = groom.chain_owner(chain);
-            let drawn = self.choices[section].visible
-                && self.levels.drawn(section).any(|drawn| drawn == level);
+            let shown = self.levels.shown_weight(section, display_time);
+            let drawn = shown > 0.0 && self.levels.drawn(section).any(|drawn| drawn == level);
             let block = &self.blocks[level as usize];
             let located = block.slot(section).filter(|_| drawn);
             let Some(slot) = located else {
@@ -425,13 +484,15 @@ impl Pipeline {
             node_frames(&root_frame, positions, &mut self.frames_scratch);
             // While blending, the new level dissolves in over the first half of the blend on top
             // of the whole old level, which then dissolves out over the second half: no frame
-            // shows less hair than either level, and the switch frame itself changes little.
-            let weight = self.levels.blend_weight(section, self.time);
+            // shows less hair than either level, and the switch frame itself changes little. A
+            // section coming into view or leaving it dissolves in or out as a whole.
+            let weight = self.levels.blend_weight(section, display_time);
             let coverage = if level == self.levels.current()[section] {
                 (2.0 * weight).min(1.0)
             } else {
                 (2.0 * (1.0 - weight)).min(1.0)
             };
+            let coverage = coverage * shown;
             active.push_chain_with_coverage(positions, &self.frames_scratch, coverage)?;
         }
         Ok(())

@@ -43,6 +43,9 @@ pub struct FrameReport {
     pub visible_sections: usize,
     /// Sections that changed level this frame.
     pub level_changes: usize,
+    /// Sections that came into view or left it this frame (they fade in or out over the blend).
+    #[serde(default)]
+    pub visibility_changes: usize,
     /// Sections still blending from their previous level.
     pub blending_sections: usize,
     /// Skeleton nodes simulated this frame.
@@ -54,4 +57,20 @@ pub struct FrameReport {
     pub contacts: usize,
     /// Time per stage [s].
     pub times: StageTimes,
+}
+
+/// What the level-of-detail stage of a frame changed ([`crate::pipeline::Pipeline::begin_frame`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct LodChanges {
+    /// Sections that changed level.
+    pub levels: usize,
+    /// Sections that came into view or left it.
+    pub visibility: usize,
+}
+
+impl LodChanges {
+    /// Whether any section changed level or visibility.
+    pub fn any(&self) -> bool {
+        self.levels > 0 || self.visibility > 0
+    }
 }

@@ -8,12 +8,42 @@ use hair_core::{Groom, Level, RigidTransform};
 use super::block::LevelBlock;
 use super::error::Result;
 
-/// Every section's current level and, while a transition blends, the level it comes from.
+/// Every section's current level and, while a transition blends, the level it comes from; and
+/// whether it is drawn, fading in or out over the same blend when it comes into view or leaves
+/// it.
 #[derive(Debug, Clone)]
 pub struct SectionLevels {
     current: Vec<Level>,
     /// `(previous level, blend start [s], blend duration [s])` of sections still blending.
     blending: Vec<Option<(Level, f64, f32)>>,
+    /// Per section, its visibility fade: see [`VisibilityFade`].
+    shown: Vec<VisibilityFade>,
+}
+
+/// How much of a section is drawn: it fades towards `visible` (1) or hidden (0) from `from` at
+/// `start` [s], by `1 / duration` per second (at once for a duration of 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct VisibilityFade {
+    visible: bool,
+    start: f64,
+    from: f32,
+    duration: f32,
+}
+
+impl VisibilityFade {
+    /// How much is drawn at `time` [s], in `[0, 1]`.
+    fn weight(&self, time: f64) -> f32 {
+        let target = if self.visible { 1.0 } else { 0.0 };
+        if self.duration <= 0.0 {
+            return target;
+        }
+        let moved = ((time - self.start) / f64::from(self.duration)).max(0.0) as f32;
+        if self.visible {
+            (self.from + moved).min(1.0)
+        } else {
+            (self.from - moved).max(0.0)
+        }
+    }
 }
 
 impl SectionLevels {
@@ -22,7 +52,38 @@ impl SectionLevels {
         SectionLevels {
             current: vec![level; sections],
             blending: vec![None; sections],
+            shown: vec![
+                VisibilityFade {
+                    visible: true,
+                    start: 0.0,
+                    from: 1.0,
+                    duration: 0.0,
+                };
+                sections
+            ],
         }
+    }
+
+    /// Marks `section` visible or hidden from `time` [s]: with `fade` > 0 s it fades in or out
+    /// over that long (from wherever it is), else at once. Returns whether its visibility changed.
+    pub fn set_visible(&mut self, section: usize, visible: bool, time: f64, fade: f32) -> bool {
+        let old = self.shown[section];
+        if old.visible == visible {
+            return false;
+        }
+        self.shown[section] = VisibilityFade {
+            visible,
+            start: time,
+            from: old.weight(time),
+            duration: fade.max(0.0),
+        };
+        true
+    }
+
+    /// How much of section `section` is drawn at `time` [s], in `[0, 1]`: 1 when visible and
+    /// faded in, 0 when hidden and faded out.
+    pub fn shown_weight(&self, section: usize, time: f64) -> f32 {
+        self.shown[section].weight(time)
     }
 
     /// The current level of each section.
