@@ -114,10 +114,11 @@ impl Lanes {
         self.zip(other, |a, b| if a > b { 1.0 } else { 0.0 })
     }
 
-    /// Whether any lane is above 0 (a lane-wise condition as 1.0 / 0.0).
+    /// Whether any lane of a lane-wise condition (1.0 / 0.0) holds: an OR of the bits, which
+    /// the compiler reduces in vector registers.
     #[inline(always)]
     pub fn any(self) -> bool {
-        self.0.iter().fold(false, |any, &x| any | (x > 0.0))
+        self.0.iter().fold(0u32, |any, &x| any | x.to_bits()) != 0
     }
 
     /// The bend angle `α = atan2(sin, cos)` [rad] of two unit vectors from `sin = |a × b| ≥ 0` and

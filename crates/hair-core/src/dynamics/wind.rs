@@ -243,11 +243,9 @@ impl WindField {
             // One test for all lanes, then the library only where it is needed: a per-lane `if`
             // around `sin` lets the vectoriser call it for every lane and blend (a quarter of
             // the position-based step, measured).
-            let in_range = argument
-                .0
-                .iter()
-                .fold(true, |all, a| all & (a.abs() < WAVE_SIN_RANGE));
-            if !in_range {
+            let out_of_range =
+                Lanes::splat(1.0) - Lanes::splat(WAVE_SIN_RANGE).greater(argument.abs());
+            if out_of_range.any() {
                 for (sine, &argument) in sine.0.iter_mut().zip(&argument.0) {
                     if argument.abs() >= WAVE_SIN_RANGE || argument.is_nan() {
                         *sine = argument.sin();
