@@ -4,12 +4,12 @@
 //!
 //! A batch is stepped this way when its chains have the same node count (2 to
 //! [`MAX_LANE_NODES`]); lanes past the batch's last chain repeat that chain and are discarded.
-//! The constants come laid out in lane form ([`LaneModel`]); the state is gathered once per step
-//! (writing the backup that a failure elsewhere restores), stepped through all substeps, checked,
-//! and scattered back. Per step, not per substep: the external velocity kick `h·F_ext/m`, and
+//! The constants come laid out in lane form ([`LaneModel`]); the state is gathered once per step,
+//! stepped through all substeps, checked, and scattered into the new state's arrays (the
+//! simulation swaps them in when every chain succeeded, so nothing is copied to back it up). Per step, not per substep: the external velocity kick `h·F_ext/m`, and
 //! the head's rotation matrices (the roots are rotated lane-wise). A chain that fails the check
 //! (a non-finite value, an energy blow-up, or a segment turned back on its parent, where the fast
-//! frame transport is undefined) is left untouched and reported, and the caller redoes it with the
+//! frame transport is undefined) is not written but reported, and the caller redoes it with the
 //! one-chain integrator and its failure policy.
 
 // Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
@@ -44,20 +44,21 @@ pub(crate) struct BatchStep<'a> {
 }
 
 /// The state of one batch: `first_chain..end_chain`, its node slices (chain-major, starting at
-/// the first chain's first node), and where to back the state up (same length).
+/// the first chain's first node) at the step's start, and where the new state goes (same
+/// length).
 pub(crate) struct BatchState<'a> {
     pub first_chain: usize,
     pub end_chain: usize,
-    pub positions: &'a mut [Vec3],
-    pub velocities: &'a mut [Vec3],
+    pub positions: &'a [Vec3],
+    pub velocities: &'a [Vec3],
     pub collision: &'a [Vec3],
-    pub backup_positions: &'a mut [Vec3],
-    pub backup_velocities: &'a mut [Vec3],
+    pub new_positions: &'a mut [Vec3],
+    pub new_velocities: &'a mut [Vec3],
 }
 
 /// Steps a batch if it can; returns `None` when it cannot (unequal, too short or too long
-/// chains; the backup is then not written), else a bit mask of the chains (bit `c − first_chain`)
-/// that failed and were left untouched.
+/// chains; nothing is written then), else a bit mask of the chains (bit `c − first_chain`) that
+/// failed and whose new state was not written.
 pub(crate) fn step_batch(step: &BatchStep, state: BatchState) -> Option<u32> {
     let (nodes, roots) = step.lanes.batch(state.first_chain)?;
     #[cfg(target_arch = "x86_64")]
@@ -148,8 +149,6 @@ fn step_lanes<const N: usize>(
         velocities: [LaneVec3::default(); N],
         kicks: [LaneVec3::default(); N],
     };
-    state.backup_positions.copy_from_slice(state.positions);
-    state.backup_velocities.copy_from_slice(state.velocities);
     // Gather (lanes past the last chain repeat it); the kicks hold the collision forces at first.
     for lane in 0..LANES {
         let node0 = lane.min(chains - 1) * n;
@@ -226,8 +225,8 @@ fn step_lanes<const N: usize>(
         }
         let node0 = lane * n;
         for i in 0..n {
-            state.positions[node0 + i] = s.positions[i].get(lane);
-            state.velocities[node0 + i] = s.velocities[i].get(lane);
+            state.new_positions[node0 + i] = s.positions[i].get(lane);
+            state.new_velocities[node0 + i] = s.velocities[i].get(lane);
         }
     }
     failed

@@ -253,7 +253,10 @@ impl Simulation {
             *chain_slices.failure = failure;
             *chain_slices.halvings = halvings;
         };
-        if settings.integrator == IntegratorKind::PositionBased && self.lanes {
+        let double_buffered = settings.integrator == IntegratorKind::PositionBased && self.lanes;
+        if double_buffered {
+            // The state stays as it was; the new one is written to the backup arrays and swapped
+            // in below when every chain succeeded (so nothing is copied to back it up).
             let batch_step = BatchStep {
                 lanes: &self.lane_model,
                 settings: &settings,
@@ -272,24 +275,33 @@ impl Simulation {
                         BatchState {
                             first_chain,
                             end_chain,
-                            positions: &mut *batch.positions,
-                            velocities: &mut *batch.velocities,
+                            positions: &*batch.positions,
+                            velocities: &*batch.velocities,
                             collision: batch.collision,
-                            backup_positions: &mut *batch.backup_positions,
-                            backup_velocities: &mut *batch.backup_velocities,
+                            new_positions: &mut *batch.backup_positions,
+                            new_velocities: &mut *batch.backup_velocities,
                         },
                     );
                     // Chains the lanes did not step (or that failed there) take the one-chain
-                    // integrator with the failure policy (which backs them up); the others
-                    // succeeded.
+                    // integrator with the failure policy, from the start state copied into the
+                    // new arrays, with the start state as their backup; the others succeeded.
                     let redo = failed.unwrap_or(u32::MAX);
                     if redo == 0 {
                         batch.failures.fill(None);
                         batch.halvings.fill(0);
                         return;
                     }
-                    batch.for_each_chain_here(&model.rest.offsets, end_chain, |chain, work| {
+                    batch.for_each_chain_here(&model.rest.offsets, end_chain, |chain, mut work| {
                         if redo & (1 << (chain - first_chain)) != 0 {
+                            std::mem::swap(&mut work.arrays.positions, &mut work.backup_positions);
+                            std::mem::swap(
+                                &mut work.arrays.velocities,
+                                &mut work.backup_velocities,
+                            );
+                            work.arrays.positions.copy_from_slice(work.backup_positions);
+                            work.arrays
+                                .velocities
+                                .copy_from_slice(work.backup_velocities);
                             step_one_chain(chain, work);
                         } else {
                             *work.failure = None;
@@ -303,13 +315,19 @@ impl Simulation {
         }
         if let Some(failure) = scratch.failures.iter().flatten().next() {
             let failure = *failure;
-            state
-                .node_positions
-                .copy_from_slice(&scratch.backup_positions);
-            state
-                .node_velocities
-                .copy_from_slice(&scratch.backup_velocities);
+            if !double_buffered {
+                state
+                    .node_positions
+                    .copy_from_slice(&scratch.backup_positions);
+                state
+                    .node_velocities
+                    .copy_from_slice(&scratch.backup_velocities);
+            }
             return Err(DynamicsError::Unstable(failure));
+        }
+        if double_buffered {
+            std::mem::swap(&mut state.node_positions, &mut scratch.backup_positions);
+            std::mem::swap(&mut state.node_velocities, &mut scratch.backup_velocities);
         }
         state.time += settings.time_step as f64;
         let mut report = StepReport::default();

@@ -430,6 +430,41 @@ fn failures_are_detected_named_and_roll_back() {
 }
 
 #[test]
+fn one_failing_chain_among_lane_batches_rolls_the_whole_state_back() {
+    // 20 chains = batches of 8, 8 and 4 lanes; a non-finite collision force on one node of
+    // chain 13 makes that chain (and only it) fail. The error names chain 13, every chain keeps
+    // its state from before the step (the lane step writes the new state elsewhere and swaps it in
+    // only when all chains succeeded), and the next clean step goes on from there.
+    let style = HairStyle::curly(50.0, 0.01, 0.02);
+    let rest = ring_of_chains(&style, 0.25, 20);
+    let bad_node = rest.offsets[13] as usize + 5;
+    let model = DynamicsModel::new(rest, DynamicsParams::for_style(&style)).unwrap();
+    let mut simulation = Simulation::new(
+        model,
+        SimulationSettings::recommended(IntegratorKind::PositionBased),
+    )
+    .unwrap();
+    let environment = Environment {
+        head: HeadMotion::shake(0.5, 3.0),
+        ..Environment::default()
+    };
+    let mut state = simulation.rest_state(&environment, 0.0);
+    simulation.run(&mut state, &environment, 3).unwrap();
+    let before = state.clone();
+    state.collision_forces[bad_node] = Vec3::new(f32::NAN, 0.0, 0.0);
+    let error = simulation.step(&mut state, &environment).unwrap_err();
+    assert_eq!(error.failure().unwrap().chain, 13, "{error}");
+    assert_eq!(state.node_positions, before.node_positions);
+    assert_eq!(state.node_velocities, before.node_velocities);
+    assert_eq!(state.time, before.time);
+    state.collision_forces[bad_node] = Vec3::ZERO;
+    simulation.step(&mut state, &environment).unwrap();
+    assert!(state.is_finite());
+    assert_ne!(state.node_positions, before.node_positions);
+    assert_lengths(&simulation, &state);
+}
+
+#[test]
 fn halving_the_substep_rescues_an_unstable_step() {
     // The position-based failure above (h·γ = 3.3), with the policy to halve up to 3 times: one
     // halving gives h·γ = 1.7 < 2, every step succeeds and reports it.
