@@ -167,12 +167,16 @@ fn draw_pareto<DB: DrawingBackend>(
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
-            .build_cartesian_2d((low..high).log_scale(), 0.0..max_error * 1.15)
+            .build_cartesian_2d(
+                (low..high)
+                    .log_scale()
+                    .with_key_points(log_key_points(low, high)),
+                0.0..max_error * 1.15,
+            )
             .map_err(plot_error)?;
         chart
             .configure_mesh()
-            .x_labels(8)
-            .x_label_formatter(&|v| format!("{v:.0}"))
+            .x_label_formatter(&|v| format!("{v}"))
             .x_desc("median cost per frame [ms] (log scale)")
             .y_desc(names[panel])
             .label_style(("sans-serif", 12))
@@ -213,6 +217,22 @@ fn draw_pareto<DB: DrawingBackend>(
         }
     }
     Ok(())
+}
+
+/// Axis labels 1, 2, 5 × 10ⁿ between `low` and `high` (positive).
+fn log_key_points(low: f64, high: f64) -> Vec<f64> {
+    let mut points = Vec::new();
+    let mut decade = 10f64.powf(low.log10().floor());
+    while decade <= high {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * decade;
+            if (low..=high).contains(&v) {
+                points.push(v);
+            }
+        }
+        decade *= 10.0;
+    }
+    points
 }
 
 /// The model a run keeps per frame, for [`ModelSizeChart`].
@@ -256,8 +276,9 @@ fn draw_model_size<DB: DrawingBackend>(
         .copied()
         .filter(|&v| v > 0.0);
     let (low, high) = all.fold((f64::INFINITY, 0.0f64), |(l, h), v| (l.min(v), h.max(v)));
+    // Room above the highest line for the legend.
     let (low, high) = if low.is_finite() {
-        (low / 2.0, high * 2.0)
+        (low / 2.0, high * 20.0)
     } else {
         (1.0, 10.0)
     };
@@ -273,13 +294,19 @@ fn draw_model_size<DB: DrawingBackend>(
         .x_label_area_size(40)
         .y_label_area_size(70)
         .right_y_label_area_size(60)
-        .build_cartesian_2d(0..frames - 1, (low..high).log_scale())
+        .build_cartesian_2d(
+            0..frames - 1,
+            (low..high)
+                .log_scale()
+                .with_key_points(log_key_points(low, high)),
+        )
         .map_err(plot_error)?
         .set_secondary_coord(0..frames - 1, (near / 1.2..far * 1.2).log_scale());
     chart
         .configure_mesh()
         .x_desc("frame")
         .y_desc("simulated nodes, drawn segments (log scale)")
+        .y_label_formatter(&|v| format!("{v}"))
         .label_style(("sans-serif", 12))
         .axis_desc_style(("sans-serif", 13))
         .draw()
