@@ -77,8 +77,9 @@ pub struct Simulation {
     model: DynamicsModel,
     settings: SimulationSettings,
     scratch: Scratch,
-    /// The model's constants in lane form for the lane-parallel position-based step.
-    lane_model: LaneModel,
+    /// The model's constants in lane form for the lane-parallel position-based step (laid out
+    /// when the settings first ask for that integrator).
+    lane_model: Option<LaneModel>,
     /// Whether the position-based integrator may step chains lane-parallel (tests compare it
     /// with the one-chain step).
     lanes: bool,
@@ -87,12 +88,11 @@ pub struct Simulation {
 impl Simulation {
     /// A simulation of `model` with `settings` (validated); allocates all scratch.
     pub fn new(model: DynamicsModel, settings: SimulationSettings) -> Result<Self, DynamicsError> {
-        let lane_model = LaneModel::new(&model);
         let mut simulation = Simulation {
             model,
             settings,
             scratch: Scratch::default(),
-            lane_model,
+            lane_model: None,
             lanes: true,
         };
         simulation.set_settings(settings)?;
@@ -119,6 +119,9 @@ impl Simulation {
     pub fn set_settings(&mut self, settings: SimulationSettings) -> Result<(), DynamicsError> {
         settings.validate()?;
         self.settings = settings;
+        if settings.integrator == IntegratorKind::PositionBased && self.lane_model.is_none() {
+            self.lane_model = Some(LaneModel::new(&self.model));
+        }
         let nodes = self.model.node_count();
         let chains = self.model.chain_count();
         let scratch = &mut self.scratch;
@@ -253,12 +256,16 @@ impl Simulation {
             *chain_slices.failure = failure;
             *chain_slices.halvings = halvings;
         };
-        let double_buffered = settings.integrator == IntegratorKind::PositionBased && self.lanes;
-        if double_buffered {
+        let lane_model = self
+            .lane_model
+            .as_ref()
+            .filter(|_| settings.integrator == IntegratorKind::PositionBased && self.lanes);
+        let double_buffered = lane_model.is_some();
+        if let Some(lane_model) = lane_model {
             // The state stays as it was; the new one is written to the backup arrays and swapped
             // in below when every chain succeeded (so nothing is copied to back it up).
             let batch_step = BatchStep {
-                lanes: &self.lane_model,
+                lanes: lane_model,
                 settings: &settings,
                 environment,
                 head_poses,
