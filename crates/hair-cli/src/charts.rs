@@ -118,8 +118,8 @@ const GROUP_COLOURS: [RGBColor; 4] = [
     RGBColor(118, 42, 131),
 ];
 
-/// Two panels side by side, SSIM loss and mean pixel error against the median cost per frame (log
-/// scale), each with its Pareto front as a step line through the front's points.
+/// Two panels side by side, SSIM loss and mean pixel error against the median cost per frame (both
+/// axes log scale), each with its Pareto front as a step line through the front's points.
 pub struct ParetoChart<'a> {
     /// Title over both panels.
     pub title: String,
@@ -148,8 +148,8 @@ fn draw_pareto<DB: DrawingBackend>(
         .map_err(plot_error)?;
     let panels = body.split_evenly((1, 2));
     let names = [
-        "SSIM loss (1 − mean SSIM vs reference)",
-        "mean pixel error vs reference [px]",
+        "SSIM loss (1 − mean SSIM vs reference, log scale)",
+        "mean pixel error vs reference [px] (log scale)",
     ];
     let min_cost = points
         .iter()
@@ -158,11 +158,20 @@ fn draw_pareto<DB: DrawingBackend>(
     let max_cost = points.iter().map(|p| p.cost_ms).fold(0.0, f64::max);
     let (low, high) = (min_cost.max(1e-3) / 1.5, max_cost.max(1e-3) * 1.5);
     for (panel, area) in panels.iter().enumerate() {
+        // Errors span two decades or more (a failing integrator against a fine level): log scale,
+        // with errors of zero drawn at the floor.
         let max_error = points
             .iter()
             .map(|p| p.errors[panel])
             .fold(0.0, f64::max)
             .max(1e-6);
+        let min_error = points
+            .iter()
+            .map(|p| p.errors[panel])
+            .filter(|&e| e > 0.0)
+            .fold(max_error, f64::min);
+        let (bottom, top) = (min_error / 1.5, max_error * 1.5);
+        let floor = |e: f64| e.max(bottom);
         let mut chart = ChartBuilder::on(area)
             .margin(12)
             .x_label_area_size(40)
@@ -171,7 +180,9 @@ fn draw_pareto<DB: DrawingBackend>(
                 (low..high)
                     .log_scale()
                     .with_key_points(log_key_points(low, high)),
-                0.0..max_error * 1.15,
+                (bottom..top)
+                    .log_scale()
+                    .with_key_points(log_key_points(bottom, top)),
             )
             .map_err(plot_error)?;
         chart
@@ -179,6 +190,7 @@ fn draw_pareto<DB: DrawingBackend>(
             .x_label_formatter(&|v| format!("{v}"))
             .x_desc("median cost per frame [ms] (log scale)")
             .y_desc(names[panel])
+            .y_label_formatter(&|v| format!("{v}"))
             .label_style(("sans-serif", 12))
             .axis_desc_style(("sans-serif", 13))
             .draw()
@@ -186,7 +198,7 @@ fn draw_pareto<DB: DrawingBackend>(
         let mut front: Vec<(f64, f64)> = points
             .iter()
             .filter(|p| p.pareto[panel])
-            .map(|p| (p.cost_ms, p.errors[panel]))
+            .map(|p| (p.cost_ms, floor(p.errors[panel])))
             .collect();
         front.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut steps = Vec::new();
@@ -201,7 +213,7 @@ fn draw_pareto<DB: DrawingBackend>(
             .map_err(plot_error)?;
         for point in points {
             let colour = GROUP_COLOURS[point.group.min(3)];
-            let at = (point.cost_ms, point.errors[panel]);
+            let at = (point.cost_ms, floor(point.errors[panel]));
             let marker: EmptyElement<(f64, f64), DB> = EmptyElement::at(at);
             let size = if point.pareto[panel] { 6 } else { 4 };
             let element = marker

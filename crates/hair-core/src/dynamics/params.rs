@@ -33,10 +33,11 @@ impl IntegratorKind {
     ];
 
     /// The default integrator, linear-implicit: in the stability map (`hairlod stability`,
-    /// `docs/dynamics.md`) it has the most stable runs of the three (50 of 140, against 24 and
-    /// 18) and the largest steps that stay stable and accurate, including 10× the styles'
-    /// stiffness. The position-based integrator is the fast alternative (about ten times the
-    /// vertex-steps per second) where its damped look is acceptable.
+    /// `docs/dynamics.md`) it has the most stable runs of the three (40 of 140, against 23 and
+    /// 11) and the largest steps that stay stable, including 10× the styles' stiffness. For
+    /// accuracy on curly hair at the styles' stiffness, the semi-implicit integrator at 16
+    /// substeps is closer to the converged motion (`docs/accuracy.md`). The position-based
+    /// integrator is the fast alternative where its damped look is acceptable.
     pub const DEFAULT: IntegratorKind = IntegratorKind::LinearImplicit;
 
     /// The name used on the command line and in reports.
