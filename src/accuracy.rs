@@ -380,7 +380,14 @@ impl PhysicalError {
 /// current time (for [`penetration_depth`]).
 pub fn head_body(pipeline: &Pipeline) -> Result<CollisionBody> {
     let mut body = CollisionBody::from_mesh(&pipeline.scene().head.mesh)?;
+    pose_head_body(&mut body, pipeline)?;
+    Ok(body)
+}
+
+/// Moves a body from [`head_body`] to where `pipeline`'s head is at its current time (for a run:
+/// build the body once, pose it every frame).
+pub fn pose_head_body(body: &mut CollisionBody, pipeline: &Pipeline) -> Result<()> {
     let pose = pipeline.environment().head.transform_at(pipeline.time());
     body.set_pose(pose.rotation, pose.translation)?;
-    Ok(body)
+    Ok(())
 }

@@ -5,7 +5,7 @@ use hair_core::Scene;
 use hair_core::lod::{BudgetController, BudgetReport, BudgetSettings, LodSettings};
 use serde::Serialize;
 
-use super::{ModeRun, PaperBenchmark, SETTLE_TIME};
+use super::{ModeRun, PaperBenchmark, SETTLE_TIME, render_frame};
 use crate::pipeline::{FrameReport, LodMode, Pipeline, PipelineRenderer, PipelineSettings, Result};
 
 /// A budgeted run: the frames, how often the budget was met, and the tolerance of every frame.
@@ -50,14 +50,7 @@ pub fn run_budgeted(
             selector.set_pixel_tolerance(tolerance)?;
         }
         let mut report = pipeline.advance(&camera)?;
-        let (image, seconds) = renderer.render(
-            &mut pipeline,
-            &camera,
-            benchmark.width,
-            benchmark.height,
-            hair_render::ShadingMode::Shaded,
-        )?;
-        report.times.rendering = seconds;
+        let image = render_frame(benchmark, renderer, &mut pipeline, &camera, &mut report)?;
         controller.update(report.times.total())?;
         on_frame(&report, &image, tolerance);
         tolerances.push(tolerance);

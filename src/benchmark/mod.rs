@@ -12,6 +12,7 @@ mod budget;
 mod popping;
 
 pub use budget::{BudgetedRun, run_budgeted};
+pub(crate) use popping::luma_difference;
 pub use popping::{
     ExcessPopping, Popping, PoppingMeter, excess_popping, luma, mean_abs_difference, ssim,
 };
@@ -176,21 +177,37 @@ pub fn run_mode(
         let camera = benchmark.camera(frame);
         let mut report = pipeline.advance(&camera)?;
         let image = match renderer.as_deref_mut() {
-            Some(renderer) => {
-                let (image, seconds) = renderer.render(
-                    &mut pipeline,
-                    &camera,
-                    benchmark.width,
-                    benchmark.height,
-                    hair_render::ShadingMode::Shaded,
-                )?;
-                report.times.rendering = seconds;
-                Some(image)
-            }
+            Some(renderer) => Some(render_frame(
+                benchmark,
+                renderer,
+                &mut pipeline,
+                &camera,
+                &mut report,
+            )?),
             None => None,
         };
         on_frame(&report, image.as_ref());
         frames.push(report);
     }
     Ok(ModeRun::new(settings.lod.column_name(), frames))
+}
+
+/// Renders `pipeline`'s frame through `camera` at the benchmark's size, shaded, and records the
+/// time it took in `report.times.rendering` [s].
+pub(crate) fn render_frame(
+    benchmark: &PaperBenchmark,
+    renderer: &mut PipelineRenderer,
+    pipeline: &mut Pipeline,
+    camera: &Camera,
+    report: &mut FrameReport,
+) -> Result<image::RgbaImage> {
+    let (image, seconds) = renderer.render(
+        pipeline,
+        camera,
+        benchmark.width,
+        benchmark.height,
+        hair_render::ShadingMode::Shaded,
+    )?;
+    report.times.rendering = seconds;
+    Ok(image)
 }

@@ -88,8 +88,9 @@ pub fn luma(image: &image::RgbaImage) -> image::GrayImage {
     image::DynamicImage::ImageRgba8(image.clone()).to_luma8()
 }
 
-/// Mean absolute difference of two luma images of the same size, in `[0, 1]`.
-fn luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
+/// Mean absolute difference of two luma images of the same size, in `[0, 1]` (1 for different
+/// sizes).
+pub(crate) fn luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
     if a.dimensions() != b.dimensions() {
         return 1.0;
     }

@@ -19,7 +19,7 @@ use super::error::Result;
 use super::pipeline::Pipeline;
 use super::report::FrameReport;
 use super::settings::{LodMode, PipelineSettings};
-use crate::benchmark::{PaperBenchmark, SETTLE_TIME, luma};
+use crate::benchmark::{PaperBenchmark, SETTLE_TIME, luma, luma_difference};
 
 /// The image changes of one frame at its own camera, in mean absolute luma difference `[0, 1]`.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
@@ -32,20 +32,6 @@ pub struct PoppingFrame {
     pub lod_change: f64,
     /// What the dynamics step changed (the hair's own motion).
     pub motion_change: f64,
-}
-
-/// Mean absolute difference of two luma images of the same size, in `[0, 1]` (1 for different
-/// sizes).
-fn luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
-    if a.dimensions() != b.dimensions() {
-        return 1.0;
-    }
-    let sum: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .map(|(p, q)| u64::from(p.0[0].abs_diff(q.0[0])))
-        .sum();
-    sum as f64 / (255.0 * f64::from(a.width()) * f64::from(a.height())).max(1.0)
 }
 
 /// Advances `pipeline` one frame seen by `camera`, drawing it three times at `width`×`height`

@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::accuracy::{
-    PhysicalError, geometric_error_of_visible, head_body, head_sight, image_error,
+    PhysicalError, geometric_error_of_visible, head_body, head_sight, image_error, pose_head_body,
     reference_settings, sample_skeletons, strand_skeletons, visible_samples,
 };
 use hairlod::benchmark::{PaperBenchmark, SETTLE_TIME};
@@ -279,6 +279,14 @@ fn run_configuration(
     )?;
     pipeline.settle(SETTLE_TIME)?;
     renderer.bind(&pipeline)?;
+    let mut body = head_body(&pipeline)?;
+    // Only the reference's samples need the line of sight (the others are compared where the
+    // reference's are seen).
+    let mut sight = if is_reference {
+        Some(head_sight(&pipeline)?)
+    } else {
+        None
+    };
     let mut frames = Vec::with_capacity(benchmark.frames);
     for frame in 0..benchmark.frames {
         let camera = benchmark.camera(frame);
@@ -291,37 +299,45 @@ fn run_configuration(
             &strand_skeletons(&pipeline)?,
             SAMPLES_PER_SKELETON,
         );
-        let physical = PhysicalError::of(&pipeline, &head_body(&pipeline)?);
-        if is_reference {
-            let visible = visible_samples(&camera, &head_sight(&pipeline)?, &samples);
+        pose_head_body(&mut body, &pipeline)?;
+        let physical = PhysicalError::of(&pipeline, &body);
+        if let Some(sight) = sight.as_mut() {
+            // Against itself: SSIM 1, infinite PSNR, and the geometric error of its own samples.
+            let head = pipeline.environment().head.transform_at(pipeline.time());
+            sight.set_pose(head.rotation, head.translation)?;
+            let visible = visible_samples(&camera, sight, &samples);
+            let geometric =
+                geometric_error_of_visible(&camera, width, height, &samples, &samples, &visible);
+            frames.push(FrameErrors {
+                cost,
+                ssim: 1.0,
+                psnr: f64::INFINITY,
+                geometric,
+                physical,
+            });
             reference.push(ReferenceFrame {
-                image: image.clone(),
-                samples: samples.clone(),
+                image,
+                samples,
                 visible,
             });
-        }
-        let reference = &reference[frame];
-        let (ssim, psnr) = if is_reference {
-            (1.0, f64::INFINITY)
         } else {
+            let reference = &reference[frame];
             let errors = image_error(&reference.image, &image);
-            (errors.ssim, errors.psnr)
-        };
-        let geometric = geometric_error_of_visible(
-            &camera,
-            width,
-            height,
-            &reference.samples,
-            &samples,
-            &reference.visible,
-        );
-        frames.push(FrameErrors {
-            cost,
-            ssim,
-            psnr,
-            geometric,
-            physical,
-        });
+            frames.push(FrameErrors {
+                cost,
+                ssim: errors.ssim,
+                psnr: errors.psnr,
+                geometric: geometric_error_of_visible(
+                    &camera,
+                    width,
+                    height,
+                    &reference.samples,
+                    &samples,
+                    &reference.visible,
+                ),
+                physical,
+            });
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();

@@ -9,7 +9,7 @@ use hair_core::TriangleMesh;
 use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 
-use crate::error::{CollideError, Result, require_finite_points};
+use crate::error::{CollideError, Result, require_finite_points, require_pose};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
 use crate::surface::Pseudonormals;
@@ -139,19 +139,7 @@ impl CollisionBody {
     /// triangles and refits the triangle tree (no rebuild). `rotation` is normalised; errors on a
     /// non-finite or zero rotation or a non-finite translation, leaving the pose unchanged.
     pub fn set_pose(&mut self, rotation: Quat, translation: Vec3) -> Result<()> {
-        if !rotation.is_finite() || rotation.length_squared() == 0.0 {
-            return Err(CollideError::NonFinite {
-                what: "body rotation",
-                index: 0,
-            });
-        }
-        if !translation.is_finite() {
-            return Err(CollideError::NonFinite {
-                what: "body translation",
-                index: 0,
-            });
-        }
-        let rotation = rotation.normalize();
+        let rotation = require_pose(rotation, translation)?;
         self.rotation = rotation;
         self.translation = translation;
         let to_world = |p: Vec3| rotation * p + translation;

@@ -79,3 +79,21 @@ pub(crate) fn require_len(what: &'static str, actual: usize, expected: usize) ->
         })
     }
 }
+
+/// Checks a rigid pose (a finite, non-zero rotation and a finite translation) and returns the
+/// rotation normalised.
+pub(crate) fn require_pose(rotation: glam::Quat, translation: glam::Vec3) -> Result<glam::Quat> {
+    if !rotation.is_finite() || rotation.length_squared() == 0.0 {
+        return Err(CollideError::NonFinite {
+            what: "body rotation",
+            index: 0,
+        });
+    }
+    if !translation.is_finite() {
+        return Err(CollideError::NonFinite {
+            what: "body translation",
+            index: 0,
+        });
+    }
+    Ok(rotation.normalize())
+}

@@ -7,7 +7,7 @@ use hair_core::TriangleMesh;
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::TriMesh;
 
-use crate::error::{CollideError, Result, require_finite_points};
+use crate::error::{CollideError, Result, require_finite_points, require_pose};
 
 /// A rigid, posed triangle mesh that blocks lines of sight.
 #[derive(Debug, Clone)]
@@ -52,19 +52,7 @@ impl LineOfSight {
     /// Places the blocker: world = `rotation` · local + `translation` \[m\]. Errors on a
     /// non-finite or zero rotation or a non-finite translation, leaving the pose unchanged.
     pub fn set_pose(&mut self, rotation: Quat, translation: Vec3) -> Result<()> {
-        if !rotation.is_finite() || rotation.length_squared() == 0.0 {
-            return Err(CollideError::NonFinite {
-                what: "body rotation",
-                index: 0,
-            });
-        }
-        if !translation.is_finite() {
-            return Err(CollideError::NonFinite {
-                what: "body translation",
-                index: 0,
-            });
-        }
-        self.rotation = rotation.normalize();
+        self.rotation = require_pose(rotation, translation)?;
         self.translation = translation;
         Ok(())
     }
