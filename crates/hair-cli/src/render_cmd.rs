@@ -21,7 +21,7 @@ use hairlod::core::dynamics::{
 };
 use hairlod::core::{Frame, GroomParams, HeadParams, Level, RigidTransform, Scene, TriangleMesh};
 use hairlod::render::{
-    ActiveSkeletons, BackendChoice, Camera, DeviceOptions, FrameSettings, Renderer,
+    ActiveSkeletons, BackendChoice, Camera, DeviceOptions, FrameSettings, LineShading, Renderer,
     RendererOptions, ShadingMode, output,
 };
 use indicatif::{ProgressBar, ProgressStyle};
@@ -65,6 +65,10 @@ pub struct RenderArgs {
     /// Also write contact_sheet.png with every frame scaled down.
     #[arg(long)]
     contact_sheet: bool,
+    /// Shade 1-pixel strand lines per fragment instead of at their curve points (about 1.8× the
+    /// strand render time on a CPU rasterizer; see docs/render.md for the difference it makes).
+    #[arg(long)]
+    per_fragment_lines: bool,
     /// Graphics backend: auto, vulkan or gl [default: $HAIRLOD_BACKEND, else auto].
     #[arg(long)]
     backend: Option<String>,
@@ -382,6 +386,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let mut settings = FrameSettings::new(plan.width, plan.height, plan.camera(index, target));
         settings.light.direction =
             (settings.camera.position - target).normalize() + Vec3::new(0.4, 0.8, 0.0);
+        if args.per_fragment_lines {
+            settings.line_shading = LineShading::PerFragment;
+        }
         let image = timed(&mut times.render, || match plan.mode {
             Mode::Shaded => renderer.render(&active.frame(), &settings),
             Mode::ColorCoded => renderer.render(

@@ -10,8 +10,8 @@ use glam::Vec3;
 use hair_core::{Frame, Level, RigidTransform, Scene};
 use hair_render::target::{COLOR_FORMAT, DEPTH_FORMAT};
 use hair_render::{
-    ActiveSkeletons, Camera, FrameSettings, RenderTarget, Renderer, RendererOptions, StrandStyle,
-    bspline,
+    ActiveSkeletons, Camera, FrameSettings, LineShading, RenderTarget, Renderer, RendererOptions,
+    StrandStyle, bspline,
 };
 use wgpu::util::DeviceExt;
 
@@ -31,12 +31,20 @@ struct Floor {
     pipeline: wgpu::RenderPipeline,
     bind_group: wgpu::BindGroup,
     vertices: wgpu::Buffer,
-    vertex_count: u32,
+    /// Strip indices with primitive restarts (line strips), or `None` (a line list).
+    indices: Option<wgpu::Buffer>,
+    count: u32,
     target: RenderTarget,
 }
 
+/// The floor's geometry: segments as a line list, or polylines as line strips.
+enum FloorGeometry<'a> {
+    Segments(&'a [[Vec3; 2]]),
+    Strips(&'a [Vec<Vec3>]),
+}
+
 impl Floor {
-    fn new(renderer: &Renderer, segments: &[[Vec3; 2]], settings: &FrameSettings) -> Floor {
+    fn new(renderer: &Renderer, geometry: FloorGeometry<'_>, settings: &FrameSettings) -> Floor {
         let device = &renderer.context().device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("floor"),
@@ -91,9 +99,16 @@ impl Floor {
                     attributes: &attributes,
                 })],
             },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
+            primitive: match geometry {
+                FloorGeometry::Segments(_) => wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::LineList,
+                    ..Default::default()
+                },
+                FloorGeometry::Strips(_) => wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::LineStrip,
+                    strip_index_format: Some(wgpu::IndexFormat::Uint32),
+                    ..Default::default()
+                },
             },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
@@ -120,14 +135,38 @@ impl Floor {
             multiview_mask: None,
             cache: None,
         });
-        let flat: Vec<[f32; 3]> = segments
-            .iter()
-            .flat_map(|s| [s[0].to_array(), s[1].to_array()])
-            .collect();
+        let (flat, strip_indices): (Vec<[f32; 3]>, Option<Vec<u32>>) = match geometry {
+            FloorGeometry::Segments(segments) => (
+                segments
+                    .iter()
+                    .flat_map(|s| [s[0].to_array(), s[1].to_array()])
+                    .collect(),
+                None,
+            ),
+            FloorGeometry::Strips(strips) => {
+                let mut flat = Vec::new();
+                let mut indices = Vec::new();
+                for strip in strips {
+                    for point in strip {
+                        indices.push(flat.len() as u32);
+                        flat.push(point.to_array());
+                    }
+                    indices.push(u32::MAX);
+                }
+                (flat, Some(indices))
+            }
+        };
         let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("floor segments"),
             contents: bytemuck::cast_slice(&flat),
             usage: wgpu::BufferUsages::VERTEX,
+        });
+        let indices = strip_indices.as_ref().map(|indices| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("floor strips"),
+                contents: bytemuck::cast_slice(indices),
+                usage: wgpu::BufferUsages::INDEX,
+            })
         });
         let target = RenderTarget::new(device, WIDTH, HEIGHT, renderer.sample_count())
             .expect("floor target");
@@ -135,7 +174,8 @@ impl Floor {
             pipeline,
             bind_group,
             vertices,
-            vertex_count: flat.len() as u32,
+            count: strip_indices.map_or(flat.len(), |indices| indices.len()) as u32,
+            indices,
             target,
         }
     }
@@ -157,7 +197,13 @@ impl Floor {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertices.slice(..));
-            pass.draw(0..self.vertex_count, 0..1);
+            match &self.indices {
+                Some(indices) => {
+                    pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..self.count, 0, 0..1);
+                }
+                None => pass.draw(0..self.count, 0..1),
+            }
         }
         self.target.encode_readback(&mut encoder);
         gpu.queue.submit([encoder.finish()]);
@@ -201,6 +247,18 @@ fn bench_render(c: &mut Criterion) {
     active
         .gather_level(groom, Level::StrandGroup, &positions, &frames)
         .expect("gather");
+    // Lines shaded per fragment (the default shades them at the curve points).
+    let per_fragment = FrameSettings {
+        line_shading: LineShading::PerFragment,
+        ..settings
+    };
+    group.bench_function("strands_shaded_per_fragment", |b| {
+        b.iter(|| {
+            renderer
+                .render(&active.frame(), &per_fragment)
+                .expect("render")
+        })
+    });
     // Strands forced to 1.5-pixel ribbons (the default draws sub-pixel hair as 1-pixel lines).
     let ribbons = FrameSettings {
         strand_style: StrandStyle::Ribbons {
@@ -218,12 +276,14 @@ fn bench_render(c: &mut Criterion) {
     let segments_per_strand = settings.tessellation.max_segments as usize;
     let frame = active.frame();
     let mut segments = Vec::new();
+    let mut strips = Vec::new();
     for group in 0..groom.strands.group_count() {
         let chain = groom.level_chains(Level::StrandGroup).start + group;
         for strand in groom.strands.strands(group) {
             let points = frame.strand_control_points(chain, groom.strands.root_offsets[strand]);
             let curve = bspline::sample(&points, segments_per_strand + 1);
             segments.extend(curve.windows(2).map(|w| [w[0], w[1]]));
+            strips.push(curve);
         }
     }
     eprintln!(
@@ -231,8 +291,10 @@ fn bench_render(c: &mut Criterion) {
         segments.len(),
         groom.strands.strand_count()
     );
-    let floor = Floor::new(&renderer, &segments, &settings);
+    let floor = Floor::new(&renderer, FloorGeometry::Segments(&segments), &settings);
     group.bench_function("floor_plain_segments", |b| b.iter(|| floor.draw(&renderer)));
+    let floor = Floor::new(&renderer, FloorGeometry::Strips(&strips), &settings);
+    group.bench_function("floor_plain_strips", |b| b.iter(|| floor.draw(&renderer)));
     group.finish();
 }
 

@@ -98,7 +98,7 @@ pub use error::{RenderError, Result};
 pub use inputs::{SkeletonFrame, StrandSet};
 pub use renderer::{Renderer, RendererOptions};
 pub use settings::{
-    DirectionalLight, FrameSettings, HairMaterial, LevelColors, ShadingMode, StrandStyle,
-    Tessellation,
+    DirectionalLight, FrameSettings, HairMaterial, LevelColors, LineShading, ShadingMode,
+    StrandStyle, Tessellation,
 };
 pub use target::RenderTarget;

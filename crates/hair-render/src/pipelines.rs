@@ -40,7 +40,10 @@ pub(crate) struct Pipelines {
     /// Group 2 of the evaluation pass: the output points (binding 0).
     pub evaluate_layout: wgpu::BindGroupLayout,
     pub strand_ribbons: wgpu::RenderPipeline,
+    /// Strands as lines, shaded per fragment ([`crate::LineShading::PerFragment`]).
     pub strand_lines: wgpu::RenderPipeline,
+    /// Strands as lines, shaded at the curve points ([`crate::LineShading::PerVertex`]).
+    pub strand_lines_shaded_per_vertex: wgpu::RenderPipeline,
     pub clusters: wgpu::RenderPipeline,
     pub patches: wgpu::RenderPipeline,
     pub head: wgpu::RenderPipeline,
@@ -230,6 +233,15 @@ impl Pipelines {
             wgpu::PrimitiveTopology::LineStrip,
             None,
         );
+        let strand_lines_shaded_per_vertex = hair_pipeline(
+            "hair-render strand lines shaded per vertex",
+            &strand_layout,
+            &strands_module,
+            "vs_strand_line_shaded",
+            "fs_strand_line",
+            wgpu::PrimitiveTopology::LineStrip,
+            None,
+        );
         let clusters = hair_pipeline(
             "hair-render clusters",
             &surface_layout,
@@ -309,6 +321,7 @@ impl Pipelines {
             evaluate_layout,
             strand_ribbons,
             strand_lines,
+            strand_lines_shaded_per_vertex,
             clusters,
             patches,
             head,

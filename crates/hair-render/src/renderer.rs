@@ -11,7 +11,7 @@ use crate::head::{GpuMesh, upload_mesh, validate_mesh};
 use crate::inputs::{GpuNode, SkeletonFrame, StrandSet, pack_nodes, pack_strands};
 use crate::pipelines::Pipelines;
 use crate::scopes::ErrorScopes;
-use crate::settings::{FrameSettings, ShadingMode, StrandStyle};
+use crate::settings::{FrameSettings, LineShading, ShadingMode, StrandStyle};
 use crate::surfaces::{ClusterSet, PatchSet, pack_clusters, pack_patches};
 use crate::target::RenderTarget;
 use crate::uniforms::{GeometryCounts, Globals};
@@ -511,7 +511,12 @@ impl Renderer {
                 for batch in strand_batches {
                     if current != Some(batch.thin) {
                         pass.set_pipeline(if batch.thin {
-                            &self.pipelines.strand_lines
+                            match settings.line_shading {
+                                LineShading::PerVertex => {
+                                    &self.pipelines.strand_lines_shaded_per_vertex
+                                }
+                                LineShading::PerFragment => &self.pipelines.strand_lines,
+                            }
                         } else {
                             &self.pipelines.strand_ribbons
                         });

@@ -66,6 +66,23 @@ impl Default for StrandStyle {
     }
 }
 
+/// Where the Kajiya-Kay model is evaluated on strands drawn as 1-pixel lines (ribbons are always
+/// shaded per fragment).
+///
+/// A line is one pixel wide, so shading varies only along it; evaluating the model at the curve
+/// points and interpolating the colour (Gouraud) instead of interpolating the tangent and
+/// evaluating per fragment (Phong) moves the work from the ~5 fragments a segment covers to its
+/// end points. On a CPU rasteriser that halves the cost of a strand frame; the image differs only
+/// where the highlight turns within one segment (`docs/render.md` gives the measured difference).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LineShading {
+    /// Shade at the curve points, interpolate the colour along each segment (the default).
+    #[default]
+    PerVertex,
+    /// Interpolate tangent and position along each segment and shade every fragment.
+    PerFragment,
+}
+
 /// Tessellation: the number of segments along every strand, cluster and patch, and around every
 /// cluster, follows the camera distance of its skeleton's root (§6: nearly continuous LOD within a
 /// representation).
@@ -207,6 +224,8 @@ pub struct FrameSettings {
     pub head_color: Vec3,
     /// Lines or ribbons.
     pub strand_style: StrandStyle,
+    /// Where strands drawn as lines are shaded.
+    pub line_shading: LineShading,
     /// Segments per strand.
     pub tessellation: Tessellation,
     /// Colours of the colour-coding mode.
@@ -226,6 +245,7 @@ impl FrameSettings {
             hair: HairMaterial::default(),
             head_color: Vec3::new(0.6, 0.42, 0.33),
             strand_style: StrandStyle::default(),
+            line_shading: LineShading::default(),
             tessellation: Tessellation::default(),
             level_colors: LevelColors::default(),
         }

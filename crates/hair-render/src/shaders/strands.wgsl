@@ -6,8 +6,8 @@
 
 struct StrandVertex {
     @builtin(position) clip: vec4<f32>,
-    @location(0) world_position: vec3<f32>,
-    @location(1) tangent: vec3<f32>,
+    @location(0) @interpolate(perspective, centroid) world_position: vec3<f32>,
+    @location(1) @interpolate(perspective, centroid) tangent: vec3<f32>,
     @location(2) @interpolate(flat) shade: f32,
 }
 
@@ -76,17 +76,43 @@ fn vs_strand_ribbon(@builtin(vertex_index) vertex: u32, @builtin(instance_index)
     return strand_vertex(strand, vertex / 2u, side);
 }
 
-// Line strip per instance (one strand): vertex i is curve point i.
+// A strand line vertex shaded at the curve point.
+struct LineVertex {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(perspective, centroid) color: vec3<f32>,
+}
+
+// Line strip per instance (one strand): vertex i is curve point i (shaded per fragment).
 @vertex
 fn vs_strand_line(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> StrandVertex {
     return strand_vertex(strand, vertex, 0.0);
 }
 
+// Line strip per instance (one strand): vertex i is curve point i, shaded here; the colour is
+// interpolated along the segment (`LineShading::PerVertex`).
+@vertex
+fn vs_strand_line_shaded(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> LineVertex {
+    let v = strand_vertex(strand, vertex, 0.0);
+    var out: LineVertex;
+    out.clip = v.clip;
+    out.color = strand_color(v);
+    return out;
+}
+
 @fragment
-fn fs_strand(in: StrandVertex) -> @location(0) vec4<f32> {
+fn fs_strand_line(in: LineVertex) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.color, 1.0);
+}
+
+fn strand_color(in: StrandVertex) -> vec3<f32> {
     if (globals.shading.w > 0.5) {
-        return vec4<f32>(globals.strand_code_color.rgb, 1.0);
+        return globals.strand_code_color.rgb;
     }
     let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, in.shade);
-    return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, 1.0), 1.0);
+    return hair_color(base, normalize(in.tangent), in.world_position, 1.0);
+}
+
+@fragment
+fn fs_strand(in: StrandVertex) -> @location(0) vec4<f32> {
+    return vec4<f32>(strand_color(in), 1.0);
 }
