@@ -26,7 +26,7 @@ use hairlod::render::{RendererOptions, ShadingMode};
 use hairlod::{Level, Pipeline, Scene};
 
 use crate::bench_cmd::{parse_size, progress_bar, write_json};
-use crate::charts::{ParetoChart, write_png_and_svg};
+use crate::charts::{ACCURACY_PANELS, GROUP_COLOURS, ParetoChart, write_png_and_svg};
 use sweep::{FrameErrors, Group, Point, mark_pareto};
 
 /// Samples per strand-group skeleton for the geometric error.
@@ -242,6 +242,8 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
             .map(Point::scatter)
             .collect();
         let chart = ParetoChart {
+            panel_names: ACCURACY_PANELS,
+            group_colours: &GROUP_COLOURS,
             title: format!(
                 "Error against cost, {} ({}), {} frames at {width}x{height}; levels and LODs \
                  with {} ×{}: fixed levels (blue), LODs (red), strands with other integrators \

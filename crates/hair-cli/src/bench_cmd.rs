@@ -31,6 +31,9 @@ pub enum BenchKind {
     /// The paper's benchmark (§8.2): paper-curly, camera zooming out; LODs vs Strands, Clusters,
     /// Patches.
     Paper(PaperArgs),
+    /// Strand-line shading: render cost against image error for per-vertex and per-fragment
+    /// shading at several tessellations, against a converged render.
+    Shading(crate::bench_shading::ShadingArgs),
 }
 
 /// Arguments of `hairlod bench paper`.
@@ -135,6 +138,7 @@ struct Speedups {
 pub fn run(args: &BenchArgs) -> Result<()> {
     match &args.which {
         BenchKind::Paper(paper) => run_paper(paper),
+        BenchKind::Shading(shading) => crate::bench_shading::run(shading),
     }
 }
 
@@ -508,6 +512,7 @@ fn print_table(
     }
 }
 
+/// Writes `value` as pretty JSON to `path` atomically (a temporary file renamed into place).
 pub fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(value)?;
     let temporary = path.with_extension("json.partial");

@@ -107,11 +107,13 @@ pub struct ScatterPoint {
     pub errors: [f64; 2],
     /// On the Pareto front of each panel's error against cost.
     pub pareto: [bool; 2],
-    /// Colour group: 0 fixed levels, 1 LODs, 2 integrators and steps, 3 budgets.
+    /// Colour group, an index into [`ParetoChart::group_colours`] (`hairlod accuracy`: 0 fixed
+    /// levels, 1 LODs, 2 integrators and steps, 3 budgets).
     pub group: usize,
 }
 
-const GROUP_COLOURS: [RGBColor; 4] = [
+/// Colours of the point groups of `hairlod accuracy`: fixed levels, LODs, integrators, budgets.
+pub const GROUP_COLOURS: [RGBColor; 4] = [
     RGBColor(33, 102, 172),
     RGBColor(214, 96, 77),
     RGBColor(77, 146, 33),
@@ -123,21 +125,36 @@ const GROUP_COLOURS: [RGBColor; 4] = [
 pub struct ParetoChart<'a> {
     /// Title over both panels.
     pub title: String,
+    /// The y-axis description of each panel.
+    pub panel_names: [&'a str; 2],
+    /// Colour of each point group, in group order (the last one serves larger groups).
+    pub group_colours: &'a [RGBColor],
     /// The points.
     pub points: &'a [ScatterPoint],
 }
 
+/// The panels of the speed-against-accuracy chart of `hairlod accuracy`.
+pub const ACCURACY_PANELS: [&str; 2] = [
+    "SSIM loss (1 − mean SSIM vs reference, log scale)",
+    "mean pixel error vs reference [px] (log scale)",
+];
+
 impl Chart for ParetoChart<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
-        draw_pareto(root, &self.title, self.points)
+        draw_pareto(root, self)
     }
 }
 
 fn draw_pareto<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
-    title: &str,
-    points: &[ScatterPoint],
+    chart: &ParetoChart<'_>,
 ) -> Result<()> {
+    let ParetoChart {
+        title,
+        panel_names: names,
+        group_colours,
+        points,
+    } = chart;
     let (header, body) = root.split_vertically(40);
     header
         .draw(&Text::new(
@@ -147,10 +164,6 @@ fn draw_pareto<DB: DrawingBackend>(
         ))
         .map_err(plot_error)?;
     let panels = body.split_evenly((1, 2));
-    let names = [
-        "SSIM loss (1 − mean SSIM vs reference, log scale)",
-        "mean pixel error vs reference [px] (log scale)",
-    ];
     let min_cost = points
         .iter()
         .map(|p| p.cost_ms)
@@ -211,8 +224,12 @@ fn draw_pareto<DB: DrawingBackend>(
         chart
             .draw_series(LineSeries::new(steps, BLACK.stroke_width(1)))
             .map_err(plot_error)?;
-        for point in points {
-            let colour = GROUP_COLOURS[point.group.min(3)];
+        for point in points.iter() {
+            let colour = group_colours
+                .get(point.group)
+                .or(group_colours.last())
+                .copied()
+                .unwrap_or(BLACK);
             let at = (point.cost_ms, floor(point.errors[panel]));
             let marker: EmptyElement<(f64, f64), DB> = EmptyElement::at(at);
             let size = if point.pareto[panel] { 6 } else { 4 };

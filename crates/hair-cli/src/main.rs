@@ -3,9 +3,11 @@
 
 mod accuracy_cmd;
 mod bench_cmd;
+mod bench_shading;
 mod charts;
 mod demo_cmd;
 mod groom_cmd;
+mod pareto;
 mod render_cmd;
 mod scene_args;
 mod stability_cmd;
@@ -31,7 +33,8 @@ enum Command {
     Stability(stability_cmd::StabilityArgs),
     /// Render a groom to a PNG sequence (headless wgpu): one level, shaded or colour-coded.
     Render(render_cmd::RenderArgs),
-    /// Benchmarks: `bench paper` measures the paper's Tables 1 and 2 (LODs vs fixed levels).
+    /// Benchmarks: `bench paper` measures the paper's Tables 1 and 2 (LODs vs fixed levels),
+    /// `bench shading` the strand-line shading's cost against its error.
     Bench(bench_cmd::BenchArgs),
     /// The main job: the benchmark scene with wind and LODs rendered to ./out (shaded and
     /// colour-coded), then the Table 2 comparison.

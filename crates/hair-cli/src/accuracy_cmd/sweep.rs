@@ -5,6 +5,7 @@ use hairlod::accuracy::{GeometricError, PhysicalError};
 use serde::Serialize;
 
 use crate::charts::ScatterPoint;
+use crate::pareto::pareto_front;
 
 /// What a configuration is, for the chart's colours: fixed levels, LODs, integrators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -141,19 +142,7 @@ fn front(points: &[Point], error: impl Fn(&Point) -> f64) -> Vec<bool> {
             (p.failed.is_none() && p.group != Group::Reference).then(|| (p.median_cost, error(p)))
         })
         .collect();
-    keys.iter()
-        .enumerate()
-        .map(|(i, key)| {
-            let Some((cost, loss)) = *key else {
-                return false;
-            };
-            !keys.iter().enumerate().any(|(j, other)| {
-                other.is_some_and(|(c, l)| {
-                    j != i && c <= cost && l <= loss && (c < cost || l < loss)
-                })
-            })
-        })
-        .collect()
+    pareto_front(&keys)
 }
 
 #[cfg(test)]
