@@ -10,7 +10,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
 use hairlod::benchmark::{luma, ssim};
-use hairlod::core::{Frame, Level, RigidTransform, Scene};
+use hairlod::core::{Level, Scene};
 use hairlod::render::settings::MAX_SEGMENTS_LIMIT;
 use hairlod::render::{
     ActiveSkeletons, Camera, FrameSettings, LineShading, Renderer, RendererOptions,
@@ -118,18 +118,12 @@ pub fn run(args: &ShadingArgs) -> Result<()> {
     let (width, height) = parse_size(&args.size)?;
     let scene = Scene::preset("paper-curly")?;
     let groom = &scene.groom;
-    let head = RigidTransform::IDENTITY;
-    let positions = groom.skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    groom
-        .skeletons
-        .node_frames_into(&head, &positions, &mut frames);
     let mut renderer = Renderer::new(&RendererOptions::from_env()?)?;
     let adapter = renderer.adapter_report().to_string();
     eprintln!("adapter: {adapter}");
     renderer.upload_groom(groom)?;
     let mut active = ActiveSkeletons::new();
-    active.gather_level(groom, Level::StrandGroup, &positions, &frames)?;
+    active.gather_rest_pose(groom, Level::StrandGroup)?;
     let camera = Camera::orbit(
         Vec3::new(0.0, -0.01, 0.0),
         0.8,

@@ -138,8 +138,15 @@ impl CollisionBody {
     /// Places the body: world = `rotation` · local + `translation` \[m\]. Recomputes the world
     /// triangles and refits the triangle tree (no rebuild). `rotation` is normalised; errors on a
     /// non-finite or zero rotation or a non-finite translation, leaving the pose unchanged.
+    ///
+    /// Placing it where it already is costs nothing (the solvers pose their bodies before and
+    /// after every step, and a still head keeps its pose).
     pub fn set_pose(&mut self, rotation: Quat, translation: Vec3) -> Result<()> {
         let rotation = require_pose(rotation, translation)?;
+        if rotation == self.rotation && translation == self.translation {
+            // The triangles and the tree were computed for exactly this pose.
+            return Ok(());
+        }
         self.rotation = rotation;
         self.translation = translation;
         let to_world = |p: Vec3| rotation * p + translation;
@@ -191,5 +198,38 @@ impl CollisionBody {
     /// The underlying parry3d triangle tree (leaf data = triangle id).
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tetrahedron() -> TriangleMesh {
+        TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+            ..TriangleMesh::default()
+        }
+    }
+
+    /// Posing where the body already is skips the work; posing away and back gives the first
+    /// pose's triangles exactly (they are always computed from the local mesh).
+    #[test]
+    fn posing_away_and_back_restores_the_triangles() {
+        let mut body = CollisionBody::from_mesh(&tetrahedron()).unwrap();
+        let rotation = Quat::from_rotation_y(0.7);
+        let translation = Vec3::new(0.1, -0.2, 0.3);
+        body.set_pose(rotation, translation).unwrap();
+        let first: Vec<[Vec3; 3]> = body.triangles().iter().map(|t| t.vertices).collect();
+        body.set_pose(rotation, translation).unwrap();
+        let again: Vec<[Vec3; 3]> = body.triangles().iter().map(|t| t.vertices).collect();
+        assert_eq!(first, again);
+        body.set_pose(Quat::IDENTITY, Vec3::ZERO).unwrap();
+        assert_eq!(body.triangles()[0].vertices, [Vec3::ZERO, Vec3::Y, Vec3::X]);
+        body.set_pose(rotation, translation).unwrap();
+        let back: Vec<[Vec3; 3]> = body.triangles().iter().map(|t| t.vertices).collect();
+        assert_eq!(first, back);
+        assert_eq!(body.pose(), (rotation.normalize(), translation));
     }
 }

@@ -7,7 +7,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
-use hair_core::{Frame, Level, RigidTransform, Scene};
+use hair_core::{Level, Scene};
 use hair_render::target::{COLOR_FORMAT, DEPTH_FORMAT};
 use hair_render::{
     ActiveSkeletons, Camera, FrameSettings, LineShading, RenderTarget, Renderer, RendererOptions,
@@ -214,12 +214,6 @@ impl Floor {
 fn bench_render(c: &mut Criterion) {
     let scene = Scene::preset("paper-curly").expect("paper-curly");
     let groom = &scene.groom;
-    let head = RigidTransform::IDENTITY;
-    let positions = groom.skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    groom
-        .skeletons
-        .node_frames_into(&head, &positions, &mut frames);
 
     let mut renderer = Renderer::new(&RendererOptions::from_env().expect("HAIRLOD_BACKEND"))
         .expect("a renderer (install mesa-vulkan-drivers)");
@@ -237,15 +231,13 @@ fn bench_render(c: &mut Criterion) {
     let mut group = c.benchmark_group("render_paper_curly_1280x720");
     let mut active = ActiveSkeletons::new();
     for level in [Level::StrandGroup, Level::Cluster, Level::Patch] {
-        active
-            .gather_level(groom, level, &positions, &frames)
-            .expect("gather");
+        active.gather_rest_pose(groom, level).expect("gather");
         group.bench_function(level.name(), |b| {
             b.iter(|| renderer.render(&active.frame(), &settings).expect("render"))
         });
     }
     active
-        .gather_level(groom, Level::StrandGroup, &positions, &frames)
+        .gather_rest_pose(groom, Level::StrandGroup)
         .expect("gather");
     // Lines shaded per fragment (the default shades them at the curve points).
     let per_fragment = FrameSettings {

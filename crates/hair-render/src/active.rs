@@ -2,7 +2,7 @@
 //! their nodes and frames, every other chain is empty (and draws nothing).
 
 use glam::Vec3;
-use hair_core::{Frame, Groom, Level};
+use hair_core::{Frame, Groom, Level, RigidTransform};
 
 use crate::error::{Result, invalid};
 use crate::inputs::SkeletonFrame;
@@ -130,6 +130,18 @@ impl ActiveSkeletons {
     ) -> Result<()> {
         let levels = vec![level; groom.section_count()];
         self.gather(groom, &levels, node_positions, node_frames)
+    }
+
+    /// [`ActiveSkeletons::gather_level`] with the groom in its rest pose, the head at the origin
+    /// (a still frame: previews, benchmarks, tests).
+    pub fn gather_rest_pose(&mut self, groom: &Groom, level: Level) -> Result<()> {
+        let head = RigidTransform::IDENTITY;
+        let positions = groom.skeletons.rest_positions(&head);
+        let mut frames = vec![Frame::default(); positions.len()];
+        groom
+            .skeletons
+            .node_frames_into(&head, &positions, &mut frames);
+        self.gather_level(groom, level, &positions, &frames)
     }
 
     /// Number of chains (active or not).

@@ -32,14 +32,18 @@ pub(crate) const CHAIN_SAMPLE_BYTES: u64 = 96;
 /// The chain table of a (validated) frame: nodes, tessellation and chain-curve slots of every
 /// chain, written into `out` (reusing its allocation). Returns the number of chain-curve samples.
 /// `is_thin(distance)` says whether strands at that distance [m] are at most one pixel wide.
+/// `root_distances` receives each chain's root distance to the camera [m] (infinite without
+/// nodes).
 pub(crate) fn chain_table(
     frame: &SkeletonFrame<'_>,
     tessellation: &Tessellation,
     camera_position: Vec3,
     is_thin: impl Fn(f32) -> bool,
     out: &mut Vec<GpuChain>,
+    root_distances: &mut Vec<f32>,
 ) -> u32 {
     out.clear();
+    root_distances.clear();
     let mut samples = 0u32;
     out.extend(
         frame
@@ -52,6 +56,7 @@ pub(crate) fn chain_table(
                     .node_positions
                     .get(first as usize)
                     .map_or(f32::INFINITY, |root| root.distance(camera_position));
+                root_distances.push(distance);
                 let along_segments = tessellation.segments_at(distance);
                 let first_sample = samples;
                 if end - first >= 2 {
@@ -120,36 +125,77 @@ impl ChainOrder {
     }
 
     /// Appends the draw batches of this frame to `out`: runs of consecutive items whose chains
-    /// have at least two nodes and equal tessellation.
+    /// have at least two nodes, equal tessellation and either all or none fading.
     pub fn batches(&self, chains: &[GpuChain], out: &mut Vec<Batch>) {
         let first_new = out.len();
-        for &(chain, start, end) in &self.runs {
-            let Some(info) = chains.get(chain as usize) else {
-                continue;
-            };
-            if info.node_count < 2 {
-                continue;
-            }
-            let (along, around, thin) = (info.along_segments, info.around_segments, info.thin);
-            let mergeable = out.len() > first_new;
-            match out.last_mut() {
-                Some(batch)
-                    if mergeable
-                        && batch.along_segments == along
-                        && batch.around_segments == around
-                        && batch.thin == (thin != 0)
-                        && batch.items.end == start =>
-                {
-                    batch.items.end = end;
-                }
-                _ => out.push(Batch {
-                    items: start..end,
-                    along_segments: along,
-                    around_segments: around,
-                    thin: thin != 0,
-                }),
-            }
+        for &run in &self.runs {
+            push_run(chains, run, first_new, out);
         }
+    }
+
+    /// [`ChainOrder::batches`] with the chains drawn nearest first (by `root_distances` [m], one
+    /// per chain): opaque surfaces then hide what lies behind them before it is shaded. Runs
+    /// merge into one draw only where they stay consecutive in that order; `scratch` is reused.
+    pub fn batches_front_to_back(
+        &self,
+        chains: &[GpuChain],
+        root_distances: &[f32],
+        scratch: &mut Vec<(f32, u32)>,
+        out: &mut Vec<Batch>,
+    ) {
+        scratch.clear();
+        scratch.extend(self.runs.iter().enumerate().map(|(index, run)| {
+            let distance = root_distances
+                .get(run.0 as usize)
+                .copied()
+                .unwrap_or(f32::INFINITY);
+            (distance, index as u32)
+        }));
+        // Stable and total: equal distances keep chain order, so the draws are deterministic.
+        scratch.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let first_new = out.len();
+        for &(_, index) in scratch.iter() {
+            push_run(chains, self.runs[index as usize], first_new, out);
+        }
+    }
+}
+
+/// Appends run `(chain, start, end)` to the batches from `first_new` on: merged into the last
+/// batch when it continues it with the same tessellation and fading, skipped when its chain has
+/// fewer than two nodes.
+fn push_run(
+    chains: &[GpuChain],
+    (chain, start, end): (u32, u32, u32),
+    first_new: usize,
+    out: &mut Vec<Batch>,
+) {
+    let Some(info) = chains.get(chain as usize) else {
+        return;
+    };
+    if info.node_count < 2 {
+        return;
+    }
+    let (along, around, thin) = (info.along_segments, info.around_segments, info.thin);
+    let dissolving = info.coverage < 1.0;
+    let mergeable = out.len() > first_new;
+    match out.last_mut() {
+        Some(batch)
+            if mergeable
+                && batch.along_segments == along
+                && batch.around_segments == around
+                && batch.thin == (thin != 0)
+                && batch.dissolving == dissolving
+                && batch.items.end == start =>
+        {
+            batch.items.end = end;
+        }
+        _ => out.push(Batch {
+            items: start..end,
+            along_segments: along,
+            around_segments: around,
+            thin: thin != 0,
+            dissolving,
+        }),
     }
 }
 
@@ -161,6 +207,8 @@ pub(crate) struct Batch {
     pub around_segments: u32,
     /// Strands at most a pixel wide: drawn as lines, not ribbons.
     pub thin: bool,
+    /// The chains fade in or out (coverage below 1): surfaces need the screen-door pipeline.
+    pub dissolving: bool,
 }
 
 impl Batch {
@@ -206,6 +254,7 @@ mod tests {
             node_count: nodes,
             along_segments: along,
             around_segments: 4,
+            coverage: 1.0,
             ..GpuChain::default()
         };
         let chains = [chain(5, 8), chain(5, 8), chain(0, 8), chain(5, 4)];
@@ -217,18 +266,62 @@ mod tests {
                 along_segments: 8,
                 around_segments: 4,
                 thin: false,
+                dissolving: false,
             },
             Batch {
                 items: 4..6,
                 along_segments: 4,
                 around_segments: 4,
                 thin: false,
+                dissolving: false,
             },
         ];
         assert_eq!(batches, expected);
         assert_eq!(expected[1].ribbon_vertices(), 10);
         assert_eq!(expected[1].surface_vertices(1), 10);
         assert_eq!(expected[1].surface_vertices(3), 34);
+    }
+
+    #[test]
+    fn fading_chains_get_their_own_batches() {
+        let order = ChainOrder::new(&[0, 1, 2]);
+        let chain = |coverage| GpuChain {
+            node_count: 5,
+            along_segments: 8,
+            around_segments: 4,
+            coverage,
+            ..GpuChain::default()
+        };
+        let mut batches = Vec::new();
+        order.batches(&[chain(1.0), chain(0.5), chain(1.0)], &mut batches);
+        let fading: Vec<(std::ops::Range<u32>, bool)> = batches
+            .iter()
+            .map(|b| (b.items.clone(), b.dissolving))
+            .collect();
+        assert_eq!(fading, vec![(0..1, false), (1..2, true), (2..3, false)]);
+    }
+
+    /// Nearest chain first; runs merge only where they stay consecutive; ties keep chain order;
+    /// chains without nodes are skipped.
+    #[test]
+    fn front_to_back_batches_follow_root_distance() {
+        let order = ChainOrder::new(&[0, 1, 2, 3, 4]);
+        let chain = |nodes| GpuChain {
+            node_count: nodes,
+            along_segments: 8,
+            around_segments: 4,
+            coverage: 1.0,
+            ..GpuChain::default()
+        };
+        let chains = [chain(5), chain(5), chain(5), chain(0), chain(5)];
+        let distances = [1.5, 1.0, 1.2, 0.1, 1.5];
+        let mut scratch = Vec::new();
+        let mut batches = Vec::new();
+        order.batches_front_to_back(&chains, &distances, &mut scratch, &mut batches);
+        let items: Vec<std::ops::Range<u32>> = batches.iter().map(|b| b.items.clone()).collect();
+        // Chain 3 is nearest but has no nodes; chains 1 and 2 follow each other (one draw);
+        // chains 0 and 4 tie at 1.5 m and keep their order.
+        assert_eq!(items, vec![1..3, 0..1, 4..5]);
     }
 
     #[test]
@@ -248,6 +341,7 @@ mod tests {
             chain_coverage: &[],
         };
         let mut table = Vec::new();
+        let mut distances = Vec::new();
         let tessellation = Tessellation::default();
         let samples = chain_table(
             &frame,
@@ -255,6 +349,7 @@ mod tests {
             Vec3::new(0.0, 0.0, 1.0),
             |d| d > 2.0,
             &mut table,
+            &mut distances,
         );
         assert_eq!(table.len(), 3);
         assert_eq!(table[2].first_sample, table[0].along_segments + 1);

@@ -44,10 +44,30 @@ pub(crate) struct Pipelines {
     pub strand_lines: wgpu::RenderPipeline,
     /// Strands as lines, shaded at the curve points ([`crate::LineShading::PerVertex`]).
     pub strand_lines_shaded_per_vertex: wgpu::RenderPipeline,
-    pub clusters: wgpu::RenderPipeline,
-    pub patches: wgpu::RenderPipeline,
+    pub clusters: SurfacePipelines,
+    pub patches: SurfacePipelines,
     pub head: wgpu::RenderPipeline,
     pub evaluate: wgpu::ComputePipeline,
+}
+
+/// The two pipelines of a surface kind (clusters or patches).
+#[derive(Debug)]
+pub(crate) struct SurfacePipelines {
+    /// Chains drawn whole: no `discard` in the fragment shader, so depth is tested before shading.
+    pub opaque: wgpu::RenderPipeline,
+    /// Chains fading in or out (coverage below 1): screen-door `discard`.
+    pub dissolving: wgpu::RenderPipeline,
+}
+
+impl SurfacePipelines {
+    /// The pipeline for a batch.
+    pub fn for_batch(&self, dissolving: bool) -> &wgpu::RenderPipeline {
+        if dissolving {
+            &self.dissolving
+        } else {
+            &self.opaque
+        }
+    }
 }
 
 fn storage_entry(
@@ -242,24 +262,28 @@ impl Pipelines {
             wgpu::PrimitiveTopology::LineStrip,
             None,
         );
-        let clusters = hair_pipeline(
-            "hair-render clusters",
-            &surface_layout,
-            &surfaces_module,
-            "vs_cluster",
-            "fs_surface",
-            strip,
-            cluster_cull_mode(),
-        );
-        let patches = hair_pipeline(
-            "hair-render patches",
-            &surface_layout,
-            &surfaces_module,
-            "vs_patch",
-            "fs_surface",
-            strip,
-            None,
-        );
+        let surface_pipelines = |kind: &str, vertex_entry: &str, cull_mode| SurfacePipelines {
+            opaque: hair_pipeline(
+                &format!("hair-render {kind}"),
+                &surface_layout,
+                &surfaces_module,
+                vertex_entry,
+                "fs_surface",
+                strip,
+                cull_mode,
+            ),
+            dissolving: hair_pipeline(
+                &format!("hair-render {kind} dissolving"),
+                &surface_layout,
+                &surfaces_module,
+                vertex_entry,
+                "fs_surface_dissolving",
+                strip,
+                cull_mode,
+            ),
+        };
+        let clusters = surface_pipelines("clusters", "vs_cluster", cluster_cull_mode());
+        let patches = surface_pipelines("patches", "vs_patch", None);
 
         let head_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let head = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

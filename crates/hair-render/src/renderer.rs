@@ -98,6 +98,10 @@ pub struct Renderer {
     target: Option<RenderTarget>,
     node_scratch: Vec<GpuNode>,
     chain_scratch: Vec<GpuChain>,
+    /// Root distance to the camera of each chain this frame [m].
+    chain_distances: Vec<f32>,
+    /// Draw-order scratch of the front-to-back surface batches.
+    order_scratch: Vec<(f32, u32)>,
 }
 
 impl Renderer {
@@ -142,6 +146,8 @@ impl Renderer {
             target: None,
             node_scratch: Vec::new(),
             chain_scratch: Vec::new(),
+            chain_distances: Vec::new(),
+            order_scratch: Vec::new(),
         })
     }
 
@@ -301,6 +307,7 @@ impl Renderer {
             settings.camera.position,
             is_thin,
             &mut self.chain_scratch,
+            &mut self.chain_distances,
         );
         let scope = ErrorScopes::push(&self.gpu.device);
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
@@ -442,12 +449,22 @@ impl Renderer {
             self.item_bind_group(ItemKind::Clusters),
             self.item_bind_group(ItemKind::Patches),
         ];
+        // Strands in chain order (long runs, few draws); clusters and patches nearest first, so
+        // that early depth testing skips the hidden surfaces' shading.
         let mut batches: [Vec<Batch>; 3] = Default::default();
-        for (items, out) in [&self.strands, &self.clusters, &self.patches]
+        self.strands
+            .order
+            .batches(&self.chain_scratch, &mut batches[0]);
+        for (items, out) in [&self.clusters, &self.patches]
             .into_iter()
-            .zip(&mut batches)
+            .zip(&mut batches[1..])
         {
-            items.order.batches(&self.chain_scratch, out);
+            items.order.batches_front_to_back(
+                &self.chain_scratch,
+                &self.chain_distances,
+                &mut self.order_scratch,
+                out,
+            );
         }
         let Some(target) = self.target.as_ref() else {
             return Err(RenderError::Gpu("render target missing".into()));
@@ -530,19 +547,32 @@ impl Renderer {
                     pass.draw(0..vertices, batch.items.clone());
                 }
             }
-            if !cluster_batches.is_empty() {
-                pass.set_pipeline(&self.pipelines.clusters);
-                pass.set_bind_group(1, &item_groups[1], &[]);
-                for batch in cluster_batches {
-                    let vertices = batch.surface_vertices(batch.around_segments);
-                    pass.draw(0..vertices, batch.items.clone());
+            for (pipelines, group, batches, is_cluster) in [
+                (
+                    &self.pipelines.clusters,
+                    &item_groups[1],
+                    cluster_batches,
+                    true,
+                ),
+                (
+                    &self.pipelines.patches,
+                    &item_groups[2],
+                    patch_batches,
+                    false,
+                ),
+            ] {
+                if batches.is_empty() {
+                    continue;
                 }
-            }
-            if !patch_batches.is_empty() {
-                pass.set_pipeline(&self.pipelines.patches);
-                pass.set_bind_group(1, &item_groups[2], &[]);
-                for batch in patch_batches {
-                    pass.draw(0..batch.surface_vertices(1), batch.items.clone());
+                pass.set_bind_group(1, group, &[]);
+                let mut current = None;
+                for batch in batches {
+                    if current != Some(batch.dissolving) {
+                        pass.set_pipeline(pipelines.for_batch(batch.dissolving));
+                        current = Some(batch.dissolving);
+                    }
+                    let bands = if is_cluster { batch.around_segments } else { 1 };
+                    pass.draw(0..batch.surface_vertices(bands), batch.items.clone());
                 }
             }
         }

@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use hair_core::{Frame, Level, RigidTransform, Scene};
+use hair_core::{Level, Scene};
 use hair_render::{
     ActiveSkeletons, BackendChoice, Camera, DeviceOptions, FrameSettings, LineShading, Renderer,
     RendererOptions, StrandStyle,
@@ -108,18 +108,10 @@ fn per_vertex_lines_equal_per_fragment_lines_on_straight_strands() {
 fn per_vertex_lines_converge_to_per_fragment_at_second_order() {
     let scene = Scene::preset("curly").unwrap();
     let groom = &scene.groom;
-    let head = RigidTransform::IDENTITY;
-    let positions = groom.skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    groom
-        .skeletons
-        .node_frames_into(&head, &positions, &mut frames);
     let mut renderer = single_sample_renderer(Some(BackendChoice::Vulkan));
     renderer.upload_groom(groom).unwrap();
     let mut active = ActiveSkeletons::new();
-    active
-        .gather_level(groom, Level::StrandGroup, &positions, &frames)
-        .unwrap();
+    active.gather_rest_pose(groom, Level::StrandGroup).unwrap();
     let camera = Camera::orbit(
         Vec3::new(0.0, -0.01, 0.0),
         0.8,

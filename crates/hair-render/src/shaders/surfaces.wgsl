@@ -155,11 +155,24 @@ fn stripe_noise(x: f32, period: f32, seed: u32) -> f32 {
     return mix(ha, hb, smoothstep(0.0, 1.0, f));
 }
 
+// Fully drawn surfaces. No `discard` here: a shader that may discard makes a rasterizer test
+// depth after shading (no early depth test), which on a CPU rasterizer shades every hidden
+// fragment of the overlapping tubes too.
 @fragment
 fn fs_surface(in: SurfaceVertex) -> @location(0) vec4<f32> {
-    if (in.coverage < 1.0 && screen_door_threshold(in.clip.xy) >= in.coverage) {
+    return surface_color(in);
+}
+
+// Surfaces fading in or out (chain coverage below 1): screen-door dissolve, then shading.
+@fragment
+fn fs_surface_dissolving(in: SurfaceVertex) -> @location(0) vec4<f32> {
+    if (screen_door_threshold(in.clip.xy) >= in.coverage) {
         discard;
     }
+    return surface_color(in);
+}
+
+fn surface_color(in: SurfaceVertex) -> vec4<f32> {
     if (globals.shading.w > 0.5) {
         if (in.kind == 1u) {
             return vec4<f32>(globals.cluster_code_color.rgb, 1.0);
