@@ -191,12 +191,15 @@ impl RenderTarget {
     /// Maps the readback buffer (after the commands from [`Self::encode_readback`] were submitted)
     /// and returns the image, rows unpadded; sRGB-encoded RGBA8 as stored in the target.
     pub fn read_image(&self, device: &wgpu::Device) -> Result<image::RgbaImage> {
-        let bytes = map_and_read(device, &self.readback)?;
         let row_bytes = (self.width * BYTES_PER_PIXEL) as usize;
-        let mut pixels = Vec::with_capacity(row_bytes * self.height as usize);
-        for row in bytes.chunks_exact(self.padded_bytes_per_row as usize) {
-            pixels.extend_from_slice(&row[..row_bytes]);
-        }
+        // Rows are copied straight out of the mapped buffer, without their padding.
+        let pixels = map_and_with(device, &self.readback, |bytes| {
+            let mut pixels = Vec::with_capacity(row_bytes * self.height as usize);
+            for row in bytes.chunks_exact(self.padded_bytes_per_row as usize) {
+                pixels.extend_from_slice(&row[..row_bytes]);
+            }
+            pixels
+        })?;
         image::RgbaImage::from_raw(self.width, self.height, pixels)
             .ok_or_else(|| RenderError::Gpu("readback returned a buffer of the wrong size".into()))
     }
@@ -204,6 +207,15 @@ impl RenderTarget {
 
 /// Maps `buffer` for reading, waits for the GPU, copies its whole contents out and unmaps it.
 pub(crate) fn map_and_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
+    map_and_with(device, buffer, <[u8]>::to_vec)
+}
+
+/// Maps `buffer` for reading, waits for the GPU, hands the mapped bytes to `read` and unmaps it.
+pub(crate) fn map_and_with<T>(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    read: impl FnOnce(&[u8]) -> T,
+) -> Result<T> {
     let (sender, receiver) = std::sync::mpsc::channel();
     buffer.map_async(wgpu::MapMode::Read, .., move |result| {
         // The receiver waits below; a failed send only means it is gone.
@@ -218,12 +230,14 @@ pub(crate) fn map_and_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Resu
         .map_err(|error| {
             RenderError::Gpu(format!("mapping the readback buffer failed: {error}"))
         })?;
-    let bytes = buffer
-        .get_mapped_range(..)
-        .map_err(|error| RenderError::Gpu(format!("reading the mapped buffer failed: {error}")))?
-        .to_vec();
+    let result = {
+        let mapped = buffer.get_mapped_range(..).map_err(|error| {
+            RenderError::Gpu(format!("reading the mapped buffer failed: {error}"))
+        })?;
+        read(&mapped)
+    };
     buffer.unmap();
-    Ok(bytes)
+    Ok(result)
 }
 
 #[cfg(test)]
