@@ -33,11 +33,15 @@ pub(crate) const CHAIN_SAMPLE_BYTES: u64 = 96;
 /// chain, written into `out` (reusing its allocation). Returns the number of chain-curve samples.
 /// `is_thin(distance)` says whether strands at that distance [m] are at most one pixel wide.
 /// `root_distances` receives each chain's root distance to the camera [m] (infinite without
-/// nodes).
+/// nodes). `ring_radii` holds the largest cluster ring radius [m] per chain (missing or 0: no
+/// cluster), which with `focal_pixels` sets the segments around.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn chain_table(
     frame: &SkeletonFrame<'_>,
     tessellation: &Tessellation,
     camera_position: Vec3,
+    focal_pixels: f32,
+    ring_radii: &[f32],
     is_thin: impl Fn(f32) -> bool,
     out: &mut Vec<GpuChain>,
     root_distances: &mut Vec<f32>,
@@ -66,7 +70,11 @@ pub(crate) fn chain_table(
                     first_node: first,
                     node_count: end - first,
                     along_segments,
-                    around_segments: tessellation.around_segments_at(distance),
+                    around_segments: tessellation.around_segments_for(
+                        ring_radii.get(chain).copied().unwrap_or(0.0),
+                        distance,
+                        focal_pixels,
+                    ),
                     first_sample,
                     thin: u32::from(is_thin(distance)),
                     coverage: frame.chain_coverage.get(chain).copied().unwrap_or(1.0),
@@ -347,6 +355,8 @@ mod tests {
             &frame,
             &tessellation,
             Vec3::new(0.0, 0.0, 1.0),
+            1000.0,
+            &[0.01, 0.0, 0.01],
             |d| d > 2.0,
             &mut table,
             &mut distances,
@@ -362,6 +372,12 @@ mod tests {
         assert_eq!(table[0].along_segments, tessellation.segments_at(1.0));
         assert_eq!(table[2].along_segments, tessellation.segments_at(4.0));
         assert!(table[2].along_segments < table[0].along_segments);
+        // Ring radius 1 cm at 1.0 m and at 3.2 m with a 1000 px focal length: 10 px and 3.1 px.
+        assert_eq!(
+            table[0].around_segments,
+            tessellation.around_segments_for(0.01, 1.0, 1000.0)
+        );
+        assert!(table[2].around_segments < table[0].around_segments);
         assert_eq!((table[0].thin, table[2].thin), (0, 1));
     }
 }

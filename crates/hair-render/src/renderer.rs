@@ -12,7 +12,7 @@ use crate::inputs::{GpuNode, SkeletonFrame, StrandSet, pack_nodes, pack_strands}
 use crate::pipelines::Pipelines;
 use crate::scopes::ErrorScopes;
 use crate::settings::{FrameSettings, LineShading, ShadingMode, StrandStyle};
-use crate::surfaces::{ClusterSet, PatchSet, pack_clusters, pack_patches};
+use crate::surfaces::{ClusterSet, PatchSet, chain_ring_radii, pack_clusters, pack_patches};
 use crate::target::RenderTarget;
 use crate::uniforms::{GeometryCounts, Globals};
 
@@ -100,6 +100,8 @@ pub struct Renderer {
     chain_scratch: Vec<GpuChain>,
     /// Root distance to the camera of each chain this frame [m].
     chain_distances: Vec<f32>,
+    /// Largest cluster ring radius [m] per chain (0 without clusters), from the cluster upload.
+    chain_ring_radii: Vec<f32>,
     /// Draw-order scratch of the front-to-back surface batches.
     order_scratch: Vec<(f32, u32)>,
 }
@@ -147,6 +149,7 @@ impl Renderer {
             node_scratch: Vec::new(),
             chain_scratch: Vec::new(),
             chain_distances: Vec::new(),
+            chain_ring_radii: Vec::new(),
             order_scratch: Vec::new(),
         })
     }
@@ -198,6 +201,7 @@ impl Renderer {
         let scope = ErrorScopes::push(&self.gpu.device);
         self.clusters
             .upload(&self.gpu, clusters.cluster_chain, &packed);
+        self.chain_ring_radii = chain_ring_radii(clusters);
         scope.pop("uploading clusters")
     }
 
@@ -305,6 +309,8 @@ impl Renderer {
             frame,
             &settings.tessellation,
             settings.camera.position,
+            focal,
+            &self.chain_ring_radii,
             is_thin,
             &mut self.chain_scratch,
             &mut self.chain_distances,

@@ -89,7 +89,10 @@ pub enum LineShading {
 ///
 /// A chain whose root is `d` metres from the camera gets
 /// `clamp(ceil(max_segments · full_detail_distance / d), min_segments, max_segments)` segments
-/// along, and likewise `min_around_segments..=max_around_segments` around a cluster tube.
+/// along. Around a cluster tube whose ring has radius `R` pixels on screen (its radius times the
+/// focal length over `d`), it gets the fewest segments `n` whose polygon stays within
+/// `max_chord_error_pixels` `ε` of the ring, `n = ceil(π / acos(1 − ε/R))`, clamped to
+/// `min_around_segments..=max_around_segments`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tessellation {
     /// Segments along the hair at `full_detail_distance` and closer.
@@ -102,10 +105,12 @@ pub struct Tessellation {
     pub min_around_segments: u32,
     /// Distance [m] within which chains get the most segments.
     pub full_detail_distance: f32,
+    /// Largest on-screen gap [pixels] between a cluster tube's polygon and its ring.
+    pub max_chord_error_pixels: f32,
 }
 
 impl Default for Tessellation {
-    /// 4 to 32 segments along, 4 to 12 around, full detail within 1 m.
+    /// 4 to 32 segments along (full detail within 1 m), 4 to 12 around within half a pixel.
     fn default() -> Self {
         Tessellation {
             max_segments: 32,
@@ -113,6 +118,7 @@ impl Default for Tessellation {
             max_around_segments: 12,
             min_around_segments: 4,
             full_detail_distance: 1.0,
+            max_chord_error_pixels: 0.5,
         }
     }
 }
@@ -133,14 +139,23 @@ impl Tessellation {
         )
     }
 
-    /// Segments around a cluster whose root is `distance` [m] from the camera.
-    pub fn around_segments_at(&self, distance: f32) -> u32 {
-        scaled_count(
+    /// Segments around a cluster tube whose ring radius is `ring_radius` [m], `distance` [m] from
+    /// a camera of focal length `focal_pixels` [pixels]: `ceil(π / acos(1 − ε/R))` for the ring's
+    /// on-screen radius `R` [pixels] and `ε = max_chord_error_pixels`, clamped to
+    /// `min_around_segments..=max_around_segments` (the least for a ring under `ε`, a non-finite
+    /// or non-positive distance, or a zero radius).
+    pub fn around_segments_for(&self, ring_radius: f32, distance: f32, focal_pixels: f32) -> u32 {
+        let (min, max) = (
+            self.min_around_segments.min(self.max_around_segments),
             self.max_around_segments,
-            self.min_around_segments,
-            self.full_detail_distance,
-            distance,
-        )
+        );
+        let on_screen = ring_radius * focal_pixels / distance;
+        if !(on_screen.is_finite() && on_screen > self.max_chord_error_pixels) {
+            return min;
+        }
+        // The chord of an n-gon inscribed in a circle of radius R sits R(1 − cos(π/n)) inside it.
+        let wanted = std::f32::consts::PI / (1.0 - self.max_chord_error_pixels / on_screen).acos();
+        (wanted.ceil().min(max as f32) as u32).clamp(min, max)
     }
 }
 
@@ -329,6 +344,12 @@ impl FrameSettings {
                 t.min_around_segments, t.max_around_segments
             )));
         }
+        if !(t.max_chord_error_pixels.is_finite() && t.max_chord_error_pixels > 0.0) {
+            return Err(invalid(format!(
+                "tessellation chord error {} px must be finite and > 0",
+                t.max_chord_error_pixels
+            )));
+        }
         if !(t.full_detail_distance.is_finite() && t.full_detail_distance > 0.0) {
             return Err(invalid(format!(
                 "full-detail distance {} m must be finite and > 0",
@@ -351,9 +372,27 @@ mod tests {
         assert_eq!(t.segments_at(2.0), 16);
         assert_eq!(t.segments_at(100.0), 4);
         assert_eq!(t.segments_at(f32::INFINITY), 4);
-        assert_eq!(t.around_segments_at(1.0), 12);
-        assert_eq!(t.around_segments_at(2.0), 6);
-        assert_eq!(t.around_segments_at(10.0), 4);
+    }
+
+    /// A ring of radius R pixels needs n = ceil(π / acos(1 − ε/R)) segments for a chord error
+    /// of at most ε: R = 10 px, ε = 0.5 px gives π / acos(0.95) = 9.93, so 10; the n-gon's chord
+    /// error R(1 − cos(π/n)) is then within ε and that of n − 1 is not.
+    #[test]
+    fn segments_around_follow_the_projected_ring() {
+        let t = Tessellation::default();
+        // 10 px: 5 mm at 1 m with a 2000 px focal length.
+        let n = t.around_segments_for(0.005, 1.0, 2000.0);
+        assert_eq!(n, 10);
+        let chord = |n: u32| 10.0 * (1.0 - (std::f32::consts::PI / n as f32).cos());
+        assert!(chord(n) <= 0.5 && chord(n - 1) > 0.5);
+        // Twice as far: R = 5 px, π / acos(0.9) = 6.97, so 7.
+        assert_eq!(t.around_segments_for(0.005, 2.0, 2000.0), 7);
+        // Large on screen: capped; tiny, behind or degenerate: the least.
+        assert_eq!(t.around_segments_for(0.05, 0.1, 2000.0), 12);
+        assert_eq!(t.around_segments_for(0.005, 100.0, 2000.0), 4);
+        assert_eq!(t.around_segments_for(0.0, 1.0, 2000.0), 4);
+        assert_eq!(t.around_segments_for(0.005, f32::INFINITY, 2000.0), 4);
+        assert_eq!(t.around_segments_for(0.005, 0.0, 2000.0), 4);
     }
 
     #[test]
@@ -367,6 +406,9 @@ mod tests {
         let mut bad = good;
         bad.tessellation.min_segments = 0;
         assert!(bad.validate().is_err());
+        let mut bad = good;
+        bad.tessellation.max_chord_error_pixels = 0.0;
+        assert!(bad.validate().unwrap_err().to_string().contains("chord"));
         let mut bad = good;
         bad.tessellation.min_around_segments = 2;
         assert!(bad.validate().unwrap_err().to_string().contains("around"));

@@ -113,6 +113,29 @@ pub(crate) fn pack_clusters(clusters: &ClusterSet<'_>) -> Vec<GpuSurface> {
         .collect()
 }
 
+/// Radius of a cluster's ring curve as a fraction of its control-circle radius: the periodic
+/// uniform cubic B-spline through the 4 control points at radius `r` (`surfaces.wgsl`) stays
+/// between `0.648 r` (mid-span) and `2/3 r` (at a control point's parameter).
+pub const RING_RADIUS_FACTOR: f32 = 2.0 / 3.0;
+
+/// The largest ring radius [m] of the clusters on each chain (index = chain), 0 for chains
+/// without clusters: what the tessellation around a tube follows.
+pub(crate) fn chain_ring_radii(clusters: &ClusterSet<'_>) -> Vec<f32> {
+    let chains = clusters
+        .cluster_chain
+        .iter()
+        .map(|&c| c as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut radii = vec![0.0f32; chains];
+    for i in 0..clusters.cluster_count() {
+        let radius = clusters.cluster_root_radii[i].max(clusters.cluster_tip_radii[i]);
+        let chain = clusters.cluster_chain[i] as usize;
+        radii[chain] = radii[chain].max(RING_RADIUS_FACTOR * radius);
+    }
+    radii
+}
+
 /// Packs a (validated) patch set, in input order.
 pub(crate) fn pack_patches(patches: &PatchSet<'_>) -> Vec<GpuSurface> {
     (0..patches.patch_count())
@@ -128,6 +151,17 @@ pub(crate) fn pack_patches(patches: &PatchSet<'_>) -> Vec<GpuSurface> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ring_radii_take_the_largest_cluster_per_chain() {
+        let radii = chain_ring_radii(&ClusterSet {
+            cluster_chain: &[2, 0, 2],
+            cluster_root_radii: &[0.003, 0.006, 0.009],
+            cluster_tip_radii: &[0.012, 0.001, 0.0],
+        });
+        let expected = [0.006, 0.0, 0.012].map(|r| RING_RADIUS_FACTOR * r);
+        assert_eq!(radii, expected.to_vec());
+    }
 
     #[test]
     fn sets_are_checked_with_reasons() {
