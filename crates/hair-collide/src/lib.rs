@@ -14,6 +14,7 @@
 
 pub mod body;
 pub mod bvh;
+mod clearance;
 pub mod closest;
 pub mod error;
 pub mod fit;

@@ -15,6 +15,7 @@ use hair_core::dynamics::{Environment, RootMode, Simulation, SimulationState, St
 
 use crate::body::CollisionBody;
 use crate::bvh::HairBvh;
+use crate::clearance::{CLEARANCE_ROUNDING, Clearance, carry_clearances};
 use crate::error::{CollideError, Result};
 use crate::gather::ActiveHair;
 use crate::hair_hair::{HairHairSettings, add_repulsion_forces};
@@ -200,7 +201,12 @@ impl CollisionSolver {
             return Ok(());
         }
         let model = simulation.model();
-        self.hair.set_layout(&model.rest, chains)?;
+        let old_chains = std::mem::take(&mut self.hair.chains);
+        let old_offsets = self.hair.chain_offsets.clone();
+        if let Err(error) = self.hair.set_layout(&model.rest, chains) {
+            self.hair.chains = old_chains;
+            return Err(error);
+        }
         self.hair.masses.clear();
         self.hair.masses.extend(
             self.hair
@@ -212,9 +218,11 @@ impl CollisionSolver {
         let nodes = self.hair.model_nodes.len();
         self.node_normals.resize(nodes, Vec3::ZERO);
         self.gathered_forces.resize(nodes, Vec3::ZERO);
-        self.clearances.clear();
-        self.clearances
-            .resize(nodes * self.bodies.len(), Clearance::default());
+        self.clearances = carry_clearances(
+            (&old_chains, &old_offsets, &self.clearances),
+            (&self.hair.chains, &self.hair.chain_offsets),
+            self.bodies.len(),
+        );
         self.chain_sections.clear();
         self.chain_sections.extend(chains.iter().map(|c| c.section));
         Ok(())
@@ -519,18 +527,6 @@ enum Projection {
     /// The point was `depth` \[m\] inside and has been moved out.
     Moved { depth: f32 },
 }
-
-/// A lower bound on a node's distance to a body, valid at a position in head space: while the
-/// node stays within `clearance` of `local_position` it cannot have crossed the surface (the
-/// distance to a surface is 1-Lipschitz, and head space moves with the bodies).
-#[derive(Debug, Clone, Copy, Default)]
-struct Clearance {
-    local_position: Vec3,
-    clearance: f32,
-}
-
-/// Rounding allowance \[m\] of the clearance test (the head transform's f32 rounding at 1 m).
-const CLEARANCE_ROUNDING: f32 = 1.0e-6;
 
 /// Moves `position` out of `body` when it is inside (to the closest surface point plus `skin`
 /// along the way out) and removes the inward normal part of `velocity` relative to the surface
