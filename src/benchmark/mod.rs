@@ -152,6 +152,33 @@ impl ModeRun {
             median_total,
         }
     }
+
+    /// The largest segment stretch the collision projection left in any frame, and that frame
+    /// (`(0.0, 0)` without collision or frames).
+    pub fn worst_stretch(&self) -> (f32, usize) {
+        self.frames
+            .iter()
+            .map(|f| (f.max_stretch, f.frame))
+            .fold(
+                (0.0, 0),
+                |worst, next| if next.0 > worst.0 { next } else { worst },
+            )
+    }
+
+    /// A warning naming the mode, the stretch and the frame when the collision projection
+    /// stretched a segment beyond [`hair_collide::STRETCH_WARNING`]; `None` otherwise.
+    pub fn stretch_warning(&self) -> Option<String> {
+        let (stretch, frame) = self.worst_stretch();
+        (stretch > hair_collide::STRETCH_WARNING).then(|| {
+            format!(
+                "warning: {}: the collision projection stretched a segment by {:.1} % (frame \
+                 {frame}): the time step is too coarse for the hair's motion near the head; \
+                 use more substeps",
+                self.mode,
+                100.0 * stretch
+            )
+        })
+    }
 }
 
 /// How long the hair settles under gravity before the first frame [s] (see [`Pipeline::settle`]).
@@ -210,4 +237,34 @@ pub(crate) fn render_frame(
     )?;
     report.times.rendering = seconds;
     Ok(image)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(frame: usize, max_stretch: f32) -> FrameReport {
+        FrameReport {
+            frame,
+            max_stretch,
+            ..FrameReport::default()
+        }
+    }
+
+    #[test]
+    fn stretch_beyond_the_warning_names_the_mode_and_frame() {
+        let calm = ModeRun::new("LODs", vec![frame(0, 1e-5), frame(1, 0.01)]);
+        assert_eq!(calm.worst_stretch(), (0.01, 1));
+        assert!(calm.stretch_warning().is_none());
+        let torn = ModeRun::new(
+            "Strands",
+            vec![frame(0, 0.01), frame(1, 0.22), frame(2, 0.1)],
+        );
+        let warning = torn.stretch_warning().expect("22 % is past the warning");
+        assert!(
+            warning.contains("Strands")
+                && warning.contains("22.0 %")
+                && warning.contains("frame 1")
+        );
+    }
 }

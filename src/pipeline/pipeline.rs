@@ -279,6 +279,7 @@ impl Pipeline {
     pub fn finish_frame(&mut self) -> Result<FrameReport> {
         let PendingFrame { changes, mut times } = self.pending.take().unwrap_or_default();
         let mut contacts = 0;
+        let mut max_stretch = 0.0f32;
         for (block, solver) in self.blocks.iter_mut().zip(self.solvers.iter_mut()) {
             let Some(simulation) = block.simulation.as_mut() else {
                 continue;
@@ -298,7 +299,9 @@ impl Pipeline {
                     simulation.step(&mut block.state, &self.environment)?;
                     times.dynamics += started.elapsed().as_secs_f64();
                     let started = Instant::now();
-                    solver.after_step(simulation, &mut block.state, &self.environment)?;
+                    let projection =
+                        solver.after_step(simulation, &mut block.state, &self.environment)?;
+                    max_stretch = max_stretch.max(projection.max_stretch);
                     times.collision += started.elapsed().as_secs_f64();
                 }
                 None => {
@@ -326,6 +329,7 @@ impl Pipeline {
             simulated_nodes: self.blocks.iter().map(LevelBlock::node_count).sum(),
             drawn_segments: self.drawn_segments(),
             contacts,
+            max_stretch,
             times,
         };
         self.frame += 1;

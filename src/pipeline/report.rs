@@ -55,6 +55,11 @@ pub struct FrameReport {
     pub drawn_segments: usize,
     /// Hair segments found touching the head.
     pub contacts: usize,
+    /// The largest relative segment-length error the collision projection left this frame
+    /// ([`hair_collide::ProjectionReport::max_stretch`]; 0 without collision). Above
+    /// [`hair_collide::STRETCH_WARNING`] the step is too coarse for the hair's motion near the head.
+    #[serde(default)]
+    pub max_stretch: f32,
     /// Time per stage [s].
     pub times: StageTimes,
 }

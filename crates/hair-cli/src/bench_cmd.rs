@@ -314,6 +314,9 @@ pub fn paper_tables(
          (LOD pixel tolerance {pixel_tolerance} px)",
         mean_ssim.lods, mean_ssim.clusters, mean_ssim.patches
     );
+    for warning in modes.iter().filter_map(ModeRun::stretch_warning) {
+        eprintln!("{warning}");
+    }
     println!(
         "popping (mean |Δimage| between frames, changing / steady): blended {:.3} ({:.5} / {:.5}), \
          instant {:.3} ({:.5} / {:.5})",

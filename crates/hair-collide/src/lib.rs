@@ -42,7 +42,7 @@ pub use query::{SegmentContacts, query_body, query_body_brute_force};
 pub use sight::LineOfSight;
 pub use solver::{
     CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,
-    ProjectionReport,
+    ProjectionReport, STRETCH_WARNING,
 };
 pub use surface::SurfacePoint;
 pub use volume::{Lss, Pss, Rss, SweptSphere};

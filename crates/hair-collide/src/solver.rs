@@ -108,7 +108,17 @@ pub struct ProjectionReport {
     pub projected_nodes: usize,
     /// The deepest penetration found \[m\] (0 when none).
     pub max_depth: f32,
+    /// The largest relative length error `|ℓ − ℓ₀| / ℓ₀` of a segment whose lower end was
+    /// projected, after the projection (0 when none). Where a segment cannot keep its length and
+    /// its node stay outside (a deep penetration, a crease), the position wins and the segment
+    /// stretches: a large value means the step threw hair deep into the head (see
+    /// [`STRETCH_WARNING`]).
+    pub max_stretch: f32,
 }
+
+/// A segment stretched beyond this fraction by the projection (5 %) means the step was too
+/// coarse for the hair's motion near the head: front ends warn about it.
+pub const STRETCH_WARNING: f32 = 0.05;
 
 /// Both reports of one [`CollisionSolver::step`], and the dynamics'.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -461,6 +471,12 @@ impl CollisionSolver {
                                     self.settings.skin,
                                     |p| rigid_point_velocity(&head_before, &head, p, time_step),
                                 );
+                                let length =
+                                    state.node_positions[m].distance(state.node_positions[m - 1]);
+                                if lengths[m] > 0.0 {
+                                    let stretch = (length - lengths[m]).abs() / lengths[m];
+                                    report.max_stretch = report.max_stretch.max(stretch);
+                                }
                             }
                         }
                     }
