@@ -14,6 +14,11 @@
 //! unchanged while `s_n` is within `±dead_band` (relative) of `m·B`, so a met budget does not make
 //! the levels dither.
 //!
+//! **Lag.** A lower tolerance adds detail that is blended in over the LOD blend time, so its
+//! cost shows only after it. With `hold_frames = h`, a lowering of `τ` is followed by `h` frames
+//! in which `τ` may rise but not fall again, so the controller does not keep lowering on costs
+//! that do not yet include its last step.
+//!
 //! Why log space: the cost falls roughly as a power of the tolerance (`c ≈ a + b·τ^−p`, the drawn
 //! detail shrinks as the limits grow with `τ`). Near the fixed point the log-error then evolves as
 //! `e_n+1 ≈ (1 − g·p')·e_n` with `p'` the local slope `−d log c / d log τ ≤ p`, which converges
@@ -42,11 +47,16 @@ pub struct BudgetSettings {
     pub min_tolerance: f32,
     /// Largest tolerance the controller may choose [pixels].
     pub max_tolerance: f32,
+    /// Frames after a lowering of the tolerance during which it is not lowered again (it may
+    /// still rise). The detail a lower tolerance adds is drawn over the old level for the blend
+    /// time, so its cost shows only afterwards: set this to the blend time in frames. 0: no hold.
+    #[serde(default)]
+    pub hold_frames: usize,
 }
 
 impl BudgetSettings {
     /// Default law for a budget of `budget` seconds per frame: gain 0.5, smoothing 0.5, margin
-    /// 0.9, dead band 5 %, tolerance between 0.25 and 64 pixels.
+    /// 0.9, dead band 5 %, tolerance between 0.25 and 64 pixels, no hold.
     pub fn new(budget: f64) -> Self {
         BudgetSettings {
             budget,
@@ -56,6 +66,7 @@ impl BudgetSettings {
             dead_band: 0.05,
             min_tolerance: 0.25,
             max_tolerance: 64.0,
+            hold_frames: 0,
         }
     }
 
@@ -128,6 +139,8 @@ pub struct BudgetController {
     cost_sum: f64,
     tolerance_sum: f64,
     max_seen: f32,
+    /// Frames left before the tolerance may be lowered again.
+    hold_left: usize,
 }
 
 impl BudgetController {
@@ -145,6 +158,7 @@ impl BudgetController {
             cost_sum: 0.0,
             tolerance_sum: 0.0,
             max_seen: tolerance,
+            hold_left: 0,
         })
     }
 
@@ -182,9 +196,17 @@ impl BudgetController {
         self.smoothed = Some(smoothed);
         let aim = s.margin * s.budget;
         let ratio = smoothed.max(1e-12) / aim;
-        if (ratio - 1.0).abs() > s.dead_band {
-            let next = f64::from(self.tolerance) * ratio.powf(s.gain);
-            self.tolerance = (next as f32).clamp(s.min_tolerance, s.max_tolerance);
+        let holding = self.hold_left > 0;
+        self.hold_left = self.hold_left.saturating_sub(1);
+        // Over the aim: raise at once. Under it: lower, unless a recent lowering's cost has not
+        // shown yet.
+        if (ratio - 1.0).abs() > s.dead_band && (ratio > 1.0 || !holding) {
+            let next = ((f64::from(self.tolerance) * ratio.powf(s.gain)) as f32)
+                .clamp(s.min_tolerance, s.max_tolerance);
+            if next < self.tolerance {
+                self.hold_left = s.hold_frames;
+            }
+            self.tolerance = next;
         }
         self.max_seen = self.max_seen.max(self.tolerance);
         Ok(self.tolerance)
@@ -212,6 +234,48 @@ mod tests {
     /// A synthetic scene whose frame costs `a + b/τ` seconds at tolerance `τ`.
     fn plant(a: f64, b: f64) -> impl Fn(f32) -> f64 {
         move |tolerance| a + b / f64::from(tolerance)
+    }
+
+    /// A scene whose cost answers a tolerance change `lag` frames late (the blend): the frame
+    /// at step `n` costs `a + b/τ_{n−lag}`. Starting cheap (τ = 16 px against an equilibrium of
+    /// 4.5 px), the plain law lowers τ every frame on stale costs and overshoots into frames far
+    /// over the budget; holding for the lag lowers once per lag and stays within it.
+    #[test]
+    fn holding_for_the_lag_stops_the_overshoot() {
+        let cost = plant(0.002, 0.040);
+        let lag = 15;
+        let run = |hold_frames: usize| {
+            let settings = BudgetSettings {
+                hold_frames,
+                ..BudgetSettings::new(0.012)
+            };
+            let mut controller = BudgetController::new(settings, 16.0).unwrap();
+            let mut history = vec![16.0f32; lag];
+            let mut worst = 0.0f64;
+            for _ in 0..300 {
+                history.push(controller.tolerance());
+                let c = cost(history[history.len() - 1 - lag]);
+                worst = worst.max(c);
+                controller.update(c).unwrap();
+            }
+            (worst, controller.tolerance())
+        };
+        let (plain_worst, _) = run(0);
+        let (held_worst, held_tolerance) = run(lag);
+        eprintln!("worst frame: plain {plain_worst} s, held {held_worst} s (τ {held_tolerance})");
+        // τ* = 4.545 px costs the aim 10.8 ms; the plain law goes past τ* on stale costs and
+        // pays for it: more than the 12 ms budget.
+        assert!(
+            plain_worst > 0.012,
+            "plain law: worst frame {plain_worst} s"
+        );
+        assert!(held_worst <= 0.012, "held: worst frame {held_worst} s");
+        // And the held controller still gets close to the tolerance that meets the aim.
+        let expected = 0.040 / (0.9 * 0.012 - 0.002);
+        assert!(
+            (f64::from(held_tolerance) / expected - 1.0).abs() < 0.1,
+            "{held_tolerance} against {expected}"
+        );
     }
 
     #[test]
