@@ -12,9 +12,9 @@ mod budget;
 mod popping;
 
 pub use budget::{BudgetedRun, run_budgeted};
-pub(crate) use popping::luma_difference;
 pub use popping::{
-    ExcessPopping, Popping, PoppingMeter, excess_popping, luma, mean_abs_difference, ssim,
+    ExcessPopping, Popping, PoppingMeter, excess_popping, luma, luma_difference,
+    mean_abs_difference, ssim,
 };
 
 use crate::pipeline::{

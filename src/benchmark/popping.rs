@@ -90,7 +90,7 @@ pub fn luma(image: &image::RgbaImage) -> image::GrayImage {
 
 /// Mean absolute difference of two luma images of the same size, in `[0, 1]` (1 for different
 /// sizes).
-pub(crate) fn luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
+pub fn luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
     if a.dimensions() != b.dimensions() {
         return 1.0;
     }

@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
-use hairlod::benchmark::{luma, ssim};
+use hairlod::benchmark::{luma, luma_difference, ssim};
 use hairlod::core::{Level, Scene};
 use hairlod::render::settings::MAX_SEGMENTS_LIMIT;
 use hairlod::render::{
@@ -79,16 +79,6 @@ fn shading_name(shading: LineShading) -> &'static str {
         LineShading::PerVertex => "per-vertex",
         LineShading::PerFragment => "per-fragment",
     }
-}
-
-/// Mean absolute luma difference of two images of the same size [8-bit levels].
-fn mean_luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
-    let sum: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .map(|(p, q)| u64::from(p.0[0].abs_diff(q.0[0])))
-        .sum();
-    sum as f64 / (f64::from(a.width()) * f64::from(a.height())).max(1.0)
 }
 
 fn median(values: &[f64]) -> f64 {
@@ -184,7 +174,7 @@ pub fn run(args: &ShadingArgs) -> Result<()> {
             median_ms: median(&times_ms),
             times_ms,
             ssim_loss: 1.0 - ssim(&image, &reference),
-            mean_luma_difference: mean_luma_difference(&image, &reference),
+            mean_luma_difference: 255.0 * luma_difference(&image, &reference),
             pareto_ssim: false,
             pareto_luma: false,
         });

@@ -8,10 +8,7 @@ use std::collections::BTreeSet;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use hair_render::{
-    BackendChoice, ClusterSet, DeviceOptions, LevelColors, PatchSet, Renderer, RendererOptions,
-    ShadingMode,
-};
+use hair_render::{BackendChoice, ClusterSet, LevelColors, PatchSet, Renderer, ShadingMode};
 
 /// Three vertical chains 0.3 m long, at x = -0.15 (strands), 0 (cluster) and 0.15 (patch), with
 /// node frames whose binormal is +X (so a patch faces the camera on +Z); then a second cluster
@@ -57,17 +54,6 @@ fn upload(renderer: &mut Renderer) {
         .unwrap();
 }
 
-fn single_sample_renderer(backend: BackendChoice) -> Renderer {
-    let options = RendererOptions {
-        device: DeviceOptions {
-            backend,
-            sample_count: 1,
-            ..DeviceOptions::default()
-        },
-    };
-    Renderer::new(&options).unwrap_or_else(|e| panic!("a renderer on {backend}: {e}"))
-}
-
 fn rgb(color: Vec3) -> [u8; 3] {
     [srgb8(color.x), srgb8(color.y), srgb8(color.z)]
 }
@@ -81,7 +67,7 @@ fn colors_of(image: &image::RgbaImage) -> BTreeSet<[u8; 3]> {
 /// removes its geometry; a cluster drawn after an inactive one still shows (instanced draws start
 /// past the skipped items).
 fn color_coded_render_has_exactly_the_levels_present(backend: BackendChoice) {
-    let mut renderer = single_sample_renderer(backend);
+    let mut renderer = single_sample_renderer(Some(backend));
     upload(&mut renderer);
     let chains = three_levels();
     let mut settings = settings(320, 160, 2.0);

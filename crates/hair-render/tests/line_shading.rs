@@ -9,23 +9,8 @@ use common::*;
 use glam::Vec3;
 use hair_core::{Level, Scene};
 use hair_render::{
-    ActiveSkeletons, BackendChoice, Camera, DeviceOptions, FrameSettings, LineShading, Renderer,
-    RendererOptions, StrandStyle,
+    ActiveSkeletons, BackendChoice, Camera, FrameSettings, LineShading, Renderer, StrandStyle,
 };
-
-/// A renderer without multisampling on `backend` (`None`: from `HAIRLOD_BACKEND`).
-fn single_sample_renderer(backend: Option<BackendChoice>) -> Renderer {
-    let mut options = RendererOptions::from_env().expect("HAIRLOD_BACKEND");
-    options.device = DeviceOptions {
-        sample_count: 1,
-        backend: backend.unwrap_or(options.device.backend),
-        ..options.device
-    };
-    let renderer =
-        Renderer::new(&options).expect("a renderer (install mesa-vulkan-drivers or libegl-mesa0)");
-    eprintln!("adapter: {}", renderer.adapter_report());
-    renderer
-}
 
 /// Largest per-channel difference of two images of the same size [8-bit levels].
 fn largest_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> u8 {
@@ -53,23 +38,15 @@ fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
 #[test]
 fn per_vertex_lines_equal_per_fragment_lines_on_straight_strands() {
     let mut renderer = single_sample_renderer(None);
-    let mut chains = Chains::default();
     // Along the light (+X), in the upper half; across it (along -Y), in the lower half.
-    chains.push_line(Vec3::new(-0.1, 0.06, 0.0), Vec3::new(0.1, 0.06, 0.0), 5);
-    chains.push_line(Vec3::new(0.0, -0.01, 0.0), Vec3::new(0.0, -0.12, 0.0), 5);
+    let chains = along_and_across_chains();
     renderer
         .upload_strands(&Strands::one_per_chain(&chains).set())
         .unwrap();
 
     let mut settings = settings(128, 128, 1.0);
     settings.strand_style = StrandStyle::Lines;
-    settings.light.direction = Vec3::X;
-    settings.light.color = Vec3::ONE;
-    settings.light.ambient = Vec3::splat(0.1);
-    let base = Vec3::splat(0.4);
-    settings.hair.dark_color = base;
-    settings.hair.light_color = base;
-    settings.hair.specular = 0.0;
+    diffuse_light_from_x(&mut settings);
     let render = |renderer: &mut Renderer, shading: LineShading| {
         let settings = FrameSettings {
             line_shading: shading,

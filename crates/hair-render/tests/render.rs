@@ -199,22 +199,13 @@ fn head_occludes_hair_behind_it() {
 #[test]
 fn strand_along_the_light_is_darker_than_one_across_it() {
     let mut renderer = renderer();
-    let mut chains = Chains::default();
     // Along the light (+X), in the upper half; across it (along -Y), in the lower half.
-    chains.push_line(Vec3::new(-0.1, 0.06, 0.0), Vec3::new(0.1, 0.06, 0.0), 5);
-    chains.push_line(Vec3::new(0.0, -0.01, 0.0), Vec3::new(0.0, -0.12, 0.0), 5);
+    let chains = along_and_across_chains();
     let strands = Strands::one_per_chain(&chains);
     renderer.upload_strands(&strands.set()).unwrap();
 
     let mut settings = settings(128, 128, 4.0);
-    settings.light.direction = Vec3::X;
-    settings.light.color = Vec3::ONE;
-    settings.light.ambient = Vec3::splat(0.1);
-    let base = Vec3::splat(0.4);
-    settings.hair.dark_color = base;
-    settings.hair.light_color = base;
-    settings.hair.diffuse = 1.0;
-    settings.hair.specular = 0.0;
+    diffuse_light_from_x(&mut settings);
     let image = renderer.render(&chains.frame(), &settings).unwrap();
     let along = image.get_pixel(
         64,

@@ -6,22 +6,10 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use hair_render::{
-    ClusterSet, DeviceOptions, FrameSettings, Renderer, RendererOptions, ShadingMode,
-    surfaces::RING_RADIUS_FACTOR,
-};
+use hair_render::{ClusterSet, FrameSettings, Renderer, ShadingMode, surfaces::RING_RADIUS_FACTOR};
 
 /// Ring radius on screen [pixels].
 const RING_PIXELS: f32 = 8.0;
-
-fn single_sample_renderer() -> Renderer {
-    let mut options = RendererOptions::from_env().expect("HAIRLOD_BACKEND");
-    options.device = DeviceOptions {
-        sample_count: 1,
-        ..options.device
-    };
-    Renderer::new(&options).expect("a renderer (install mesa-vulkan-drivers or libegl-mesa0)")
-}
 
 /// Pixels that show the tube (the cluster code colour; the background is black).
 fn tube_mask(image: &image::RgbaImage) -> Vec<bool> {
@@ -69,7 +57,7 @@ fn render_tube(renderer: &mut Renderer, epsilon: f32) -> (Vec<bool>, f32) {
 /// half-pixel bound, so the test also fails if the chord error is not applied.
 #[test]
 fn tube_silhouette_stays_within_the_chord_error() {
-    let mut renderer = single_sample_renderer();
+    let mut renderer = single_sample_renderer(None);
     let (fine, length) = render_tube(&mut renderer, 0.01);
     let covered = fine.iter().filter(|&&c| c).count() as f32;
     // The fine tube is about 2R wide over its length.

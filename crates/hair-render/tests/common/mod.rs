@@ -33,6 +33,43 @@ pub fn renderer_on(backend: BackendChoice) -> Renderer {
     renderer
 }
 
+/// A renderer without multisampling (every pixel holds exactly one fragment's colour) on
+/// `backend`, or on the one from `HAIRLOD_BACKEND` for `None`.
+pub fn single_sample_renderer(backend: Option<BackendChoice>) -> Renderer {
+    let mut options = RendererOptions::from_env().expect("HAIRLOD_BACKEND");
+    options.device = DeviceOptions {
+        sample_count: 1,
+        backend: backend.unwrap_or(options.device.backend),
+        ..options.device
+    };
+    let renderer =
+        Renderer::new(&options).expect("a renderer (install mesa-vulkan-drivers or libegl-mesa0)");
+    eprintln!("adapter: {}", renderer.adapter_report());
+    renderer
+}
+
+/// Two straight chains of 5 nodes: one along +X in the upper half of the default view, one along
+/// -Y in the lower half (along and across a light from +X).
+pub fn along_and_across_chains() -> Chains {
+    let mut chains = Chains::default();
+    chains.push_line(Vec3::new(-0.1, 0.06, 0.0), Vec3::new(0.1, 0.06, 0.0), 5);
+    chains.push_line(Vec3::new(0.0, -0.01, 0.0), Vec3::new(0.0, -0.12, 0.0), 5);
+    chains
+}
+
+/// White light from +X with ambient 0.1 and grey hair (base 0.4, diffuse 1, specular off), so a
+/// strand's Kajiya-Kay colour is `0.4 · (0.1 + sin(T, L))`.
+pub fn diffuse_light_from_x(settings: &mut FrameSettings) {
+    settings.light.direction = Vec3::X;
+    settings.light.color = Vec3::ONE;
+    settings.light.ambient = Vec3::splat(0.1);
+    let base = Vec3::splat(0.4);
+    settings.hair.dark_color = base;
+    settings.hair.light_color = base;
+    settings.hair.diffuse = 1.0;
+    settings.hair.specular = 0.0;
+}
+
 /// Node chains with frames, stored flat like the core will feed them.
 #[derive(Default, Clone)]
 pub struct Chains {
