@@ -42,7 +42,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::pipeline::{LodMode, Pipeline, PipelineSettings, Result};
 
-pub use crate::benchmark::{luma, ssim};
+pub use crate::metrics::{ImageError, image_error, luma, psnr, ssim};
 
 /// Substeps per 60 Hz frame of the reference run: 100, a step of 1/6000 s, the step at which the
 /// stability map (`hairlod stability`, `docs/dynamics.md`) takes linear-implicit as converged.
@@ -59,46 +59,6 @@ pub fn reference_settings() -> PipelineSettings {
             REFERENCE_SUBSTEPS,
         ),
         collision: true,
-    }
-}
-
-/// Peak signal-to-noise ratio [dB] of two RGBA images of the same size over their RGB channels:
-/// `10 · log10(255² / MSE)`, with MSE the mean squared difference of the 8-bit channel values.
-/// Infinite for identical images; 0 dB when every channel differs by 255; `NaN` when the sizes
-/// differ (no comparison is possible).
-pub fn psnr(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
-    if a.dimensions() != b.dimensions() {
-        return f64::NAN;
-    }
-    let mut sum = 0u64;
-    for (p, q) in a.pixels().zip(b.pixels()) {
-        for c in 0..3 {
-            let d = u64::from(p.0[c].abs_diff(q.0[c]));
-            sum += d * d;
-        }
-    }
-    let count = 3 * u64::from(a.width()) * u64::from(a.height());
-    if sum == 0 || count == 0 {
-        return f64::INFINITY;
-    }
-    let mse = sum as f64 / count as f64;
-    10.0 * (255.0 * 255.0 / mse).log10()
-}
-
-/// Image error of one frame against the reference frame.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct ImageError {
-    /// Mean SSIM on luma, in `[−1, 1]` (1: identical); see [`ssim`].
-    pub ssim: f64,
-    /// PSNR over RGB [dB] (infinite: identical); see [`psnr`].
-    pub psnr: f64,
-}
-
-/// SSIM and PSNR of `image` against `reference` (both RGBA, same size).
-pub fn image_error(reference: &image::RgbaImage, image: &image::RgbaImage) -> ImageError {
-    ImageError {
-        ssim: ssim(&luma(reference), &luma(image)),
-        psnr: psnr(reference, image),
     }
 }
 
@@ -315,20 +275,19 @@ pub fn segment_length_error(pipeline: &Pipeline) -> f32 {
     let mut worst = 0.0f32;
     for level in Level::ALL {
         let block = pipeline.block(level);
-        let Some(simulation) = &block.simulation else {
-            continue;
-        };
-        let rest = &simulation.model().rest;
+        let rest = &pipeline.scene().groom.skeletons;
         let positions = &block.state.node_positions;
-        for chain in 0..rest.chain_count() {
-            let nodes = rest.nodes(chain);
-            for k in nodes.start + 1..nodes.end {
-                let rest_length = rest.segment_rest_lengths[k];
+        let mut first = 0;
+        for &chain in &block.chains {
+            let groom_nodes = rest.nodes(chain);
+            for k in 1..groom_nodes.len() {
+                let rest_length = rest.segment_rest_lengths[groom_nodes.start + k];
                 if rest_length > 0.0 {
-                    let length = positions[k].distance(positions[k - 1]);
+                    let length = positions[first + k].distance(positions[first + k - 1]);
                     worst = worst.max((length - rest_length).abs() / rest_length);
                 }
             }
+            first += groom_nodes.len();
         }
     }
     worst

@@ -22,12 +22,21 @@
 
 pub mod accuracy;
 pub mod benchmark;
+pub mod metrics;
 pub mod pipeline;
+pub mod popping;
+pub mod run;
+pub mod scene_file;
+pub mod shot;
 
 pub use hair_collide as collide;
 pub use hair_core as core;
 pub use hair_render as render;
-pub use pipeline::{LodMode, Pipeline, PipelineError, PipelineSettings};
+pub use pipeline::{
+    Checkpoint, LodMode, Pipeline, PipelineError, PipelineSettings, PipelineState,
+};
+pub use scene_file::SceneFile;
+pub use shot::Shot;
 
 pub use hair_core::{
     Camera, Frame, Groom, GroomCounts, GroomParams, HairError, HairStyle, Head, HeadParams, Level,

@@ -1,12 +1,14 @@
-//! The benchmark's LOD run in frame-budget mode: a [`BudgetController`] steers the selector's
-//! pixel tolerance from each frame's measured cost (LOD, dynamics, collision and rendering).
+//! The benchmark's LOD run in frame-budget mode: a [`BudgetController`](hair_core::lod::BudgetController)
+//! steers the selector's pixel tolerance from each frame's measured cost (LOD, dynamics,
+//! collision and rendering), in the frame loop ([`run_shot`]).
 
 use hair_core::Scene;
-use hair_core::lod::{BudgetController, BudgetReport, BudgetSettings, LodSettings};
+use hair_core::lod::{BudgetReport, BudgetSettings, LodSettings};
 use serde::Serialize;
 
-use super::{ModeRun, PaperBenchmark, SETTLE_TIME, render_frame};
-use crate::pipeline::{FrameReport, LodMode, Pipeline, PipelineRenderer, PipelineSettings, Result};
+use crate::pipeline::{FrameReport, LodMode, PipelineRenderer, PipelineSettings, Result};
+use crate::run::{ModeRun, RunOptions, View, run_shot};
+use crate::shot::Shot;
 
 /// A budgeted run: the frames, how often the budget was met, and the tolerance of every frame.
 #[derive(Debug, Clone, Serialize)]
@@ -19,46 +21,39 @@ pub struct BudgetedRun {
     pub tolerances: Vec<f32>,
 }
 
-/// Runs the benchmark's LOD mode with `lod` as the starting settings and the tolerance steered
-/// by a controller with `budget`, rendering every frame (the budget counts the rendering);
-/// `on_frame` sees each frame's report, image and tolerance.
+/// Runs `shot` with automatic levels from `lod` and the tolerance steered by a controller with
+/// `budget`, rendering every frame shaded (the budget counts the rendering); `on_frame` sees each
+/// frame's report, image and tolerance.
 pub fn run_budgeted(
-    benchmark: &PaperBenchmark,
+    shot: &Shot,
     scene: &Scene,
     lod: LodSettings,
     budget: BudgetSettings,
     renderer: &mut PipelineRenderer,
     mut on_frame: impl FnMut(&FrameReport, &image::RgbaImage, f32),
 ) -> Result<BudgetedRun> {
-    let mut controller = BudgetController::new(budget, lod.pixel_tolerance)?;
     let settings = PipelineSettings {
-        lod: LodMode::Auto(LodSettings {
-            pixel_tolerance: controller.tolerance(),
-            ..lod
-        }),
-        ..PipelineSettings::default()
+        lod: LodMode::Auto(lod),
+        ..shot.settings
     };
-    let mut pipeline = Pipeline::new(scene.clone(), benchmark.environment(), settings)?;
-    pipeline.settle(SETTLE_TIME)?;
-    renderer.bind(&pipeline)?;
-    let mut frames = Vec::with_capacity(benchmark.frames);
-    let mut tolerances = Vec::with_capacity(benchmark.frames);
-    for frame in 0..benchmark.frames {
-        let camera = benchmark.camera(frame);
-        let tolerance = controller.tolerance();
-        if let Some(selector) = pipeline.selector_mut() {
-            selector.set_pixel_tolerance(tolerance)?;
-        }
-        let mut report = pipeline.advance(&camera)?;
-        let image = render_frame(benchmark, renderer, &mut pipeline, &camera, &mut report)?;
-        controller.update(report.times.total())?;
-        on_frame(&report, &image, tolerance);
-        tolerances.push(tolerance);
-        frames.push(report);
-    }
+    let options = RunOptions {
+        budget: Some(budget),
+        ..RunOptions::whole(shot, settings)
+    };
+    let views = [View::Shaded];
+    let result = run_shot(shot, scene, options, Some((renderer, &views)), |frame| {
+        on_frame(
+            frame.report,
+            &frame.images[0],
+            frame.tolerance.unwrap_or(lod.pixel_tolerance),
+        );
+        Ok(())
+    })?;
+    let mut run = result.run;
+    run.mode = "LODs, frame budget".to_string();
     Ok(BudgetedRun {
-        run: ModeRun::new("LODs, frame budget", frames),
-        budget: controller.report(),
-        tolerances,
+        run,
+        budget: result.budget.expect("a budget was given at automatic levels"),
+        tolerances: result.tolerances,
     })
 }

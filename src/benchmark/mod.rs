@@ -1,25 +1,21 @@
 //! The paper's benchmark (§8.2, Tables 1 and 2): the `paper-curly` groom (91 patches, 273
 //! clusters, 455 strand groups, 37,765 strands) with the camera zooming out from the face, calm or
 //! with wind, run in each mode (LODs, Strands, Clusters, Patches) over the same frames, timing
-//! dynamics, collision and rendering.
+//! dynamics, collision and rendering. The scene is `scenes/paper-table1.toml` (calm) or
+//! `scenes/paper-table2.toml` (wind), compiled in: `hairlod bench paper` and `hairlod bench
+//! scenes/paper-table1.toml` run the same description.
 
-use glam::Vec3;
-use hair_core::dynamics::{Environment, WindField};
-use hair_core::{Camera, Level, Scene};
-use serde::Serialize;
+use hair_core::Level;
+use hair_core::lod::LodSettings;
 
 mod budget;
-mod popping;
 
 pub use budget::{BudgetedRun, run_budgeted};
-pub use popping::{
-    ExcessPopping, Popping, PoppingMeter, excess_popping, luma, luma_difference,
-    mean_abs_difference, ssim,
-};
 
-use crate::pipeline::{
-    FrameReport, LodMode, Pipeline, PipelineRenderer, PipelineSettings, Result, StageTimes,
-};
+use crate::pipeline::{LodMode, PipelineRenderer, PipelineSettings, Result};
+use crate::run::{ModeRun, RunOptions, View, run_shot};
+use crate::scene_file::SceneFile;
+use crate::shot::Shot;
 
 /// The paper's figures [s per frame], rows dynamics, collision, rendering; columns LODs, Strands,
 /// Clusters, Patches. Table 1: camera zooming out.
@@ -36,8 +32,49 @@ pub const PAPER_TABLE_2: [[f64; 4]; 3] = [
     [0.785, 1.734, 0.665, 0.158],
 ];
 
+/// The text of `scenes/paper-table1.toml`: the zoom-out in calm air.
+pub const PAPER_TABLE_1_SCENE: &str = include_str!("../../scenes/paper-table1.toml");
+
+/// The text of `scenes/paper-table2.toml`: the zoom-out with a gusting wind.
+pub const PAPER_TABLE_2_SCENE: &str = include_str!("../../scenes/paper-table2.toml");
+
+/// The paper's figures for table `table` (1 or 2).
+pub fn paper_figures(table: u8) -> Option<[[f64; 4]; 3]> {
+    match table {
+        1 => Some(PAPER_TABLE_1),
+        2 => Some(PAPER_TABLE_2),
+        _ => None,
+    }
+}
+
+/// The paper's benchmark shot: Table 2's (gusting wind) or Table 1's (calm); 60 frames at
+/// 1280×720, the camera from 0.45 m to 12 m.
+pub fn paper_shot(wind: bool) -> Shot {
+    let text = if wind {
+        PAPER_TABLE_2_SCENE
+    } else {
+        PAPER_TABLE_1_SCENE
+    };
+    SceneFile::parse(text)
+        .and_then(|file| file.resolve())
+        .expect("the paper's scene files are valid (tested)")
+}
+
+/// `shot` with `frames` frames at `width`×`height` [pixels], the LOD settings matched to the size.
+pub fn resized(shot: &Shot, frames: usize, width: u32, height: u32) -> Shot {
+    let mut shot = shot.clone();
+    shot.frames = frames;
+    shot.width = width;
+    shot.height = height;
+    if let LodMode::Auto(lod) = &mut shot.settings.lod {
+        lod.image_width = width;
+        lod.image_height = height;
+    }
+    shot
+}
+
 /// The four modes of the tables, in the paper's column order.
-pub fn paper_modes(lod: hair_core::lod::LodSettings) -> [LodMode; 4] {
+pub fn paper_modes(lod: LodSettings) -> [LodMode; 4] {
     [
         LodMode::Auto(lod),
         LodMode::Fixed(Level::StrandGroup),
@@ -46,202 +83,35 @@ pub fn paper_modes(lod: hair_core::lod::LodSettings) -> [LodMode; 4] {
     ]
 }
 
-/// The benchmark's scene and camera path.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct PaperBenchmark {
-    /// Frames per mode.
-    pub frames: usize,
-    /// Wind blowing (Table 2) or calm (Table 1).
-    pub wind: bool,
-    /// Image width [pixels].
-    pub width: u32,
-    /// Image height [pixels].
-    pub height: u32,
-    /// Camera distance from the head's centre at the first frame [m].
-    pub near_distance: f32,
-    /// Camera distance at the last frame [m].
-    pub far_distance: f32,
-}
-
-impl Default for PaperBenchmark {
-    /// 60 frames at 1280×720, calm, from 0.45 m to 12 m.
-    fn default() -> Self {
-        PaperBenchmark {
-            frames: 60,
-            wind: false,
-            width: 1280,
-            height: 720,
-            near_distance: 0.45,
-            far_distance: 12.0,
-        }
-    }
-}
-
-/// The point the camera looks at: the centre of the head [m].
-pub const HEAD_CENTRE: Vec3 = Vec3::new(0.0, 0.0, 0.0);
-
-impl PaperBenchmark {
-    /// The camera of frame `frame`: distance geometric from near to far, in front of the face and a
-    /// little to the side and above (so that the side and top hair show).
-    pub fn camera(&self, frame: usize) -> Camera {
-        let t = if self.frames > 1 {
-            frame as f32 / (self.frames - 1) as f32
-        } else {
-            0.0
-        };
-        let distance = self.near_distance * (self.far_distance / self.near_distance).powf(t);
-        Camera::orbit(HEAD_CENTRE, distance, 0.5, 0.15, 35f32.to_radians())
-    }
-
-    /// The control inputs: a still head, calm air or a gusting wind from the front left (mean
-    /// 2.5 m/s, gusts of 1.5 m/s, seeded, so every mode sees the same wind).
-    pub fn environment(&self) -> Environment {
-        let wind = if self.wind {
-            WindField::gusting(Vec3::new(1.5, 0.0, -2.0), 1.5, 1.0, 0.5, 7)
-        } else {
-            WindField::Calm
-        };
-        Environment {
-            wind,
-            ..Environment::default()
-        }
-    }
-
-    /// The LOD settings matched to the benchmark's image size.
-    pub fn lod_settings(&self) -> hair_core::lod::LodSettings {
-        hair_core::lod::LodSettings {
-            image_width: self.width,
-            image_height: self.height,
-            ..hair_core::lod::LodSettings::default()
-        }
-    }
-}
-
-/// One mode's run: every frame's report and the mean time per frame of each stage.
-#[derive(Debug, Clone, Serialize)]
-pub struct ModeRun {
-    /// `LODs`, `Strands`, `Clusters` or `Patches`.
-    pub mode: String,
-    /// Every frame's report.
-    pub frames: Vec<FrameReport>,
-    /// Mean time per frame of each stage [s].
-    pub mean: StageTimes,
-    /// Median total time per frame [s].
-    pub median_total: f64,
-}
-
-impl ModeRun {
-    /// Summarises `frames` of mode `mode`.
-    pub fn new(mode: &str, frames: Vec<FrameReport>) -> Self {
-        let mut mean = StageTimes::default();
-        for frame in &frames {
-            mean.add(&frame.times);
-        }
-        let n = frames.len().max(1) as f64;
-        mean.lod /= n;
-        mean.dynamics /= n;
-        mean.collision /= n;
-        mean.rendering /= n;
-        let mut totals: Vec<f64> = frames.iter().map(|f| f.times.total()).collect();
-        totals.sort_by(f64::total_cmp);
-        let median_total = totals.get(totals.len() / 2).copied().unwrap_or(0.0);
-        ModeRun {
-            mode: mode.to_string(),
-            frames,
-            mean,
-            median_total,
-        }
-    }
-
-    /// The largest segment stretch the collision projection left in any frame, and that frame
-    /// (`(0.0, 0)` without collision or frames).
-    pub fn worst_stretch(&self) -> (f32, usize) {
-        self.frames
-            .iter()
-            .map(|f| (f.max_stretch, f.frame))
-            .fold(
-                (0.0, 0),
-                |worst, next| if next.0 > worst.0 { next } else { worst },
-            )
-    }
-
-    /// A warning naming the mode, the stretch and the frame when the collision projection
-    /// stretched a segment beyond [`hair_collide::STRETCH_WARNING`]; `None` otherwise.
-    pub fn stretch_warning(&self) -> Option<String> {
-        let (stretch, frame) = self.worst_stretch();
-        (stretch > hair_collide::STRETCH_WARNING).then(|| {
-            format!(
-                "warning: {}: the collision projection stretched a segment by {:.1} % (frame \
-                 {frame}): the time step is too coarse for the hair's motion near the head; \
-                 use more substeps",
-                self.mode,
-                100.0 * stretch
-            )
-        })
-    }
-}
-
-/// How long the hair settles under gravity before the first frame [s] (see [`Pipeline::settle`]).
+/// How long the hair settles under gravity before the first frame [s] in the paper's scenes (see
+/// [`Pipeline::settle`](crate::Pipeline::settle)).
 pub const SETTLE_TIME: f32 = 1.0;
 
-/// Runs `settings` on `scene` over the benchmark's frames, rendering each frame with `renderer`
-/// when given; `on_frame` sees each frame's report and image (for writing, popping measures or
-/// progress).
+/// Runs `settings` on `shot` over all its frames (through the frame loop, [`run_shot`]),
+/// rendering each frame shaded with `renderer` when given; `on_frame` sees each frame's report
+/// and image (for popping measures or progress).
 pub fn run_mode(
-    benchmark: &PaperBenchmark,
-    scene: &Scene,
+    shot: &Shot,
+    scene: &hair_core::Scene,
     settings: PipelineSettings,
-    mut renderer: Option<&mut PipelineRenderer>,
-    mut on_frame: impl FnMut(&FrameReport, Option<&image::RgbaImage>),
+    renderer: Option<&mut PipelineRenderer>,
+    mut on_frame: impl FnMut(&crate::pipeline::FrameReport, Option<&image::RgbaImage>),
 ) -> Result<ModeRun> {
-    let mut pipeline = Pipeline::new(scene.clone(), benchmark.environment(), settings)?;
-    pipeline.settle(SETTLE_TIME)?;
-    if let Some(renderer) = renderer.as_deref_mut() {
-        renderer.bind(&pipeline)?;
-    }
-    let mut frames = Vec::with_capacity(benchmark.frames);
-    for frame in 0..benchmark.frames {
-        let camera = benchmark.camera(frame);
-        let mut report = pipeline.advance(&camera)?;
-        let image = match renderer.as_deref_mut() {
-            Some(renderer) => Some(render_frame(
-                benchmark,
-                renderer,
-                &mut pipeline,
-                &camera,
-                &mut report,
-            )?),
-            None => None,
-        };
-        on_frame(&report, image.as_ref());
-        frames.push(report);
-    }
-    Ok(ModeRun::new(settings.lod.column_name(), frames))
-}
-
-/// Renders `pipeline`'s frame through `camera` at the benchmark's size, shaded, and records the
-/// time it took in `report.times.rendering` [s].
-pub(crate) fn render_frame(
-    benchmark: &PaperBenchmark,
-    renderer: &mut PipelineRenderer,
-    pipeline: &mut Pipeline,
-    camera: &Camera,
-    report: &mut FrameReport,
-) -> Result<image::RgbaImage> {
-    let (image, seconds) = renderer.render(
-        pipeline,
-        camera,
-        benchmark.width,
-        benchmark.height,
-        hair_render::ShadingMode::Shaded,
-    )?;
-    report.times.rendering = seconds;
-    Ok(image)
+    let options = RunOptions::whole(shot, settings);
+    let views = [View::Shaded];
+    let renderer = renderer.map(|r| (r, &views[..]));
+    let run = run_shot(shot, scene, options, renderer, |frame| {
+        on_frame(frame.report, frame.images.first());
+        Ok(())
+    })?;
+    Ok(run.run)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pipeline::FrameReport;
+    use crate::run::ModeRun;
 
     fn frame(frame: usize, max_stretch: f32) -> FrameReport {
         FrameReport {

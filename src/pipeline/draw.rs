@@ -1,18 +1,23 @@
 //! Drawing a pipeline's frame: the skeletons to draw gathered on the groom's chain numbering and
-//! handed to the wgpu renderer, which evaluates the NURBS on the GPU.
+//! handed to the wgpu renderer, which evaluates the NURBS on the GPU; the head mesh drawn at its
+//! simulated pose.
 
 use std::time::Instant;
 
-use hair_core::Camera;
+use hair_core::{Camera, RigidTransform, TriangleMesh};
 use hair_render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode};
 
 use super::error::Result;
 use super::pipeline::Pipeline;
 
 /// A renderer bound to one pipeline's groom and head (uploaded once), with its per-frame buffer.
+/// The head mesh is drawn where the simulation has it: it is uploaded again, posed, whenever the
+/// head has moved since the last frame drawn.
 pub struct PipelineRenderer {
     renderer: Renderer,
     active: ActiveSkeletons,
+    /// The pose the uploaded head mesh has.
+    head_pose: RigidTransform,
 }
 
 impl PipelineRenderer {
@@ -24,14 +29,29 @@ impl PipelineRenderer {
         Ok(PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),
+            head_pose: RigidTransform::IDENTITY,
         })
     }
 
-    /// Uploads the groom and head of another pipeline (same scene: nothing to do but call it).
+    /// Uploads the groom and head of another pipeline's scene.
     pub fn bind(&mut self, pipeline: &Pipeline) -> Result<()> {
         self.renderer.upload_groom(&pipeline.scene().groom)?;
         self.renderer
             .set_head_mesh(Some(&pipeline.scene().head.mesh))?;
+        self.head_pose = RigidTransform::IDENTITY;
+        Ok(())
+    }
+
+    /// Gathers the pipeline's skeletons to draw and poses the head mesh where the simulation
+    /// has it.
+    fn prepare(&mut self, pipeline: &mut Pipeline) -> Result<()> {
+        pipeline.gather_drawn(&mut self.active)?;
+        let pose = pipeline.head_pose();
+        if pose != self.head_pose {
+            let mesh = posed_mesh(&pipeline.scene().head.mesh, &pose);
+            self.renderer.set_head_mesh(Some(&mesh))?;
+            self.head_pose = pose;
+        }
         Ok(())
     }
 
@@ -51,7 +71,7 @@ impl PipelineRenderer {
         mode: ShadingMode,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        pipeline.gather_drawn(&mut self.active)?;
+        self.prepare(pipeline)?;
         let settings = FrameSettings {
             mode,
             ..FrameSettings::new(width, height, *camera)
@@ -70,11 +90,28 @@ impl PipelineRenderer {
         height: u32,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        pipeline.gather_drawn(&mut self.active)?;
+        self.prepare(pipeline)?;
         let settings = FrameSettings::new(width, height, *camera);
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
+    }
+}
+
+/// `mesh` moved rigidly by `pose` (positions and normals).
+fn posed_mesh(mesh: &TriangleMesh, pose: &RigidTransform) -> TriangleMesh {
+    TriangleMesh {
+        positions: mesh
+            .positions
+            .iter()
+            .map(|&p| pose.transform_point(p))
+            .collect(),
+        normals: mesh
+            .normals
+            .iter()
+            .map(|&n| pose.transform_vector(n))
+            .collect(),
+        triangles: mesh.triangles.clone(),
     }
 }

@@ -9,27 +9,26 @@
 //! 4. the skeletons to draw, gathered for the renderer ([`Pipeline::gather_drawn`]).
 //!
 //! Fixed-level modes ([`LodMode::Fixed`]) run through the same code for comparison. Each stage's
-//! wall-clock time is in the frame's [`FrameReport`]. [`measure_popping`] measures the image
-//! change that level decisions make on their own, with blended transitions and without.
+//! wall-clock time is in the frame's [`FrameReport`]. Everything that evolves is a [`PipelineState`],
+//! which a [`Checkpoint`] writes to a file and [`Pipeline::resume`] goes on from, bit for bit.
 
 mod block;
+mod checkpoint;
 mod draw;
 mod error;
+mod levels;
 #[allow(clippy::module_inception)]
 mod pipeline;
-mod popping;
 mod report;
 mod settings;
-mod transitions;
+mod state;
 
 pub use block::LevelBlock;
+pub use checkpoint::{CHECKPOINT_FORMAT, CHECKPOINT_VERSION, Checkpoint};
 pub use draw::PipelineRenderer;
 pub use error::{PipelineError, Result};
+pub use levels::SectionLevels;
 pub use pipeline::Pipeline;
-pub use popping::{
-    PoppingComparison, PoppingFrame, SwitchPopping, advance_measured, compare_popping,
-    measure_popping, switch_popping,
-};
 pub use report::{FrameReport, LodChanges, StageTimes};
 pub use settings::{LodMode, PipelineSettings};
-pub use transitions::SectionLevels;
+pub use state::PipelineState;

@@ -7,23 +7,32 @@ use glam::Vec3;
 use hair_collide::{
     CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, groom_chain,
 };
-use hair_core::dynamics::{DynamicsParams, Environment};
+use hair_core::dynamics::{DynamicsModel, DynamicsParams, Environment, Simulation};
 use hair_core::lod::{
     LodSelector, SectionChoice, SectionObservation, head_point_acceleration_from_poses,
     motion_measure,
 };
 use hair_core::skeleton::node_frames;
-use hair_core::{Camera, Frame, Level, RigidTransform, Scene};
+use hair_core::{Camera, Frame, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
 use hair_render::ActiveSkeletons;
 
 use super::block::LevelBlock;
-use super::error::Result;
+use super::checkpoint::{Checkpoint, Fnv1a};
+use super::error::{PipelineError, Result};
+use super::levels::SectionLevels;
 use super::report::{FrameReport, LodChanges, StageTimes};
 use super::settings::{LodMode, PipelineSettings};
-use super::transitions::{SectionLevels, rebuild_blocks};
+use super::state::PipelineState;
 
-/// A hair simulation with levels of detail: owns the scene, the per-level skeleton states and
-/// solvers, the level selector and the collision solvers, and advances one frame at a time.
+/// A hair simulation with levels of detail. It keeps three things apart (like rapier's
+/// `PhysicsPipeline` and MuJoCo's `mjModel`/`mjData`):
+/// - the model: the [`Scene`] (groom and head), the environment and the settings, fixed for the
+///   run;
+/// - the state: a [`PipelineState`], everything that evolves (skeletons at each level, levels,
+///   blends, visibility, the selector's memory, time), which [`Pipeline::state`] returns and
+///   [`Pipeline::resume`] starts from;
+/// - scratch: each level's solver and collision stage, the collision bodies (one per mesh,
+///   shared by the levels), the level selector's constants, per-frame buffers.
 ///
 /// ```
 /// use hairlod::pipeline::{Pipeline, PipelineSettings};
@@ -42,19 +51,24 @@ pub struct Pipeline {
     environment: Environment,
     settings: PipelineSettings,
     params: DynamicsParams,
+    state: PipelineState,
+    work: PerLevel<LevelWork>,
+    /// One collision body per mesh (the head), shared by every level's collision stage.
+    bodies: Vec<CollisionBody>,
     selector: Option<LodSelector>,
-    blocks: [LevelBlock; 3],
-    solvers: [Option<CollisionSolver>; 3],
-    levels: SectionLevels,
-    choices: Vec<SectionChoice>,
     observations: Vec<SectionObservation>,
-    frame: usize,
-    time: f64,
     frames_scratch: Vec<Frame>,
     collision_chains: Vec<CollisionChain>,
     /// A frame whose levels are chosen but whose dynamics step has not run
     /// ([`Pipeline::begin_frame`]).
     pending: Option<PendingFrame>,
+}
+
+/// The solvers of one level's block: the integrator and its scratch (`None` while no section is
+/// at the level), and the collision stage (`None` with collision off).
+struct LevelWork {
+    simulation: Option<Simulation>,
+    solver: Option<CollisionSolver>,
 }
 
 /// What [`Pipeline::begin_frame`] leaves for [`Pipeline::finish_frame`].
@@ -81,35 +95,47 @@ impl Pipeline {
             ),
             LodMode::Fixed(level) => (None, level),
         };
-        let solvers = if settings.collision {
-            let make = || -> Result<CollisionSolver> {
-                let body = CollisionBody::from_mesh(&scene.head.mesh)?;
-                Ok(CollisionSolver::new(
-                    vec![body],
-                    CollisionSettings::default(),
-                )?)
-            };
-            [Some(make()?), Some(make()?), Some(make()?)]
+        let bodies = if settings.collision {
+            vec![CollisionBody::from_mesh(&scene.head.mesh)?]
         } else {
-            [None, None, None]
+            Vec::new()
+        };
+        let work = PerLevel::from_fn(|_| -> Result<LevelWork> {
+            Ok(LevelWork {
+                simulation: None,
+                solver: settings
+                    .collision
+                    .then(|| CollisionSolver::new(CollisionSettings::default()))
+                    .transpose()?,
+            })
+        });
+        let work = PerLevel {
+            patch: work.patch?,
+            cluster: work.cluster?,
+            strand_group: work.strand_group?,
         };
         let visible_choice = SectionChoice {
             level: start_level,
             visible: true,
             reason: hair_core::lod::Reason::Fixed,
         };
+        let state = PipelineState {
+            frame: 0,
+            time: 0.0,
+            levels: SectionLevels::new(sections, start_level),
+            choices: vec![visible_choice; sections],
+            pixel_tolerance: selector.as_ref().map(|s| s.settings().pixel_tolerance),
+            blocks: PerLevel::from_fn(|level| LevelBlock::empty(level, 0.0)),
+        };
         let mut pipeline = Pipeline {
             environment,
             settings,
             params,
+            state,
+            work,
+            bodies,
             selector,
-            blocks: Level::ALL.map(LevelBlock::empty),
-            solvers,
-            levels: SectionLevels::new(sections, start_level),
-            choices: vec![visible_choice; sections],
             observations: vec![SectionObservation::default(); sections],
-            frame: 0,
-            time: 0.0,
             frames_scratch: Vec::new(),
             collision_chains: Vec::new(),
             pending: None,
@@ -119,28 +145,184 @@ impl Pipeline {
         Ok(pipeline)
     }
 
-    /// Builds the blocks of the starting levels and puts every skeleton in its rest shape.
-    fn start_at_rest(&mut self) -> Result<()> {
-        let head = self.environment.head.transform_at(self.time);
+    /// A pipeline for `scene`, `environment` and `settings` that goes on from `checkpoint`,
+    /// stepping exactly as the run that wrote it would have. Refuses a checkpoint of another
+    /// scene, environment or settings ([`Pipeline::fingerprint`]) or one whose state does not fit
+    /// the groom.
+    pub fn resume(
+        scene: Scene,
+        environment: Environment,
+        settings: PipelineSettings,
+        checkpoint: Checkpoint,
+    ) -> Result<Self> {
+        let mut pipeline = Pipeline::new(scene, environment, settings)?;
+        let ours = pipeline.fingerprint();
+        if checkpoint.scene_fingerprint != ours {
+            return Err(PipelineError::State(format!(
+                "the checkpoint is of another scene (its fingerprint {}, this scene's {ours}):                  resume with the scene file, groom and settings that wrote it",
+                checkpoint.scene_fingerprint
+            )));
+        }
+        pipeline.restore(checkpoint.state)?;
+        Ok(pipeline)
+    }
+
+    /// The fingerprint of this run's model: the groom (parameters and skeleton rest data), the
+    /// head mesh, the environment and the settings, hashed (FNV-1a, 64 bits) to 16 hex digits.
+    /// A checkpoint resumes only where the fingerprint is the same.
+    pub fn fingerprint(&self) -> String {
+        let mut hash = Fnv1a::new();
         let groom = &self.scene.groom;
-        for level in Level::ALL {
-            let sections = self.levels.members(level);
-            let mut block = LevelBlock::build(
-                groom,
-                level,
-                sections,
-                self.params,
-                self.settings.dynamics,
-                self.time,
-            )?;
-            if let Some(simulation) = &block.simulation {
-                let rest = simulation.model().rest.rest_positions(&head);
-                block.state.node_positions = rest;
+        hash.write(
+            format!(
+                "{:?}|{:?}|{:?}|{:?}",
+                groom.params, self.environment, self.settings, self.params
+            )
+            .as_bytes(),
+        );
+        let rest = &groom.skeletons;
+        hash.write_f32s(rest.segment_rest_lengths.iter().copied());
+        hash.write_f32s(rest.root_positions.iter().flat_map(|p| p.to_array()));
+        hash.write_f32s(
+            self.scene
+                .head
+                .mesh
+                .positions
+                .iter()
+                .flat_map(|p| p.to_array()),
+        );
+        hash.write(&(groom.skeletons.node_count() as u64).to_le_bytes());
+        hash.hex()
+    }
+
+    /// Everything of the run that evolves, for a checkpoint ([`Checkpoint::new`] with
+    /// [`Pipeline::fingerprint`]); between frames (a frame begun with
+    /// [`begin_frame`](Self::begin_frame) and not finished is refused).
+    pub fn state(&self) -> Result<PipelineState> {
+        if self.pending.is_some() {
+            return Err(PipelineError::State(
+                "a frame is begun and not finished: take the state between frames".into(),
+            ));
+        }
+        let mut state = self.state.clone();
+        for (level, block) in state.blocks.iter_mut() {
+            if let Some(solver) = &self.work[level].solver {
+                block.collision_memory = solver.velocity_memory();
             }
-            self.blocks[level as usize] = block;
+        }
+        Ok(state)
+    }
+
+    /// A checkpoint of the run now.
+    pub fn checkpoint(&self) -> Result<Checkpoint> {
+        Ok(Checkpoint::new(self.fingerprint(), self.state()?))
+    }
+
+    /// Replaces the state with `state` (checked against the groom and the settings) and
+    /// rebuilds every solver around it.
+    fn restore(&mut self, state: PipelineState) -> Result<()> {
+        let groom = &self.scene.groom;
+        let sections = groom.section_count();
+        if !state.levels.is_consistent(sections) || state.choices.len() != sections {
+            return Err(PipelineError::State(format!(
+                "the state has levels for {} sections, the groom has {sections}",
+                state.levels.section_count()
+            )));
+        }
+        for (level, block) in state.blocks.iter() {
+            block.check(groom, level)?;
+            if block.sections != state.levels.members(level) {
+                return Err(PipelineError::State(format!(
+                    "the {} block does not hold the sections at that level",
+                    level.name()
+                )));
+            }
+        }
+        match (&mut self.selector, state.pixel_tolerance) {
+            (Some(selector), Some(tolerance)) => {
+                selector.set_pixel_tolerance(tolerance)?;
+                selector.restore_choices(&state.choices)?;
+            }
+            (None, None) => {}
+            _ => {
+                return Err(PipelineError::State(
+                    "the state is of automatic levels and the settings fix one (or the other \
+                     way round)"
+                        .into(),
+                ));
+            }
+        }
+        self.state = state;
+        for level in Level::ALL {
+            self.rebuild_simulation(level)?;
+            if let Some(solver) = &mut self.work[level].solver {
+                solver.set_velocity_memory(&self.state.blocks[level].collision_memory);
+            }
         }
         self.refresh_collision_chains()?;
         Ok(())
+    }
+
+    /// Builds the solver of `level` for the chains of its block (none when it is empty).
+    fn rebuild_simulation(&mut self, level: Level) -> Result<()> {
+        let block = &self.state.blocks[level];
+        self.work[level].simulation = if block.sections.is_empty() {
+            None
+        } else {
+            let mut rest = SkeletonRest::default();
+            for &chain in &block.chains {
+                rest.push_chain_from(&self.scene.groom.skeletons, chain)?;
+            }
+            Some(Simulation::new(
+                DynamicsModel::new(rest, self.params)?,
+                self.settings.dynamics,
+            )?)
+        };
+        Ok(())
+    }
+
+    /// Builds the blocks of the starting levels and puts every skeleton in its rest shape.
+    fn start_at_rest(&mut self) -> Result<()> {
+        let head = self.environment.head.transform_at(self.state.time);
+        for level in Level::ALL {
+            let sections = self.state.levels.members(level);
+            let block = LevelBlock::laid_out(&self.scene.groom, level, sections, self.state.time);
+            self.state.blocks[level] = block;
+            self.rebuild_simulation(level)?;
+            if let Some(simulation) = &self.work[level].simulation {
+                self.state.blocks[level].state.node_positions =
+                    simulation.model().rest.rest_positions(&head);
+            }
+        }
+        self.refresh_collision_chains()?;
+        Ok(())
+    }
+
+    /// Rebuilds the blocks whose sections changed (a section switched level or a blend ended):
+    /// sections that stay keep their state bit for bit, arriving ones are handed over (§4.2).
+    fn apply_level_changes(&mut self, head: &RigidTransform) -> Result<()> {
+        let mut rebuilt = PerLevel::from_fn(|_| None);
+        for level in Level::ALL {
+            let members = self.state.levels.members(level);
+            if members == self.state.blocks[level].sections {
+                continue;
+            }
+            rebuilt[level] = Some(LevelBlock::handed_over(
+                &self.scene.groom,
+                level,
+                members,
+                &self.state.blocks,
+                self.state.time,
+                head,
+            )?);
+        }
+        for level in Level::ALL {
+            if let Some(block) = rebuilt[level].take() {
+                self.state.blocks[level] = block;
+                self.rebuild_simulation(level)?;
+            }
+        }
+        self.refresh_collision_chains()
     }
 
     /// Lets the hair settle from its rest shape under gravity (and the environment at time 0)
@@ -152,19 +334,21 @@ impl Pipeline {
         let steps = (seconds / step).ceil().max(0.0) as usize;
         let still = Environment {
             head: hair_core::dynamics::HeadMotion::Still(
-                self.environment.head.transform_at(self.time),
+                self.environment.head.transform_at(self.state.time),
             ),
             ..self.environment.clone()
         };
         for _ in 0..steps {
-            for (block, solver) in self.blocks.iter_mut().zip(self.solvers.iter_mut()) {
-                let Some(simulation) = block.simulation.as_mut() else {
+            for level in Level::ALL {
+                let block = &mut self.state.blocks[level];
+                let work = &mut self.work[level];
+                let Some(simulation) = work.simulation.as_mut() else {
                     continue;
                 };
                 block.state.time = 0.0;
-                match solver {
+                match &mut work.solver {
                     Some(solver) => {
-                        solver.step(simulation, &mut block.state, &still)?;
+                        solver.step(&mut self.bodies, simulation, &mut block.state, &still)?;
                     }
                     None => {
                         simulation.step(&mut block.state, &still)?;
@@ -172,11 +356,8 @@ impl Pipeline {
                 }
             }
         }
-        for block in &mut self.blocks {
-            block.state.time = self.time;
-            block
-                .previous_velocities
-                .copy_from_slice(&block.state.node_velocities);
+        for (_, block) in self.state.blocks.iter_mut() {
+            block.state.time = self.state.time;
         }
         Ok(())
     }
@@ -196,39 +377,49 @@ impl Pipeline {
         &self.environment
     }
 
-    /// Replaces the environment from the next frame on.
-    pub fn set_environment(&mut self, environment: Environment) {
-        self.environment = environment;
+    /// The level selector (`None` with a fixed level).
+    pub fn selector(&self) -> Option<&LodSelector> {
+        self.selector.as_ref()
     }
 
-    /// The level selector (`None` with a fixed level).
-    pub fn selector_mut(&mut self) -> Option<&mut LodSelector> {
-        self.selector.as_mut()
+    /// Sets the selector's pixel tolerance [pixels] from the next frame on (a frame-budget
+    /// controller steers it); nothing at a fixed level.
+    pub fn set_pixel_tolerance(&mut self, pixel_tolerance: f32) -> Result<()> {
+        if let Some(selector) = self.selector.as_mut() {
+            selector.set_pixel_tolerance(pixel_tolerance)?;
+            self.state.pixel_tolerance = Some(pixel_tolerance);
+        }
+        Ok(())
     }
 
     /// Simulated time [s].
     pub fn time(&self) -> f64 {
-        self.time
+        self.state.time
     }
 
     /// Frames advanced so far.
     pub fn frame(&self) -> usize {
-        self.frame
+        self.state.frame
     }
 
     /// The current level of every section.
     pub fn section_levels(&self) -> &[Level] {
-        self.levels.current()
+        self.state.levels.current()
     }
 
     /// The last choice of every section (level, visibility, reason).
     pub fn choices(&self) -> &[SectionChoice] {
-        &self.choices
+        &self.state.choices
     }
 
     /// The block of `level`: the sections simulated at it and their state.
     pub fn block(&self, level: Level) -> &LevelBlock {
-        &self.blocks[level as usize]
+        &self.state.blocks[level]
+    }
+
+    /// The head's pose at the time the skeletons are at (the end of the last frame stepped).
+    pub fn head_pose(&self) -> RigidTransform {
+        self.environment.head.transform_at(self.state.time)
     }
 
     /// Advances one frame of `settings.dynamics.time_step` seconds seen by `camera`: chooses
@@ -241,10 +432,11 @@ impl Pipeline {
 
     /// The level-of-detail stage of a frame seen by `camera`: chooses levels, starts and ends
     /// blends and hands state over where a section changed level, without stepping the dynamics;
-    /// returns how many sections changed level or visibility. Drawing now ([`Pipeline::gather_drawn`]) shows the
-    /// frame's levels and blend coverages on the skeletons of the frame before, so the image change
-    /// that the level decisions alone make can be measured (the popping measure). A frame already
-    /// begun is not begun again (its changes are returned).
+    /// returns how many sections changed level or visibility. Drawing now
+    /// ([`Pipeline::gather_drawn`]) shows the frame's levels and blend coverages on the skeletons
+    /// of the frame before, so the image change that the level decisions alone make can be
+    /// measured (the popping measure). A frame already begun is not begun again (its changes are
+    /// returned).
     pub fn begin_frame(&mut self, camera: &Camera) -> Result<LodChanges> {
         if let Some(pending) = self.pending {
             return Ok(pending.changes);
@@ -252,21 +444,12 @@ impl Pipeline {
         camera.validate()?;
         let mut times = StageTimes::default();
         let started = Instant::now();
-        let head = self.environment.head.transform_at(self.time);
+        let head = self.environment.head.transform_at(self.state.time);
         let (levels, visibility) = self.select_levels(camera, &head)?;
         let changes = LodChanges { levels, visibility };
-        let blends_ended = self.levels.blends_finished(self.time);
+        let blends_ended = self.state.levels.blends_finished(self.state.time);
         if levels > 0 || blends_ended {
-            rebuild_blocks(
-                &self.scene.groom,
-                &mut self.blocks,
-                &mut self.levels,
-                self.params,
-                self.settings.dynamics,
-                self.time,
-                &head,
-            )?;
-            self.refresh_collision_chains()?;
+            self.apply_level_changes(&head)?;
         }
         times.lod = started.elapsed().as_secs_f64();
         self.pending = Some(PendingFrame { changes, times });
@@ -280,88 +463,95 @@ impl Pipeline {
         let PendingFrame { changes, mut times } = self.pending.take().unwrap_or_default();
         let mut contacts = 0;
         let mut max_stretch = 0.0f32;
-        for (block, solver) in self.blocks.iter_mut().zip(self.solvers.iter_mut()) {
-            let Some(simulation) = block.simulation.as_mut() else {
+        let time = self.state.time;
+        for level in Level::ALL {
+            let block = &mut self.state.blocks[level];
+            let work = &mut self.work[level];
+            let Some(simulation) = work.simulation.as_mut() else {
                 continue;
             };
-            block
-                .previous_velocities
-                .copy_from_slice(&block.state.node_velocities);
-            block.state.time = self.time;
-            match solver {
+            block.state.time = time;
+            let environment = &self.environment;
+            match &mut work.solver {
                 Some(solver) => {
                     let started = Instant::now();
-                    let report =
-                        solver.before_step(simulation, &mut block.state, &self.environment)?;
+                    let report = solver.before_step(
+                        &mut self.bodies,
+                        simulation,
+                        &mut block.state,
+                        environment,
+                    )?;
                     contacts += report.contact_segments;
                     times.collision += started.elapsed().as_secs_f64();
                     let started = Instant::now();
-                    simulation.step(&mut block.state, &self.environment)?;
+                    simulation.step(&mut block.state, environment)?;
                     times.dynamics += started.elapsed().as_secs_f64();
                     let started = Instant::now();
-                    let projection =
-                        solver.after_step(simulation, &mut block.state, &self.environment)?;
+                    let projection = solver.after_step(
+                        &mut self.bodies,
+                        simulation,
+                        &mut block.state,
+                        environment,
+                    )?;
                     max_stretch = max_stretch.max(projection.max_stretch);
                     times.collision += started.elapsed().as_secs_f64();
                 }
                 None => {
                     let started = Instant::now();
-                    simulation.step(&mut block.state, &self.environment)?;
+                    simulation.step(&mut block.state, environment)?;
                     times.dynamics += started.elapsed().as_secs_f64();
                 }
             }
         }
-        self.time += f64::from(self.settings.dynamics.time_step);
+        self.state.time += f64::from(self.settings.dynamics.time_step);
         let report = FrameReport {
-            frame: self.frame,
-            time: self.time,
-            sections_at: Level::ALL.map(|level| {
-                self.levels
-                    .current()
-                    .iter()
-                    .filter(|&&l| l == level)
-                    .count()
-            }),
-            visible_sections: self.choices.iter().filter(|c| c.visible).count(),
+            frame: self.state.frame,
+            time: self.state.time,
+            sections_at: self.state.sections_at(),
+            visible_sections: self.state.choices.iter().filter(|c| c.visible).count(),
             level_changes: changes.levels,
             visibility_changes: changes.visibility,
-            blending_sections: self.levels.blending_count(),
-            simulated_nodes: self.blocks.iter().map(LevelBlock::node_count).sum(),
+            blending_sections: self.state.levels.blending_count(),
+            simulated_nodes: self.state.simulated_nodes(),
             drawn_segments: self.drawn_segments(),
             contacts,
             max_stretch,
             times,
         };
-        self.frame += 1;
+        self.state.frame += 1;
         Ok(report)
     }
 
     /// Observes every section on its current level and chooses levels; returns how many sections
     /// changed level and how many came into view or left it (their transitions and fades are
-    /// started in `self.levels`).
+    /// started in the state's levels).
     fn select_levels(&mut self, camera: &Camera, head: &RigidTransform) -> Result<(usize, usize)> {
         let groom = &self.scene.groom;
         let Some(selector) = self.selector.as_mut() else {
             return Ok((0, 0));
         };
+        let state = &mut self.state;
         let frame_time = self.settings.dynamics.time_step;
         // The head's poses a frame before, now and a frame after, once for every node.
         let head_poses = [-1.0, 0.0, 1.0].map(|k| {
             self.environment
                 .head
-                .transform_at(self.time + k * f64::from(frame_time))
+                .transform_at(state.time + k * f64::from(frame_time))
         });
         let wind = &self.environment.wind;
-        let time = self.time;
+        let time = state.time;
         for (section, observation) in self.observations.iter_mut().enumerate() {
-            let level = self.levels.current()[section];
-            let block = &self.blocks[level as usize];
-            let slot = block
-                .slot(section)
-                .expect("a section is simulated at its level");
+            let level = state.levels.current()[section];
+            let block = &state.blocks[level];
+            let Some(slot) = block.slot(section) else {
+                return Err(PipelineError::State(format!(
+                    "section {section} is not simulated at its level, {}",
+                    level.name()
+                )));
+            };
             let nodes = block.nodes(slot);
             let positions = &block.state.node_positions[nodes.clone()];
-            let velocities = &block.state.node_velocities[nodes.clone()];
+            let velocities = &block.state.node_velocities[nodes];
             let motion = motion_measure(
                 positions,
                 velocities,
@@ -372,24 +562,24 @@ impl Pipeline {
             *observation = SectionObservation::of_section(groom, section, level, positions, motion);
         }
         let choices = selector.select(&self.observations, camera, head)?;
-        self.choices.copy_from_slice(choices);
+        state.choices.copy_from_slice(choices);
         // The first frame picks the starting levels outright: there is nothing on screen to
         // blend from.
-        let blend = if self.frame == 0 {
+        let blend = if state.frame == 0 {
             0.0
         } else {
             selector.settings().blend_time
         };
         let mut changes = 0;
         let mut visibility_changes = 0;
-        for (section, choice) in self.choices.iter().enumerate() {
-            if self.levels.current()[section] != choice.level {
-                self.levels.switch(section, choice.level, time, blend);
+        for (section, choice) in state.choices.iter().enumerate() {
+            if state.levels.current()[section] != choice.level {
+                state.levels.switch(section, choice.level, time, blend);
                 changes += 1;
             }
             // Coming into view or leaving it fades over the blend too: a section drawn at once
             // where the conservative occlusion test or the frustum let it through would pop.
-            if self
+            if state
                 .levels
                 .set_visible(section, choice.visible, time, blend)
             {
@@ -399,11 +589,13 @@ impl Pipeline {
         Ok((changes, visibility_changes))
     }
 
-    /// Points every collision solver at its block's chains (rebuilds hierarchies on change).
+    /// Points every collision stage at its block's chains (rebuilds hierarchies on change).
     fn refresh_collision_chains(&mut self) -> Result<()> {
         let groom = &self.scene.groom;
-        for (block, solver) in self.blocks.iter().zip(self.solvers.iter_mut()) {
-            let (Some(solver), Some(simulation)) = (solver.as_mut(), block.simulation.as_ref())
+        for level in Level::ALL {
+            let block = &self.state.blocks[level];
+            let work = &mut self.work[level];
+            let (Some(solver), Some(simulation)) = (work.solver.as_mut(), work.simulation.as_ref())
             else {
                 continue;
             };
@@ -423,21 +615,22 @@ impl Pipeline {
     /// begun and not yet stepped (the clock has not advanced yet).
     fn display_time(&self) -> f64 {
         match self.pending {
-            Some(_) => self.time + f64::from(self.settings.dynamics.time_step),
-            None => self.time,
+            Some(_) => self.state.time + f64::from(self.settings.dynamics.time_step),
+            None => self.state.time,
         }
     }
 
     /// Skeleton segments drawn this frame (strand groups count each of their strands).
     fn drawn_segments(&self) -> usize {
         let groom = &self.scene.groom;
+        let levels = &self.state.levels;
         let display_time = self.display_time();
         let mut segments = 0;
         for section in 0..groom.section_count() {
-            if self.levels.shown_weight(section, display_time) <= 0.0 {
+            if levels.shown_weight(section, display_time) <= 0.0 {
                 continue;
             }
-            for level in self.levels.drawn(section) {
+            for level in levels.drawn(section) {
                 for chain in groom.section_chains(section, level) {
                     let per_chain = groom.skeletons.chain_node_count(chain).saturating_sub(1);
                     let copies = if level == Level::StrandGroup {
@@ -460,15 +653,16 @@ impl Pipeline {
     /// dissolves in or out over the blend as a whole), with node frames computed from the simulated
     /// positions; everything else inactive.
     pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
-        let head = self.environment.head.transform_at(self.time);
+        let head = self.environment.head.transform_at(self.state.time);
         let display_time = self.display_time();
         let groom = &self.scene.groom;
+        let levels = &self.state.levels;
         active.clear();
         for chain in 0..groom.skeletons.chain_count() {
             let (section, level, _) = groom.chain_owner(chain);
-            let shown = self.levels.shown_weight(section, display_time);
-            let drawn = shown > 0.0 && self.levels.drawn(section).any(|drawn| drawn == level);
-            let block = &self.blocks[level as usize];
+            let shown = levels.shown_weight(section, display_time);
+            let drawn = shown > 0.0 && levels.drawn(section).any(|drawn| drawn == level);
+            let block = &self.state.blocks[level];
             let located = block.slot(section).filter(|_| drawn);
             let Some(slot) = located else {
                 active.push_inactive_chain();
@@ -490,8 +684,8 @@ impl Pipeline {
             // of the whole old level, which then dissolves out over the second half: no frame
             // shows less hair than either level, and the switch frame itself changes little. A
             // section coming into view or leaving it dissolves in or out as a whole.
-            let weight = self.levels.blend_weight(section, display_time);
-            let coverage = if level == self.levels.current()[section] {
+            let weight = levels.blend_weight(section, display_time);
+            let coverage = if level == levels.current()[section] {
                 (2.0 * weight).min(1.0)
             } else {
                 (2.0 * (1.0 - weight)).min(1.0)
@@ -502,10 +696,11 @@ impl Pipeline {
         Ok(())
     }
 
-    /// The largest distance of any simulated node from the head's centre [m] (a sanity measure).
+    /// The largest distance of any simulated node from `centre` [m] (a sanity measure).
     pub fn max_node_distance(&self, centre: Vec3) -> f32 {
-        self.blocks
-            .iter()
+        self.state
+            .blocks
+            .values()
             .flat_map(|block| block.state.node_positions.iter())
             .map(|p| p.distance(centre))
             .fold(0.0, f32::max)

@@ -35,10 +35,11 @@ struct Fixture {
 
 fn solver_for(fixture: &mut Fixture, chains: &[CollisionChain]) -> CollisionSolver {
     let mut solver =
-        CollisionSolver::new(vec![fixture.head.clone()], CollisionSettings::default()).unwrap();
+        CollisionSolver::new(CollisionSettings::default()).unwrap();
     solver.set_chains(&fixture.simulation, chains).unwrap();
     solver
         .before_step(
+            std::slice::from_mut(&mut fixture.head),
             &fixture.simulation,
             &mut fixture.state,
             &fixture.environment,
@@ -105,10 +106,20 @@ fn benches(c: &mut Criterion) {
             b.iter(|| {
                 let f = &mut fixture;
                 solver
-                    .before_step(&f.simulation, &mut f.state, &f.environment)
+                    .before_step(
+                        std::slice::from_mut(&mut f.head),
+                        &f.simulation,
+                        &mut f.state,
+                        &f.environment,
+                    )
                     .unwrap();
                 solver
-                    .after_step(&f.simulation, &mut f.state, &f.environment)
+                    .after_step(
+                        std::slice::from_mut(&mut f.head),
+                        &f.simulation,
+                        &mut f.state,
+                        &f.environment,
+                    )
                     .unwrap()
             })
         });

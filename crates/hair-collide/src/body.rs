@@ -9,7 +9,7 @@ use hair_core::TriangleMesh;
 use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 
-use crate::error::{CollideError, Result, require_finite_points, require_pose};
+use crate::error::{Result, require_pose};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
 use crate::surface::Pseudonormals;
@@ -66,30 +66,12 @@ fn triangle_aabb(triangle: &Triangle) -> Aabb {
 impl CollisionBody {
     /// A body from a mesh given in its own (local) frame \[m\], placed at the identity pose.
     ///
-    /// Errors when the mesh has no triangles, a triangle indexes past the vertices, or a position
-    /// is not finite. Normals of the mesh are not read: triangle normals come from the
-    /// counter-clockwise winding.
+    /// Errors ([`CollideError::Mesh`](crate::CollideError::Mesh)) on a mesh that fails
+    /// [`TriangleMesh::validate_surface`]: no triangles or only zero-area ones, a triangle indexing
+    /// past the vertices, a position or normal not finite, normals not one per vertex. Normals of
+    /// the mesh are not otherwise read: triangle normals come from the counter-clockwise winding.
     pub fn from_mesh(mesh: &TriangleMesh) -> Result<Self> {
-        if mesh.triangles.is_empty() {
-            return Err(CollideError::InvalidParameter {
-                name: "mesh",
-                value: "0 triangles".into(),
-                allowed: "a mesh with at least one triangle",
-            });
-        }
-        require_finite_points("mesh positions", &mesh.positions)?;
-        for (triangle, indices) in mesh.triangles.iter().enumerate() {
-            if let Some(&vertex) = indices
-                .iter()
-                .find(|&&i| i as usize >= mesh.positions.len())
-            {
-                return Err(CollideError::VertexOutOfRange {
-                    triangle,
-                    vertex,
-                    vertex_count: mesh.positions.len(),
-                });
-            }
-        }
+        mesh.validate_surface()?;
         // Bound only the vertices that triangles use: unused vertices cannot be touched.
         let mut used = vec![false; mesh.positions.len()];
         for indices in &mesh.triangles {

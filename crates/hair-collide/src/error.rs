@@ -39,18 +39,9 @@ pub enum CollideError {
         /// What is wrong, in words.
         reason: String,
     },
-    /// A triangle refers to a vertex that does not exist.
-    #[error(
-        "triangle {triangle} refers to vertex {vertex}, but the mesh has {vertex_count} vertices"
-    )]
-    VertexOutOfRange {
-        /// Index of the triangle.
-        triangle: usize,
-        /// The out-of-range vertex index.
-        vertex: u32,
-        /// Number of vertices in the mesh.
-        vertex_count: usize,
-    },
+    /// A mesh fails [`hair_core::TriangleMesh::validate_surface`]: the error names the problem.
+    #[error("invalid mesh: {0}")]
+    Mesh(#[from] hair_core::mesh::MeshError),
     /// The dynamics step failed (see [`hair_core::dynamics::DynamicsError`]).
     #[error("dynamics: {0}")]
     Dynamics(#[from] hair_core::dynamics::DynamicsError),

@@ -41,6 +41,7 @@ pub use layout::{
 pub use query::{SegmentContacts, query_body, query_body_brute_force};
 pub use sight::LineOfSight;
 pub use solver::{
+    VelocityMemory,
     CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,
     ProjectionReport, STRETCH_WARNING,
 };

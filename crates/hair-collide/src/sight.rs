@@ -7,7 +7,7 @@ use hair_core::TriangleMesh;
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::TriMesh;
 
-use crate::error::{CollideError, Result, require_finite_points, require_pose};
+use crate::error::{CollideError, Result, require_pose};
 
 /// A rigid, posed triangle mesh that blocks lines of sight.
 #[derive(Debug, Clone)]
@@ -18,22 +18,12 @@ pub struct LineOfSight {
 }
 
 impl LineOfSight {
-    /// A blocker from `mesh`, given in its own frame \[m\], at the identity pose. Errors when the
-    /// mesh has no triangles, a triangle indexes past the vertices, or a position is not finite.
+    /// A blocker from `mesh`, given in its own frame \[m\], at the identity pose. Errors
+    /// ([`CollideError::Mesh`]) on a mesh that fails [`TriangleMesh::validate_surface`]: no
+    /// triangles or only zero-area ones, a triangle indexing past the vertices, a position or
+    /// normal not finite, normals not one per vertex.
     pub fn new(mesh: &TriangleMesh) -> Result<Self> {
-        require_finite_points("mesh positions", &mesh.positions)?;
-        for (triangle, indices) in mesh.triangles.iter().enumerate() {
-            if let Some(&vertex) = indices
-                .iter()
-                .find(|&&i| i as usize >= mesh.positions.len())
-            {
-                return Err(CollideError::VertexOutOfRange {
-                    triangle,
-                    vertex,
-                    vertex_count: mesh.positions.len(),
-                });
-            }
-        }
+        mesh.validate_surface()?;
         let trimesh =
             TriMesh::new(mesh.positions.clone(), mesh.triangles.clone()).map_err(|error| {
                 CollideError::InvalidParameter {
@@ -157,6 +147,16 @@ mod tests {
         let error = LineOfSight::new(&mesh).unwrap_err();
         assert!(error.to_string().contains("vertex 99"), "{error}");
         let empty = TriangleMesh::default();
-        assert!(LineOfSight::new(&empty).is_err());
+        assert_eq!(
+            LineOfSight::new(&empty).unwrap_err(),
+            CollideError::Mesh(hair_core::mesh::MeshError::NoTriangles)
+        );
+        let mut mesh = cube();
+        mesh.positions[5].z = f32::NAN;
+        let error = LineOfSight::new(&mesh).unwrap_err();
+        assert!(
+            error.to_string().contains("vertex 5 is not finite"),
+            "{error}"
+        );
     }
 }

@@ -131,11 +131,25 @@ pub struct CollisionStepReport {
     pub projection: ProjectionReport,
 }
 
-/// The collision stage: bodies, the active chains' hierarchy, and all scratch (nothing is
-/// allocated per step once the layout is set, except when the contact count grows).
+/// What the collision response remembers between steps: the node positions [m] at the last
+/// [`CollisionSolver::before_step`] and its time [s] (`None` before the first), from which it
+/// takes node velocities by finite differences.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct VelocityMemory {
+    /// Node positions [m] at the last step, one per model node.
+    pub positions: Vec<Vec3>,
+    /// Time of the last step [s].
+    pub time: Option<f64>,
+}
+
+/// The collision stage of one set of active chains: their hierarchy, the velocity memory of the
+/// response and all scratch (nothing is allocated per step once the layout is set, except when
+/// the contact count grows). The bodies are not the solver's: every step is handed them (posed
+/// there), so several solvers (one per level of detail) share one body per mesh.
 pub struct CollisionSolver {
     settings: CollisionSettings,
-    bodies: Vec<CollisionBody>,
+    /// The number of bodies the clearance cache is laid out for.
+    body_count: usize,
     hair: ActiveHair,
     hierarchy: Option<HairBvh>,
     layout_changed: bool,
@@ -157,7 +171,7 @@ impl std::fmt::Debug for CollisionSolver {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("CollisionSolver")
             .field("settings", &self.settings)
-            .field("bodies", &self.bodies.len())
+            .field("body_count", &self.body_count)
             .field("chains", &self.hair.chains.len())
             .field("rebuild_count", &self.rebuild_count)
             .finish_non_exhaustive()
@@ -165,13 +179,13 @@ impl std::fmt::Debug for CollisionSolver {
 }
 
 impl CollisionSolver {
-    /// A solver for `bodies` (meshes in head space, moved by the head) with `settings`; no
-    /// chains yet (see [`CollisionSolver::set_chains`]).
-    pub fn new(bodies: Vec<CollisionBody>, settings: CollisionSettings) -> Result<Self> {
+    /// A solver with `settings`; no chains yet (see [`CollisionSolver::set_chains`]). The bodies
+    /// (meshes in head space, moved by the head) come with every step.
+    pub fn new(settings: CollisionSettings) -> Result<Self> {
         settings.validate()?;
         Ok(CollisionSolver {
             settings,
-            bodies,
+            body_count: 0,
             hair: ActiveHair::default(),
             hierarchy: None,
             layout_changed: true,
@@ -198,9 +212,35 @@ impl CollisionSolver {
         Ok(())
     }
 
-    /// The bodies.
-    pub fn bodies(&self) -> &[CollisionBody] {
-        &self.bodies
+    /// The velocity memory of the response (see [`VelocityMemory`]): part of a run's state, which
+    /// a resumed run restores with [`set_velocity_memory`](Self::set_velocity_memory) to step as
+    /// the uninterrupted run did.
+    pub fn velocity_memory(&self) -> VelocityMemory {
+        VelocityMemory {
+            positions: self.previous_positions.clone(),
+            time: self.previous_time,
+        }
+    }
+
+    /// Restores the velocity memory saved with [`velocity_memory`](Self::velocity_memory).
+    pub fn set_velocity_memory(&mut self, memory: &VelocityMemory) {
+        self.previous_positions.clear();
+        self.previous_positions.extend_from_slice(&memory.positions);
+        self.previous_time = memory.time;
+    }
+
+    /// Lays the clearance cache out for `count` bodies (emptied when the count changes: an empty
+    /// clearance only costs a closest-point search).
+    fn use_bodies(&mut self, count: usize) {
+        if self.body_count != count {
+            self.body_count = count;
+            self.clearances.clear();
+        }
+        let wanted = self.hair.model_nodes.len() * count;
+        if self.clearances.len() != wanted {
+            self.clearances.clear();
+            self.clearances.resize(wanted, Clearance::default());
+        }
     }
 
     /// Sets the active chains of `simulation`'s model. When they differ from the current ones
@@ -231,7 +271,7 @@ impl CollisionSolver {
         self.clearances = carry_clearances(
             (&old_chains, &old_offsets, &self.clearances),
             (&self.hair.chains, &self.hair.chain_offsets),
-            self.bodies.len(),
+            self.body_count,
         );
         self.chain_sections.clear();
         self.chain_sections.extend(chains.iter().map(|c| c.section));
@@ -264,6 +304,7 @@ impl CollisionSolver {
     /// zero elsewhere.
     pub fn before_step(
         &mut self,
+        bodies: &mut [CollisionBody],
         simulation: &Simulation,
         state: &mut SimulationState,
         environment: &Environment,
@@ -276,9 +317,10 @@ impl CollisionSolver {
         let head_before = environment
             .head
             .transform_at(state.time - f64::from(time_step));
-        for body in &mut self.bodies {
+        for body in bodies.iter_mut() {
             body.set_pose(head.rotation, head.translation)?;
         }
+        self.use_bodies(bodies.len());
         self.hair
             .gather(&model.rest, &state.node_positions, &head)?;
         let mut report = ContactReport::default();
@@ -308,7 +350,7 @@ impl CollisionSolver {
             elapsed > 0.0 && self.previous_positions.len() == state.node_positions.len();
         let respond = self.settings.response || self.settings.friction > 0.0;
         self.node_normals.fill(Vec3::ZERO);
-        for body in &self.bodies {
+        for body in bodies.iter() {
             query_body(hierarchy, body, &mut self.contacts);
             report.contact_segments += self.contacts.segment_count();
             report.contact_pairs += self.contacts.pair_count();
@@ -400,6 +442,7 @@ impl CollisionSolver {
     /// space), so only nodes near a surface pay for a closest-point search.
     pub fn after_step(
         &mut self,
+        bodies: &mut [CollisionBody],
         simulation: &Simulation,
         state: &mut SimulationState,
         environment: &Environment,
@@ -415,12 +458,13 @@ impl CollisionSolver {
         let head_before = environment
             .head
             .transform_at(state.time - f64::from(time_step));
-        for body in &mut self.bodies {
+        for body in bodies.iter_mut() {
             body.set_pose(head.rotation, head.translation)?;
         }
+        self.use_bodies(bodies.len());
         let to_head = head.inverse();
         let lengths = &simulation.model().rest.segment_rest_lengths;
-        let body_count = self.bodies.len();
+        let body_count = bodies.len();
         for index in 0..self.hair.chains.len() {
             let gathered = self.hair.chain_offsets[index] as usize
                 ..self.hair.chain_offsets[index + 1] as usize;
@@ -437,7 +481,7 @@ impl CollisionSolver {
                 if attached && self.hair.is_root[node] {
                     continue;
                 }
-                for (b, body) in self.bodies.iter().enumerate() {
+                for (b, body) in bodies.iter().enumerate() {
                     let cache = &mut self.clearances[node * body_count + b];
                     let local = to_head.transform_point(state.node_positions[m]);
                     if local.distance(cache.local_position) + CLEARANCE_ROUNDING < cache.clearance {
@@ -491,13 +535,14 @@ impl CollisionSolver {
     /// [`CollideError::Dynamics`] (the state is then as the dynamics left it).
     pub fn step(
         &mut self,
+        bodies: &mut [CollisionBody],
         simulation: &mut Simulation,
         state: &mut SimulationState,
         environment: &Environment,
     ) -> Result<CollisionStepReport> {
-        let contacts = self.before_step(simulation, state, environment)?;
+        let contacts = self.before_step(bodies, simulation, state, environment)?;
         let dynamics = simulation.step(state, environment)?;
-        let projection = self.after_step(simulation, state, environment)?;
+        let projection = self.after_step(bodies, simulation, state, environment)?;
         Ok(CollisionStepReport {
             contacts,
             dynamics,

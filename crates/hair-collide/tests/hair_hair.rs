@@ -69,7 +69,7 @@ fn run(hair_hair: Option<HairHairSettings>) -> f32 {
         hair_hair,
         ..CollisionSettings::default()
     };
-    let mut solver = CollisionSolver::new(Vec::new(), settings).unwrap();
+    let mut solver = CollisionSolver::new(settings).unwrap();
     let chains: Vec<CollisionChain> = (0..2)
         .map(|c| CollisionChain {
             chain: c,
@@ -80,7 +80,7 @@ fn run(hair_hair: Option<HairHairSettings>) -> f32 {
     solver.set_chains(&simulation, &chains).unwrap();
     for _ in 0..60 {
         solver
-            .step(&mut simulation, &mut state, &environment)
+            .step(&mut [], &mut simulation, &mut state, &environment)
             .unwrap();
     }
     separation(&state.node_positions)

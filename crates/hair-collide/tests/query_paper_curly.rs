@@ -14,9 +14,12 @@ use hair_core::dynamics::{
 };
 use hair_core::{Level, Scene};
 
-fn assert_bvh_equals_brute_force(solver: &CollisionSolver, what: &str) -> usize {
+fn assert_bvh_equals_brute_force(
+    solver: &CollisionSolver,
+    body: &CollisionBody,
+    what: &str,
+) -> usize {
     let hair = solver.hierarchy().expect("built by before_step");
-    let body = &solver.bodies()[0];
     let (mut fast, mut slow) = (SegmentContacts::new(), SegmentContacts::new());
     query_body(hair, body, &mut fast);
     query_body_brute_force(hair, body, &mut slow);
@@ -40,19 +43,24 @@ fn paper_curly_bvh_equals_brute_force_at_every_level_and_after_motion() {
         ..Environment::default()
     };
     let mut state = simulation.rest_state(&environment, 0.0);
-    let body = CollisionBody::from_mesh(&scene.head.mesh).unwrap();
-    let mut solver = CollisionSolver::new(vec![body], CollisionSettings::default()).unwrap();
+    let mut body = CollisionBody::from_mesh(&scene.head.mesh).unwrap();
+    let mut solver = CollisionSolver::new(CollisionSettings::default()).unwrap();
 
     // Each level at rest: a new layout, so a rebuild.
     for (k, level) in Level::ALL.into_iter().enumerate() {
         let chains = groom_level_chains(groom, level);
         solver.set_chains(&simulation, &chains).unwrap();
         let report = solver
-            .before_step(&simulation, &mut state, &environment)
+            .before_step(
+                std::slice::from_mut(&mut body),
+                &simulation,
+                &mut state,
+                &environment,
+            )
             .unwrap();
         assert!(report.rebuilt);
         assert_eq!(solver.rebuild_count(), k as u64 + 1);
-        let pairs = assert_bvh_equals_brute_force(&solver, level.name());
+        let pairs = assert_bvh_equals_brute_force(&solver, &body, level.name());
         assert!(pairs > 0, "{level:?}: the roots touch the scalp");
         println!("{}: {} segments, {pairs} contact pairs", level.name(), {
             solver.hierarchy().unwrap().segment_count()
@@ -74,7 +82,12 @@ fn paper_curly_bvh_equals_brute_force_at_every_level_and_after_motion() {
             solver.set_chains(&simulation, &chains).unwrap();
         }
         let report = solver
-            .step(&mut simulation, &mut state, &environment)
+            .step(
+                std::slice::from_mut(&mut body),
+                &mut simulation,
+                &mut state,
+                &environment,
+            )
             .unwrap();
         assert_eq!(
             report.contacts.rebuilt,
@@ -83,14 +96,19 @@ fn paper_curly_bvh_equals_brute_force_at_every_level_and_after_motion() {
         );
         // The hierarchy as the solver left it after `step`'s refit (moved hair) or rebuild.
         if step > 0 {
-            assert_bvh_equals_brute_force(&solver, &format!("mixed levels, step {step}"));
+            assert_bvh_equals_brute_force(&solver, &body, &format!("mixed levels, step {step}"));
         }
     }
     assert_eq!(solver.rebuild_count(), before + 2);
     // Setting the same layout again is not a change.
     solver.set_chains(&simulation, &chains).unwrap();
     let report = solver
-        .before_step(&simulation, &mut state, &environment)
+        .before_step(
+                std::slice::from_mut(&mut body),
+                &simulation,
+                &mut state,
+                &environment,
+            )
         .unwrap();
     assert!(!report.rebuilt);
 }

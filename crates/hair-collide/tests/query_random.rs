@@ -9,6 +9,7 @@ use hair_collide::{
     ChainVolume, CollideError, CollisionBody, HairBvh, SegmentContacts, query_body,
     query_body_brute_force,
 };
+use hair_core::mesh::MeshError;
 use support::{Rng, uv_sphere};
 
 const HEAD_CENTER: Vec3 = Vec3::new(0.0, 1.6, 0.0);
@@ -300,15 +301,33 @@ fn bad_input_gives_clear_errors() {
     mesh.triangles.push([0, 1, 10_000]);
     assert!(matches!(
         CollisionBody::from_mesh(&mesh),
-        Err(CollideError::VertexOutOfRange { vertex: 10_000, .. })
+        Err(CollideError::Mesh(MeshError::VertexOutOfRange {
+            vertex: 10_000,
+            ..
+        }))
     ));
     let mut mesh = uv_sphere(HEAD_CENTER, HEAD_RADIUS, 4, 8);
     mesh.positions[3].x = f32::NAN;
     assert!(matches!(
         CollisionBody::from_mesh(&mesh),
-        Err(CollideError::NonFinite { index: 3, .. })
+        Err(CollideError::Mesh(MeshError::NonFinitePosition {
+            vertex: 3,
+            ..
+        }))
     ));
-    assert!(CollisionBody::from_mesh(&hair_core::TriangleMesh::default()).is_err());
+    assert_eq!(
+        CollisionBody::from_mesh(&hair_core::TriangleMesh::default()).unwrap_err(),
+        CollideError::Mesh(MeshError::NoTriangles)
+    );
+    let flat = hair_core::TriangleMesh {
+        positions: vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X],
+        triangles: vec![[0, 1, 2]],
+        ..Default::default()
+    };
+    assert_eq!(
+        CollisionBody::from_mesh(&flat).unwrap_err(),
+        CollideError::Mesh(MeshError::Degenerate { triangle_count: 1 })
+    );
     let mut body =
         CollisionBody::from_mesh(&uv_sphere(HEAD_CENTER, HEAD_RADIUS, 4, 8)).expect("valid");
     assert!(

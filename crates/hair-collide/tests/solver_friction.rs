@@ -64,12 +64,12 @@ fn slide(head: &Head, kind: IntegratorKind, mu: f32) -> f32 {
     };
     let mut state = simulation.rest_state(&environment, 0.0);
     let start = state.node_positions.clone();
-    let body = CollisionBody::from_mesh(&head.mesh).unwrap();
+    let mut body = CollisionBody::from_mesh(&head.mesh).unwrap();
     let collision = CollisionSettings {
         friction: mu,
         ..CollisionSettings::default()
     };
-    let mut solver = CollisionSolver::new(vec![body], collision).unwrap();
+    let mut solver = CollisionSolver::new(collision).unwrap();
     let chain = CollisionChain {
         chain: 0,
         section: 0,
@@ -80,7 +80,12 @@ fn slide(head: &Head, kind: IntegratorKind, mu: f32) -> f32 {
     let mut touching = 0;
     for _ in 0..steps {
         let report = solver
-            .step(&mut simulation, &mut state, &environment)
+            .step(
+                std::slice::from_mut(&mut body),
+                &mut simulation,
+                &mut state,
+                &environment,
+            )
             .unwrap();
         touching += usize::from(report.contacts.contact_nodes > 0);
     }

@@ -76,8 +76,8 @@ fn run(kind: IntegratorKind) {
         ..Environment::default()
     };
     let mut state = simulation.rest_state(&environment, 0.0);
-    let body = CollisionBody::from_mesh(&scene.head.mesh).unwrap();
-    let mut solver = CollisionSolver::new(vec![body], CollisionSettings::default()).unwrap();
+    let mut body = CollisionBody::from_mesh(&scene.head.mesh).unwrap();
+    let mut solver = CollisionSolver::new(CollisionSettings::default()).unwrap();
     solver.set_chains(&simulation, &chains).unwrap();
     let reference = ParrySignedDistance::new(&scene.head.mesh);
     let rest = &simulation.model().rest;
@@ -91,7 +91,12 @@ fn run(kind: IntegratorKind) {
     let started = std::time::Instant::now();
     for step in 0..steps {
         let report = solver
-            .step(&mut simulation, &mut state, &environment)
+            .step(
+                std::slice::from_mut(&mut body),
+                &mut simulation,
+                &mut state,
+                &environment,
+            )
             .unwrap();
         projected += report.projection.projected_nodes;
         // The reported stretch is a real segment's, never above the largest over all segments;

@@ -19,7 +19,15 @@ const SEGMENT: f32 = 0.01;
 
 /// A three-node chain of 1 cm segments rooted at `root`, its simulation at rest and a solver
 /// with the sphere of radius `RADIUS` at the origin, whose skin is returned too.
-fn one_chain_on_the_sphere(root: Vec3) -> (Simulation, SimulationState, CollisionSolver, f32) {
+fn one_chain_on_the_sphere(
+    root: Vec3,
+) -> (
+    Simulation,
+    SimulationState,
+    CollisionSolver,
+    CollisionBody,
+    f32,
+) {
     let mut rest = SkeletonRest::default();
     rest.push_chain(
         root,
@@ -37,14 +45,14 @@ fn one_chain_on_the_sphere(root: Vec3) -> (Simulation, SimulationState, Collisio
     let body = CollisionBody::from_mesh(&support::uv_sphere(Vec3::ZERO, RADIUS, 32, 64)).unwrap();
     let settings = CollisionSettings::default();
     let skin = settings.skin;
-    let mut solver = CollisionSolver::new(vec![body], settings).unwrap();
+    let mut solver = CollisionSolver::new(settings).unwrap();
     let chain = CollisionChain {
         chain: 0,
         section: 0,
         shape: ChainShape::StrandGroup { thickness: 0.0 },
     };
     solver.set_chains(&simulation, &[chain]).unwrap();
-    (simulation, state, solver, skin)
+    (simulation, state, solver, body, skin)
 }
 
 /// One chain of three nodes, 1 cm segments, on a sphere of radius 10 cm at the origin, its
@@ -55,12 +63,17 @@ fn one_chain_on_the_sphere(root: Vec3) -> (Simulation, SimulationState, Collisio
 #[test]
 fn a_segment_that_cannot_keep_its_length_is_reported() {
     let root = Vec3::new(0.0, 0.05, 0.0);
-    let (simulation, mut state, mut solver, skin) = one_chain_on_the_sphere(root);
+    let (simulation, mut state, mut solver, mut body, skin) = one_chain_on_the_sphere(root);
     state.node_positions[0] = root;
     state.node_positions[1] = root + Vec3::Y * 0.005;
     state.node_positions[2] = root + Vec3::Y * 0.015;
     let report = solver
-        .after_step(&simulation, &mut state, &Environment::default())
+        .after_step(
+            std::slice::from_mut(&mut body),
+            &simulation,
+            &mut state,
+            &Environment::default(),
+        )
         .unwrap();
 
     // The reported stretch is segment 0–1's as it ended up.
@@ -88,9 +101,14 @@ fn a_segment_that_cannot_keep_its_length_is_reported() {
 /// Nothing inside: nothing projected, no stretch.
 #[test]
 fn hair_outside_reports_no_stretch() {
-    let (simulation, mut state, mut solver, _) = one_chain_on_the_sphere(Vec3::new(0.0, 0.2, 0.0));
+    let (simulation, mut state, mut solver, mut body, _) = one_chain_on_the_sphere(Vec3::new(0.0, 0.2, 0.0));
     let report = solver
-        .after_step(&simulation, &mut state, &Environment::default())
+        .after_step(
+            std::slice::from_mut(&mut body),
+            &simulation,
+            &mut state,
+            &Environment::default(),
+        )
         .unwrap();
     assert_eq!(report.projected_nodes, 0);
     assert_eq!(report.max_stretch, 0.0);

@@ -19,6 +19,7 @@ pub mod lod;
 pub mod mesh;
 pub mod nurbs;
 pub mod obj;
+pub mod per_level;
 pub mod random;
 pub mod representation;
 pub mod scene;
@@ -33,6 +34,7 @@ pub use groom::{Groom, GroomCounts, GroomParams, PRESET_NAMES, Section, StrandSe
 pub use head::{Head, HeadParams, ScalpRoot};
 pub use level::Level;
 pub use mesh::TriangleMesh;
+pub use per_level::PerLevel;
 pub use scene::Scene;
 pub use skeleton::SkeletonRest;
 pub use style::{HairStyle, StyleKind};

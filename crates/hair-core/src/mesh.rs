@@ -1,6 +1,68 @@
-//! Indexed triangle meshes with vertex normals: the head, collision bodies, tessellated surfaces.
+//! Indexed triangle meshes with vertex normals: the head, collision bodies, tessellated surfaces,
+//! and the one check every consumer of a mesh (OBJ writer, collision bodies, lines of sight, the
+//! renderer's head) runs on it: [`TriangleMesh::validate`].
 
 use glam::Vec3;
+use thiserror::Error;
+
+/// What makes a triangle mesh unusable, as found by [`TriangleMesh::validate`] and
+/// [`TriangleMesh::validate_surface`].
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum MeshError {
+    /// More vertices than `u32` triangle indices can address.
+    #[error("the mesh has {vertex_count} vertices, more than u32 indices can address")]
+    TooManyVertices {
+        /// Number of vertices in the mesh.
+        vertex_count: usize,
+    },
+    /// Normals are present but not one per vertex.
+    #[error(
+        "the mesh has {normal_count} normals for {vertex_count} vertices (expected as many, or none)"
+    )]
+    NormalCount {
+        /// Number of normals.
+        normal_count: usize,
+        /// Number of vertices.
+        vertex_count: usize,
+    },
+    /// A vertex position has a NaN or infinite coordinate.
+    #[error("mesh vertex {vertex} is not finite: {position}")]
+    NonFinitePosition {
+        /// Index of the vertex.
+        vertex: usize,
+        /// Its position [m].
+        position: Vec3,
+    },
+    /// A vertex normal has a NaN or infinite coordinate.
+    #[error("mesh normal {vertex} is not finite: {normal}")]
+    NonFiniteNormal {
+        /// Index of the vertex (and of its normal).
+        vertex: usize,
+        /// The normal.
+        normal: Vec3,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error(
+        "triangle {triangle} refers to vertex {vertex}, but the mesh has {vertex_count} vertices"
+    )]
+    VertexOutOfRange {
+        /// Index of the triangle.
+        triangle: usize,
+        /// The out-of-range vertex index.
+        vertex: u32,
+        /// Number of vertices in the mesh.
+        vertex_count: usize,
+    },
+    /// The mesh has no triangles (where a surface is needed).
+    #[error("the mesh has no triangles")]
+    NoTriangles,
+    /// Every triangle has zero area, so the mesh has no surface (where one is needed).
+    #[error("all {triangle_count} triangles of the mesh have zero area")]
+    Degenerate {
+        /// Number of triangles (all degenerate).
+        triangle_count: usize,
+    },
+}
 
 /// An indexed triangle mesh [m]. Counter-clockwise triangles seen from outside.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -46,6 +108,61 @@ impl TriangleMesh {
         self.normals = normals;
     }
 
+    /// Checks that the mesh is well formed: its vertex count fits `u32` indices, it has one
+    /// normal per vertex or none, every position and normal is finite, and every triangle index
+    /// names a vertex. A mesh without triangles passes (it draws and writes nothing); use
+    /// [`TriangleMesh::validate_surface`] where a surface is needed. Reports the first problem
+    /// found, in that order.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let vertex_count = self.positions.len();
+        if u32::try_from(vertex_count).is_err() {
+            return Err(MeshError::TooManyVertices { vertex_count });
+        }
+        if !self.normals.is_empty() && self.normals.len() != vertex_count {
+            return Err(MeshError::NormalCount {
+                normal_count: self.normals.len(),
+                vertex_count,
+            });
+        }
+        if let Some(vertex) = self.positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinitePosition {
+                vertex,
+                position: self.positions[vertex],
+            });
+        }
+        if let Some(vertex) = self.normals.iter().position(|n| !n.is_finite()) {
+            return Err(MeshError::NonFiniteNormal {
+                vertex,
+                normal: self.normals[vertex],
+            });
+        }
+        for (triangle, indices) in self.triangles.iter().enumerate() {
+            if let Some(&vertex) = indices.iter().find(|&&i| i as usize >= vertex_count) {
+                return Err(MeshError::VertexOutOfRange {
+                    triangle,
+                    vertex,
+                    vertex_count,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// [`TriangleMesh::validate`], and the mesh has a surface: at least one triangle, and not
+    /// all of them of zero area. What a collision body or a line-of-sight blocker needs.
+    pub fn validate_surface(&self) -> Result<(), MeshError> {
+        self.validate()?;
+        if self.triangles.is_empty() {
+            return Err(MeshError::NoTriangles);
+        }
+        if (0..self.triangles.len()).all(|t| self.triangle_normal(t) == Vec3::ZERO) {
+            return Err(MeshError::Degenerate {
+                triangle_count: self.triangles.len(),
+            });
+        }
+        Ok(())
+    }
+
     /// Axis-aligned bounds `(min, max)` [m]; `None` for an empty mesh.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let first = *self.positions.first()?;
@@ -74,5 +191,128 @@ mod tests {
             assert!((*p - centre).dot(*n) > 0.0);
         }
         assert_eq!(mesh.triangle_normal(3), Vec3::ONE.normalize());
+    }
+
+    fn tetrahedron() -> TriangleMesh {
+        let mut mesh = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            normals: Vec::new(),
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        };
+        mesh.compute_vertex_normals();
+        mesh
+    }
+
+    #[test]
+    fn a_well_formed_mesh_passes_and_an_empty_one_has_no_surface() {
+        let mesh = tetrahedron();
+        assert_eq!(mesh.validate(), Ok(()));
+        assert_eq!(mesh.validate_surface(), Ok(()));
+        let without_normals = TriangleMesh {
+            normals: Vec::new(),
+            ..tetrahedron()
+        };
+        assert_eq!(without_normals.validate_surface(), Ok(()));
+        let empty = TriangleMesh::default();
+        assert_eq!(empty.validate(), Ok(()));
+        assert_eq!(empty.validate_surface(), Err(MeshError::NoTriangles));
+        assert_eq!(
+            empty.validate_surface().unwrap_err().to_string(),
+            "the mesh has no triangles"
+        );
+    }
+
+    #[test]
+    fn a_nan_position_is_named() {
+        let mut mesh = tetrahedron();
+        mesh.positions[2].y = f32::NAN;
+        let error = mesh.validate().unwrap_err();
+        assert!(
+            matches!(error, MeshError::NonFinitePosition { vertex: 2, .. }),
+            "{error:?}"
+        );
+        assert!(
+            error.to_string().contains("vertex 2 is not finite"),
+            "{error}"
+        );
+        mesh.positions[2] = Vec3::new(0.0, f32::INFINITY, 0.0);
+        assert!(matches!(
+            mesh.validate_surface(),
+            Err(MeshError::NonFinitePosition { vertex: 2, .. })
+        ));
+    }
+
+    #[test]
+    fn a_nan_normal_is_named() {
+        let mut mesh = tetrahedron();
+        mesh.normals[1] = Vec3::new(0.0, 0.0, f32::NAN);
+        let error = mesh.validate().unwrap_err();
+        assert!(
+            matches!(error, MeshError::NonFiniteNormal { vertex: 1, .. }),
+            "{error:?}"
+        );
+        assert!(
+            error.to_string().contains("normal 1 is not finite"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn an_index_past_the_vertices_is_named() {
+        let mut mesh = tetrahedron();
+        mesh.triangles.push([0, 1, 99]);
+        let error = mesh.validate().unwrap_err();
+        assert_eq!(
+            error,
+            MeshError::VertexOutOfRange {
+                triangle: 4,
+                vertex: 99,
+                vertex_count: 4
+            }
+        );
+        assert_eq!(
+            error.to_string(),
+            "triangle 4 refers to vertex 99, but the mesh has 4 vertices"
+        );
+    }
+
+    #[test]
+    fn normals_must_be_one_per_vertex_or_none() {
+        let mut mesh = tetrahedron();
+        mesh.normals.pop();
+        let error = mesh.validate().unwrap_err();
+        assert_eq!(
+            error,
+            MeshError::NormalCount {
+                normal_count: 3,
+                vertex_count: 4
+            }
+        );
+        assert!(
+            error.to_string().contains("3 normals for 4 vertices"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_mesh_of_zero_area_triangles_has_no_surface() {
+        // Three collinear points, and a triangle repeating one vertex.
+        let mesh = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X],
+            normals: Vec::new(),
+            triangles: vec![[0, 1, 2], [0, 0, 1]],
+        };
+        assert_eq!(
+            mesh.validate(),
+            Ok(()),
+            "well formed, drawable (as nothing)"
+        );
+        let error = mesh.validate_surface().unwrap_err();
+        assert_eq!(error, MeshError::Degenerate { triangle_count: 2 });
+        assert!(error.to_string().contains("zero area"), "{error}");
+        // One degenerate triangle among good ones is fine.
+        let mut mesh = tetrahedron();
+        mesh.triangles.push([0, 0, 1]);
+        assert_eq!(mesh.validate_surface(), Ok(()));
     }
 }

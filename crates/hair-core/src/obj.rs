@@ -94,30 +94,13 @@ impl<W: Write> ObjWriter<W> {
 
     /// Writes a triangle mesh [m]: its vertices (`v`), its normals (`vn`) when it has one per vertex,
     /// and one `f` line per triangle (`f a//a b//b c//c` with normals, `f a b c` without), keeping
-    /// the triangles' winding. Errors (writing nothing) when normals are present but not one per
-    /// vertex, a triangle index is out of range, or a coordinate is not finite.
+    /// the triangles' winding. Errors (writing nothing) on a mesh that fails
+    /// [`TriangleMesh::validate`]: normals present but not one per vertex, a triangle index out of
+    /// range, a coordinate not finite.
     pub fn mesh(&mut self, mesh: &TriangleMesh) -> io::Result<()> {
-        let vertex_total = mesh.positions.len();
+        mesh.validate()
+            .map_err(|error| invalid_input(error.to_string()))?;
         let with_normals = !mesh.normals.is_empty();
-        if with_normals && mesh.normals.len() != vertex_total {
-            return Err(invalid_input(format!(
-                "mesh has {} normals for {vertex_total} vertices",
-                mesh.normals.len()
-            )));
-        }
-        if let Some(t) = mesh
-            .triangles
-            .iter()
-            .position(|t| t.iter().any(|&i| i as usize >= vertex_total))
-        {
-            return Err(invalid_input(format!(
-                "triangle {t} {:?} indexes past the {vertex_total} vertices",
-                mesh.triangles[t]
-            )));
-        }
-        require_finite("mesh vertex", &mesh.positions)?;
-        require_finite("mesh normal", &mesh.normals)?;
-
         let vertex_base = self.vertex_count + 1;
         let normal_base = self.normal_count + 1;
         self.vertices(&mesh.positions)?;

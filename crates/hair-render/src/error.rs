@@ -37,6 +37,9 @@ pub enum RenderError {
     /// Input arrays or parameters are inconsistent or not finite.
     #[error("invalid input: {0}")]
     InvalidInput(String),
+    /// The head mesh fails [`hair_core::TriangleMesh::validate`]: the error names the problem.
+    #[error("invalid head mesh: {0}")]
+    InvalidMesh(#[from] hair_core::mesh::MeshError),
     /// A wgpu validation or out-of-memory error, or a failed readback.
     #[error("GPU error: {0}")]
     Gpu(String),

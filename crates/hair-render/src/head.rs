@@ -13,34 +13,13 @@ pub(crate) struct GpuMesh {
     pub index_count: u32,
 }
 
-/// Checks that `mesh` is drawable: finite positions, indices in range, one normal per vertex
-/// (or none, in which case they are computed).
+/// Checks that `mesh` is drawable: [`TriangleMesh::validate`] (finite positions and normals,
+/// indices in range, one normal per vertex or none, in which case they are computed), and an
+/// index count that fits one `u32` draw. A mesh without triangles is drawable (as nothing).
 pub(crate) fn validate_mesh(mesh: &TriangleMesh) -> Result<()> {
-    let vertices = mesh.positions.len();
-    if u32::try_from(vertices).is_err() || u32::try_from(mesh.triangles.len() * 3).is_err() {
+    mesh.validate()?;
+    if u32::try_from(mesh.triangles.len() * 3).is_err() {
         return Err(invalid("head mesh exceeds the u32 index range"));
-    }
-    if !mesh.normals.is_empty() && mesh.normals.len() != vertices {
-        return Err(invalid(format!(
-            "head mesh has {} normals for {vertices} vertices (expected as many, or none)",
-            mesh.normals.len()
-        )));
-    }
-    if let Some(vertex) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        return Err(invalid(format!("head mesh vertex {vertex} is not finite")));
-    }
-    if let Some(vertex) = mesh.normals.iter().position(|n| !n.is_finite()) {
-        return Err(invalid(format!("head mesh normal {vertex} is not finite")));
-    }
-    if let Some(triangle) = mesh
-        .triangles
-        .iter()
-        .position(|t| t.iter().any(|&i| i as usize >= vertices))
-    {
-        return Err(invalid(format!(
-            "head mesh triangle {triangle} {:?} indexes past its {vertices} vertices",
-            mesh.triangles[triangle]
-        )));
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! Its own test binary: it hides the Vulkan drivers from this whole process.
 
 #[test]
+#[allow(unsafe_code)] // `set_var`, see the SAFETY note below.
 fn missing_vulkan_driver_error_says_what_to_install() {
     // SAFETY: this binary runs this single test, before any other thread reads the environment.
     unsafe {

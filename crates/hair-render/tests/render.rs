@@ -392,6 +392,19 @@ fn bad_input_is_rejected_with_clear_errors() {
         .unwrap_err()
         .to_string();
     assert!(message.contains("10000"), "{message}");
+    let mut nan_head = sphere(Vec3::ZERO, 0.1, 4, 8);
+    nan_head.positions[2].y = f32::NAN;
+    let error = renderer.set_head_mesh(Some(&nan_head)).unwrap_err();
+    assert!(
+        matches!(
+            error,
+            hair_render::RenderError::InvalidMesh(hair_core::mesh::MeshError::NonFinitePosition {
+                vertex: 2,
+                ..
+            })
+        ),
+        "{error}"
+    );
 
     let too_big = hair_render::FrameSettings {
         width: 1 << 20,

@@ -3,10 +3,17 @@
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
-/// `../shared/data/tressfx` seen from the workspace root, or `None` when absent.
-pub fn data_dir() -> Option<PathBuf> {
+/// `../shared/data/tressfx` seen from the workspace root. Panics, naming the path, when it is
+/// absent: the data is not part of this repository, but CI always has it.
+pub fn data_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/tressfx");
-    dir.is_dir().then_some(dir)
+    assert!(
+        dir.is_dir(),
+        "the TressFX Ratboy data is missing: expected the folder {} (`../shared/data/tressfx` \
+         beside the workspace)",
+        dir.display()
+    );
+    dir
 }
 
 /// Strands of a TressFX 4.x file: `(vertices_per_strand, positions)`, strand after strand.

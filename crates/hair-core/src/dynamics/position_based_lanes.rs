@@ -59,6 +59,9 @@ pub(crate) struct BatchState<'a> {
 /// Steps a batch if it can; returns `None` when it cannot (unequal, too short or too long
 /// chains; nothing is written then), else a bit mask of the chains (bit `c − first_chain`) that
 /// failed and whose new state was not written.
+// The one `unsafe` of the workspace (`unsafe_code` is denied in the root Cargo.toml): calling the
+// AVX2 instance after checking at run time that the CPU has AVX2.
+#[allow(unsafe_code)]
 pub(crate) fn step_batch(step: &BatchStep, state: BatchState) -> Option<u32> {
     let (nodes, roots) = step.lanes.batch(state.first_chain)?;
     #[cfg(target_arch = "x86_64")]

@@ -183,6 +183,20 @@ impl LodSelector {
         &self.choices
     }
 
+    /// Restores the last choices (the hysteresis memory) saved from [`choices`](Self::choices),
+    /// for a run resumed from a checkpoint; errors when the count is not the section count.
+    pub fn restore_choices(&mut self, choices: &[SectionChoice]) -> Result<()> {
+        if choices.len() != self.choices.len() {
+            return Err(HairError::SizeMismatch {
+                what: "section choices",
+                actual: choices.len(),
+                expected: self.choices.len(),
+            });
+        }
+        self.choices.copy_from_slice(choices);
+        Ok(())
+    }
+
     /// The distance limits [pixels] of section `section` (patch → clusters, clusters → strands).
     pub fn distance_limits(&self, section: usize) -> [f32; 2] {
         self.constants[section].limits

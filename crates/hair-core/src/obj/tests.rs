@@ -151,10 +151,29 @@ fn bad_input_is_an_error_and_writes_nothing() {
     let mut writer = ObjWriter::new(Vec::new());
     let mut mesh = tetrahedron();
     mesh.triangles.push([0, 1, 4]);
-    assert!(writer.mesh(&mesh).is_err());
+    let error = writer.mesh(&mesh).unwrap_err();
+    assert!(error.to_string().contains("refers to vertex 4"), "{error}");
     mesh.triangles.pop();
     mesh.normals.pop();
-    assert!(writer.mesh(&mesh).is_err());
+    let error = writer.mesh(&mesh).unwrap_err();
+    assert!(
+        error.to_string().contains("3 normals for 4 vertices"),
+        "{error}"
+    );
+    let mut mesh = tetrahedron();
+    mesh.positions[1].z = f32::NAN;
+    let error = writer.mesh(&mesh).unwrap_err();
+    assert!(
+        error.to_string().contains("vertex 1 is not finite"),
+        "{error}"
+    );
+    let mut mesh = tetrahedron();
+    mesh.normals[0].x = f32::INFINITY;
+    let error = writer.mesh(&mesh).unwrap_err();
+    assert!(
+        error.to_string().contains("normal 0 is not finite"),
+        "{error}"
+    );
     assert!(writer.polyline(&[Vec3::ZERO, Vec3::NAN]).is_err());
     assert!(writer.polylines_flat(&[Vec3::ZERO], &[0, 2]).is_err());
     assert!(writer.polylines_flat(&[Vec3::ZERO], &[1, 1]).is_err());

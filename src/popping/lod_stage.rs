@@ -14,12 +14,11 @@ use hair_core::{Camera, Scene};
 use hair_render::ShadingMode;
 use serde::Serialize;
 
-use super::draw::PipelineRenderer;
-use super::error::Result;
-use super::pipeline::Pipeline;
-use super::report::FrameReport;
-use super::settings::{LodMode, PipelineSettings};
-use crate::benchmark::{PaperBenchmark, SETTLE_TIME, luma, luma_difference};
+use crate::metrics::{luma, luma_difference};
+use crate::pipeline::{
+    FrameReport, LodMode, Pipeline, PipelineRenderer, PipelineSettings, Result,
+};
+use crate::shot::Shot;
 
 /// The image changes of one frame at its own camera, in mean absolute luma difference `[0, 1]`.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
@@ -149,11 +148,11 @@ pub fn compare_popping(blended: &[PoppingFrame], instant: &[PoppingFrame]) -> Po
     }
 }
 
-/// Runs the benchmark's LODs (`lod`, with its blend) and again with instant switching, each frame
+/// Runs `shot` at automatic levels (`lod`, with its blend) and again with instant switching, each frame
 /// drawn three times (see [`advance_measured`]), and compares their popping; `on_frame` is called
 /// after every frame of either run (progress).
 pub fn measure_popping(
-    benchmark: &PaperBenchmark,
+    shot: &Shot,
     scene: &Scene,
     lod: LodSettings,
     renderer: &mut PipelineRenderer,
@@ -167,20 +166,14 @@ pub fn measure_popping(
     for (frames, lod) in runs.iter_mut().zip([lod, instant]) {
         let settings = PipelineSettings {
             lod: LodMode::Auto(lod),
-            ..PipelineSettings::default()
+            ..shot.settings
         };
-        let mut pipeline = Pipeline::new(scene.clone(), benchmark.environment(), settings)?;
-        pipeline.settle(SETTLE_TIME)?;
+        let mut pipeline = shot.pipeline(scene, settings, None)?;
         renderer.bind(&pipeline)?;
-        for frame in 0..benchmark.frames {
-            let camera = benchmark.camera(frame);
-            let (_, measured, _) = advance_measured(
-                &mut pipeline,
-                renderer,
-                &camera,
-                benchmark.width,
-                benchmark.height,
-            )?;
+        for frame in 0..shot.frames {
+            let camera = shot.camera(frame);
+            let (_, measured, _) =
+                advance_measured(&mut pipeline, renderer, &camera, shot.width, shot.height)?;
             frames.push(measured);
             on_frame();
         }

@@ -1,17 +1,13 @@
-//! Level switches of sections: the current and (while blending) previous level of each, and the
-//! rebuilding of the per-level blocks with state handed over (§4.2).
+//! Level switches of sections: the current and (while blending) previous level of each, and
+//! their visibility fades. Part of the pipeline's state (§4.2, §7).
 
-use hair_core::dynamics::{DynamicsParams, SimulationSettings};
-use hair_core::lod::{SectionStateRef, hand_over};
-use hair_core::{Groom, Level, RigidTransform};
-
-use super::block::LevelBlock;
-use super::error::Result;
+use hair_core::Level;
+use serde::{Deserialize, Serialize};
 
 /// Every section's current level and, while a transition blends, the level it comes from; and
 /// whether it is drawn, fading in or out over the same blend when it comes into view or leaves
 /// it.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SectionLevels {
     current: Vec<Level>,
     /// `(previous level, blend start [s], blend duration [s])` of sections still blending.
@@ -22,7 +18,7 @@ pub struct SectionLevels {
 
 /// How much of a section is drawn: it fades towards `visible` (1) or hidden (0) from `from` at
 /// `start` [s], by `1 / duration` per second (at once for a duration of 0).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 struct VisibilityFade {
     visible: bool,
     start: f64,
@@ -143,73 +139,22 @@ impl SectionLevels {
         std::iter::once(self.current[section]).chain(self.previous(section))
     }
 
+    /// Number of sections.
+    pub fn section_count(&self) -> usize {
+        self.current.len()
+    }
+
+    /// Whether every per-section list has `sections` entries (a check on restored state).
+    pub fn is_consistent(&self, sections: usize) -> bool {
+        self.current.len() == sections
+            && self.blending.len() == sections
+            && self.shown.len() == sections
+    }
+
     /// The sections simulated at `level` (current or blending from it), ascending.
     pub fn members(&self, level: Level) -> Vec<usize> {
         (0..self.current.len())
             .filter(|&s| self.current[s] == level || self.previous(s) == Some(level))
             .collect()
     }
-}
-
-/// Rebuilds the blocks whose membership changed: sections that stay at a level keep their state
-/// bit for bit, sections that arrive are handed over from the level they come from.
-pub fn rebuild_blocks(
-    groom: &Groom,
-    blocks: &mut [LevelBlock; 3],
-    levels: &mut SectionLevels,
-    params: DynamicsParams,
-    settings: SimulationSettings,
-    time: f64,
-    head: &RigidTransform,
-) -> Result<()> {
-    let mut rebuilt: [Option<LevelBlock>; 3] = [None, None, None];
-    for level in Level::ALL {
-        let members = levels.members(level);
-        let old = &blocks[level as usize];
-        if members == old.sections {
-            continue;
-        }
-        let mut block = LevelBlock::build(groom, level, members, params, settings, time)?;
-        for slot in 0..block.sections.len() {
-            let section = block.sections[slot];
-            let target = block.nodes(slot);
-            if let Some(old_slot) = old.slot(section) {
-                let source = old.nodes(old_slot);
-                block.state.node_positions[target.clone()]
-                    .copy_from_slice(&old.state.node_positions[source.clone()]);
-                block.state.node_velocities[target.clone()]
-                    .copy_from_slice(&old.state.node_velocities[source.clone()]);
-                block.previous_velocities[target].copy_from_slice(&old.previous_velocities[source]);
-                continue;
-            }
-            // Arriving: hand over from the level it was simulated at until now.
-            let from_level = Level::ALL
-                .into_iter()
-                .filter(|&l| l != level)
-                .find(|&l| blocks[l as usize].slot(section).is_some())
-                .expect("every section is simulated at some level");
-            let from_block = &blocks[from_level as usize];
-            let from_nodes = from_block.nodes(from_block.slot(section).expect("found above"));
-            let from = SectionStateRef {
-                positions: &from_block.state.node_positions[from_nodes.clone()],
-                velocities: &from_block.state.node_velocities[from_nodes.clone()],
-            };
-            let (positions, velocities) = (
-                &mut block.state.node_positions[target.clone()],
-                &mut block.state.node_velocities[target.clone()],
-            );
-            hand_over(
-                groom, section, from_level, from, level, positions, velocities, head,
-            )?;
-            let nodes = block.nodes(slot);
-            block.previous_velocities[target].copy_from_slice(&block.state.node_velocities[nodes]);
-        }
-        rebuilt[level as usize] = Some(block);
-    }
-    for level in Level::ALL {
-        if let Some(block) = rebuilt[level as usize].take() {
-            blocks[level as usize] = block;
-        }
-    }
-    Ok(())
 }

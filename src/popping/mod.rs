@@ -1,21 +1,17 @@
-//! The popping measures: image differences between consecutive frames where sections switched
-//! level and where none did, whole-image and beyond the camera's own motion.
+//! The popping measures, all in one place: image differences between consecutive frames where
+//! sections switched level and where none did, whole-image and beyond the camera's own motion
+//! (this file), and what a frame's level decisions change on their own ([`lod_stage`]).
+
+mod lod_stage;
+
+pub use lod_stage::{
+    PoppingComparison, PoppingFrame, SwitchPopping, advance_measured, compare_popping,
+    measure_popping, switch_popping,
+};
 
 use serde::Serialize;
 
-/// Mean absolute difference of two images of the same size, over the RGB channels, in `[0, 1]`.
-pub fn mean_abs_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
-    if a.dimensions() != b.dimensions() {
-        return 1.0;
-    }
-    let mut sum = 0u64;
-    for (p, q) in a.pixels().zip(b.pixels()) {
-        for c in 0..3 {
-            sum += u64::from(p.0[c].abs_diff(q.0[c]));
-        }
-    }
-    sum as f64 / (255.0 * 3.0 * f64::from(a.width()) * f64::from(a.height())).max(1.0)
-}
+use crate::metrics::{luma_difference, mean_abs_difference};
 
 /// The popping measure of a run: mean absolute difference between consecutive frames where some
 /// section changed level, where none did, and their ratio.
@@ -70,36 +66,6 @@ impl PoppingMeter {
             steady_frames: self.steady.1,
         }
     }
-}
-
-/// Mean structural similarity (SSIM, on luma) of two images of the same size, in `[−1, 1]` (1:
-/// identical), from the `image-compare` crate.
-pub fn ssim(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
-    if a.dimensions() != b.dimensions() {
-        return 0.0;
-    }
-    image_compare::gray_similarity_structure(&image_compare::Algorithm::MSSIMSimple, a, b)
-        .map(|similarity| similarity.score)
-        .unwrap_or(0.0)
-}
-
-/// The luma of an RGBA image (what [`ssim`] compares).
-pub fn luma(image: &image::RgbaImage) -> image::GrayImage {
-    image::DynamicImage::ImageRgba8(image.clone()).to_luma8()
-}
-
-/// Mean absolute difference of two luma images of the same size, in `[0, 1]` (1 for different
-/// sizes).
-pub fn luma_difference(a: &image::GrayImage, b: &image::GrayImage) -> f64 {
-    if a.dimensions() != b.dimensions() {
-        return 1.0;
-    }
-    let sum: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .map(|(p, q)| u64::from(p.0[0].abs_diff(q.0[0])))
-        .sum();
-    sum as f64 / (255.0 * f64::from(a.width()) * f64::from(a.height())).max(1.0)
 }
 
 /// Popping beyond what the camera's own motion explains: per frame `t ≥ 1`, the mean absolute

@@ -1,0 +1,178 @@
+//! Criterion bench of the skeleton dynamics in CPU time: one 60 Hz step (the recommended
+//! substeps) of each integrator on the paper-curly groom, with its 455 strand-group skeletons and
+//! with all 37,765 strands simulated as skeletons of their own, in a head shake and a gusting side
+//! wind.
+//!
+//! The measure is the CPU time of all the process's threads (the sum over
+//! `/proc/self/task/*/schedstat`), the one least disturbed by other work on a shared machine;
+//! throughput is in vertex-steps (nodes × substeps) per CPU-second. The wall time of the same steps
+//! is the workspace's `benches/dynamics.rs`. Linux only: elsewhere the bench says so and measures
+//! nothing.
+//!
+//! `cargo bench -p hair-core --bench step_cpu_time` (add `-- position-based` for one integrator).
+
+use std::hint::black_box;
+
+use criterion::measurement::{Measurement, ValueFormatter};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use glam::Vec3;
+use hair_core::dynamics::{
+    DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY,
+    Simulation, SimulationSettings, WindField, level_skeletons, strand_skeletons,
+};
+use hair_core::{Level, Scene, SkeletonRest};
+
+/// CPU time [ns] of all threads of this process so far (Linux `schedstat`), if readable.
+fn process_cpu_nanoseconds() -> Option<u64> {
+    let mut nanoseconds = 0u64;
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let stat = std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok()?;
+        nanoseconds += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(nanoseconds)
+}
+
+/// Criterion measurement: CPU time of all the process's threads [ns].
+struct ProcessCpuTime;
+
+impl Measurement for ProcessCpuTime {
+    type Intermediate = u64;
+    type Value = u64;
+
+    fn start(&self) -> u64 {
+        process_cpu_nanoseconds().expect("/proc/self/task/*/schedstat is readable")
+    }
+
+    fn end(&self, start: u64) -> u64 {
+        self.start().saturating_sub(start)
+    }
+
+    fn add(&self, v1: &u64, v2: &u64) -> u64 {
+        v1 + v2
+    }
+
+    fn zero(&self) -> u64 {
+        0
+    }
+
+    fn to_f64(&self, value: &u64) -> f64 {
+        *value as f64
+    }
+
+    fn formatter(&self) -> &dyn ValueFormatter {
+        &CpuTimeFormatter
+    }
+}
+
+/// Formats CPU nanoseconds as CPU time, and throughputs as elements per CPU-second.
+struct CpuTimeFormatter;
+
+impl ValueFormatter for CpuTimeFormatter {
+    fn scale_values(&self, typical_nanoseconds: f64, values: &mut [f64]) -> &'static str {
+        let (factor, unit) = if typical_nanoseconds < 1e3 {
+            (1.0, "ns CPU")
+        } else if typical_nanoseconds < 1e6 {
+            (1e-3, "µs CPU")
+        } else if typical_nanoseconds < 1e9 {
+            (1e-6, "ms CPU")
+        } else {
+            (1e-9, "s CPU")
+        };
+        for value in values {
+            *value *= factor;
+        }
+        unit
+    }
+
+    fn scale_throughputs(
+        &self,
+        _typical_nanoseconds: f64,
+        throughput: &Throughput,
+        values: &mut [f64],
+    ) -> &'static str {
+        let elements = match *throughput {
+            Throughput::Elements(elements) | Throughput::ElementsAndBytes { elements, .. } => {
+                elements
+            }
+            Throughput::Bytes(bytes) | Throughput::BytesDecimal(bytes) => bytes,
+            Throughput::Bits(bits) => bits,
+        };
+        // Millions per CPU-second: the dynamics' steps run at tens to hundreds of millions.
+        for value in values {
+            *value = elements as f64 * 1e9 / *value / 1e6;
+        }
+        "M/CPU-s"
+    }
+
+    fn scale_for_machines(&self, _values: &mut [f64]) -> &'static str {
+        "ns"
+    }
+}
+
+/// A head shake of 3 rad/s in a 3 m/s gusting side wind, with gravity (as `benches/dynamics.rs`).
+fn environment() -> Environment {
+    Environment {
+        head: HeadMotion::shake(0.5, 3.0),
+        wind: WindField::gusting(Vec3::X * 3.0, 1.0, 0.8, 0.3, 1),
+        gravity: STANDARD_GRAVITY,
+    }
+}
+
+fn bench_model(
+    c: &mut Criterion<ProcessCpuTime>,
+    name: &str,
+    rest: &SkeletonRest,
+    params: DynamicsParams,
+) {
+    let mut group = c.benchmark_group(name);
+    group.sample_size(10);
+    let environment = environment();
+    for integrator in IntegratorKind::ALL {
+        let model = DynamicsModel::new(rest.clone(), params).expect("model");
+        let settings = SimulationSettings::recommended(integrator);
+        let nodes = model.node_count() as u64;
+        let mut simulation = Simulation::new(model, settings).expect("simulation");
+        let mut state = simulation.rest_state(&environment, 0.0);
+        // Start from moving hair, not from the rest shape.
+        simulation
+            .run(&mut state, &environment, 3)
+            .expect("warm-up steps");
+        group.throughput(Throughput::Elements(nodes * u64::from(settings.substeps)));
+        group.bench_function(BenchmarkId::new("step", integrator.name()), |b| {
+            b.iter(|| {
+                simulation
+                    .step(black_box(&mut state), &environment)
+                    .expect("a stable step")
+            })
+        });
+    }
+    group.finish();
+}
+
+fn dynamics(c: &mut Criterion<ProcessCpuTime>) {
+    if process_cpu_nanoseconds().is_none() {
+        eprintln!(
+            "step_cpu_time: /proc/self/task/*/schedstat is not readable (Linux only); nothing measured"
+        );
+        return;
+    }
+    eprintln!("{} rayon threads", rayon::current_num_threads());
+    let scene = Scene::preset("paper-curly").expect("paper-curly");
+    let groom = &scene.groom;
+    let params = DynamicsParams::for_style(&groom.params.style);
+    let groups = level_skeletons(groom, Level::StrandGroup).expect("strand groups");
+    bench_model(c, "cpu-time paper-curly 455 strand groups", &groups, params);
+    let strands = strand_skeletons(groom).expect("strands");
+    bench_model(c, "cpu-time paper-curly 37765 strands", &strands, params);
+}
+
+fn cpu_time() -> Criterion<ProcessCpuTime> {
+    Criterion::default().with_measurement(ProcessCpuTime)
+}
+
+criterion_group! {
+    name = benches;
+    config = cpu_time();
+    targets = dynamics
+}
+criterion_main!(benches);

@@ -1,0 +1,284 @@
+//! The frame loop: the one loop every command, benchmark and example drives a [`Pipeline`] with.
+//! For each frame of a range of a [`Shot`]: the camera, the frame budget's tolerance (when the
+//! shot has a budget), [`Pipeline::advance`] (levels, hand-over, dynamics with collision), the
+//! views rendered (the head mesh at its simulated pose), and the caller's hook (write images,
+//! measure, show progress). A run can start from a [`Checkpoint`] and resume bit for bit.
+
+use std::ops::Range;
+
+use hair_core::Scene;
+use hair_core::lod::{BudgetController, BudgetReport, BudgetSettings};
+use hair_render::ShadingMode;
+use serde::Serialize;
+
+
+use crate::pipeline::{
+    Checkpoint, FrameReport, Pipeline, PipelineError, PipelineRenderer, PipelineSettings, Result,
+    StageTimes,
+};
+use crate::shot::Shot;
+
+/// One picture of a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum View {
+    /// Shaded (Kajiya-Kay hair, Lambert head).
+    Shaded,
+    /// Colour-coded by level: strands yellow, clusters red, patches blue (the paper's Fig. 6).
+    LevelColors,
+    /// Shaded | colour-coded, side by side (twice as wide).
+    SideBySide,
+}
+
+impl View {
+    /// The views a shot's outputs ask for, in a fixed order (shaded first).
+    pub fn of_outputs(outputs: &crate::shot::Outputs) -> Vec<View> {
+        let mut views = Vec::new();
+        if outputs.shaded {
+            views.push(View::Shaded);
+        }
+        if outputs.color_coded {
+            views.push(View::LevelColors);
+        }
+        if outputs.side_by_side {
+            views.push(View::SideBySide);
+        }
+        views
+    }
+
+    /// A short name, also the folder of the view's frames when a run writes several.
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Shaded => "shaded",
+            View::LevelColors => "levels",
+            View::SideBySide => "side_by_side",
+        }
+    }
+}
+
+/// What a run does besides the shot: the pipeline settings (a benchmark runs several modes of
+/// one shot), the frames, where it starts and the frame budget.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// The pipeline settings.
+    pub settings: PipelineSettings,
+    /// The frames to make, within the shot's `0..frames`.
+    pub frames: Range<usize>,
+    /// Start from this checkpoint (whose frame must be `frames.start`) instead of settling.
+    pub resume: Option<Checkpoint>,
+    /// Steer the pixel tolerance to this frame budget (automatic levels only).
+    pub budget: Option<BudgetSettings>,
+}
+
+impl RunOptions {
+    /// The whole shot with `settings`, from the start, with the shot's budget when `settings`
+    /// are the shot's own.
+    pub fn whole(shot: &Shot, settings: PipelineSettings) -> Self {
+        RunOptions {
+            budget: if settings == shot.settings {
+                shot.budget
+            } else {
+                None
+            },
+            settings,
+            frames: 0..shot.frames,
+            resume: None,
+        }
+    }
+}
+
+/// What the loop shows the caller after each frame.
+pub struct FrameOutput<'a> {
+    /// The frame's report (stage times, levels, model size).
+    pub report: &'a FrameReport,
+    /// The frame's camera.
+    pub camera: &'a hair_core::Camera,
+    /// One image per view asked for, in that order (empty without a renderer).
+    pub images: &'a [image::RgbaImage],
+    /// The pipeline after the frame (for measurements).
+    pub pipeline: &'a Pipeline,
+    /// The pixel tolerance the frame ran at [pixels] (`None` at a fixed level).
+    pub tolerance: Option<f32>,
+}
+
+/// What a run leaves: its frames, the pipeline at the end (to checkpoint) and the budget's
+/// record.
+pub struct RunResult {
+    /// Every frame's report, summarised.
+    pub run: ModeRun,
+    /// The pipeline after the last frame.
+    pub pipeline: Pipeline,
+    /// The frame budget's record, when the run had one.
+    pub budget: Option<BudgetReport>,
+    /// The pixel tolerance each frame ran at [pixels] (empty at a fixed level).
+    pub tolerances: Vec<f32>,
+}
+
+/// Runs `options.frames` of `shot` on `scene` (built from it): the one frame loop. With a
+/// renderer, each frame is drawn in each of `views`; the first view's time is the frame's
+/// rendering time (and counts towards the budget). `on_frame` sees each frame; an error from it
+/// stops the run.
+pub fn run_shot(
+    shot: &Shot,
+    scene: &Scene,
+    options: RunOptions,
+    mut renderer: Option<(&mut PipelineRenderer, &[View])>,
+    mut on_frame: impl FnMut(FrameOutput<'_>) -> Result<()>,
+) -> Result<RunResult> {
+    let RunOptions {
+        settings,
+        frames,
+        resume,
+        budget,
+    } = options;
+    if frames.start > frames.end || frames.end > shot.frames {
+        return Err(PipelineError::State(format!(
+            "frames {}..{} are not within the shot's 0..{}",
+            frames.start, frames.end, shot.frames
+        )));
+    }
+    let start = resume.as_ref().map_or(0, |c| c.state.frame);
+    if start != frames.start {
+        return Err(PipelineError::State(format!(
+            "the run starts at frame {}, but {}",
+            frames.start,
+            if resume.is_some() {
+                format!("the checkpoint is at frame {start}: resume with --frames {start}..")
+            } else {
+                "no checkpoint is given to start there from (--resume FILE)".to_string()
+            }
+        )));
+    }
+    let mut pipeline = shot.pipeline(scene, settings, resume)?;
+    if let Some((renderer, _)) = renderer.as_mut() {
+        renderer.bind(&pipeline)?;
+    }
+    let mut controller = match (budget, pipeline.selector()) {
+        (Some(budget), Some(selector)) => Some(BudgetController::new(
+            budget,
+            selector.settings().pixel_tolerance,
+        )?),
+        _ => None,
+    };
+    let mut reports = Vec::with_capacity(frames.len());
+    let mut tolerances = Vec::new();
+    let mut images = Vec::new();
+    for frame in frames {
+        let camera = shot.camera(frame);
+        if let Some(controller) = &controller {
+            pipeline.set_pixel_tolerance(controller.tolerance())?;
+        }
+        let tolerance = pipeline.selector().map(|s| s.settings().pixel_tolerance);
+        let mut report = pipeline.advance(&camera)?;
+        images.clear();
+        if let Some((renderer, views)) = renderer.as_mut() {
+            for (k, view) in views.iter().enumerate() {
+                let (image, seconds) = match view {
+                    View::Shaded | View::LevelColors => renderer.render(
+                        &mut pipeline,
+                        &camera,
+                        shot.width,
+                        shot.height,
+                        if *view == View::Shaded {
+                            ShadingMode::Shaded
+                        } else {
+                            ShadingMode::LevelColors
+                        },
+                    )?,
+                    View::SideBySide => renderer.render_side_by_side(
+                        &mut pipeline,
+                        &camera,
+                        shot.width,
+                        shot.height,
+                    )?,
+                };
+                if k == 0 {
+                    report.times.rendering = seconds;
+                }
+                images.push(image);
+            }
+        }
+        if let Some(controller) = &mut controller {
+            controller.update(report.times.total())?;
+        }
+        tolerances.extend(tolerance);
+        on_frame(FrameOutput {
+            report: &report,
+            camera: &camera,
+            images: &images,
+            pipeline: &pipeline,
+            tolerance,
+        })?;
+        reports.push(report);
+    }
+    Ok(RunResult {
+        run: ModeRun::new(pipeline.settings().lod.column_name(), reports),
+        budget: controller.map(|c| c.report()),
+        tolerances,
+        pipeline,
+    })
+}
+
+/// One mode's run: every frame's report and the mean time per frame of each stage.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModeRun {
+    /// `LODs`, `Strands`, `Clusters` or `Patches`.
+    pub mode: String,
+    /// Every frame's report.
+    pub frames: Vec<FrameReport>,
+    /// Mean time per frame of each stage [s].
+    pub mean: StageTimes,
+    /// Median total time per frame [s].
+    pub median_total: f64,
+}
+
+impl ModeRun {
+    /// Summarises `frames` of mode `mode`.
+    pub fn new(mode: &str, frames: Vec<FrameReport>) -> Self {
+        let mut mean = StageTimes::default();
+        for frame in &frames {
+            mean.add(&frame.times);
+        }
+        let n = frames.len().max(1) as f64;
+        mean.lod /= n;
+        mean.dynamics /= n;
+        mean.collision /= n;
+        mean.rendering /= n;
+        let mut totals: Vec<f64> = frames.iter().map(|f| f.times.total()).collect();
+        totals.sort_by(f64::total_cmp);
+        let median_total = totals.get(totals.len() / 2).copied().unwrap_or(0.0);
+        ModeRun {
+            mode: mode.to_string(),
+            frames,
+            mean,
+            median_total,
+        }
+    }
+
+    /// The largest segment stretch the collision projection left in any frame, and that frame
+    /// (`(0.0, 0)` without collision or frames).
+    pub fn worst_stretch(&self) -> (f32, usize) {
+        self.frames
+            .iter()
+            .map(|f| (f.max_stretch, f.frame))
+            .fold(
+                (0.0, 0),
+                |worst, next| if next.0 > worst.0 { next } else { worst },
+            )
+    }
+
+    /// A warning naming the mode, the stretch and the frame when the collision projection
+    /// stretched a segment beyond [`hair_collide::STRETCH_WARNING`]; `None` otherwise.
+    pub fn stretch_warning(&self) -> Option<String> {
+        let (stretch, frame) = self.worst_stretch();
+        (stretch > hair_collide::STRETCH_WARNING).then(|| {
+            format!(
+                "warning: {}: the collision projection stretched a segment by {:.1} % (frame \
+                 {frame}): the time step is too coarse for the hair's motion near the head; \
+                 use more substeps",
+                self.mode,
+                100.0 * stretch
+            )
+        })
+    }
+}
+

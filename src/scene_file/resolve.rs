@@ -1,0 +1,550 @@
+//! From a [`SceneFile`] to a [`Shot`]: defaults filled in, every value checked against its range
+//! (errors name the field path and the range).
+
+use glam::{EulerRot, Quat, Vec3};
+use hair_core::dynamics::{
+    Environment, HeadKeyframe, HeadMotion, IntegratorKind, SimulationSettings, WindField,
+};
+use hair_core::lod::{BudgetSettings, LodSettings};
+use hair_core::{GroomParams, HeadParams, Level, RigidTransform};
+
+use super::{SCENE_FILE_VERSION, SceneFile, SceneFileError};
+use crate::pipeline::{LodMode, PipelineSettings};
+use crate::shot::{CameraKeyframe, CameraMotion, CameraPath, Outputs, Shot};
+
+type Result<T> = std::result::Result<T, SceneFileError>;
+
+/// `value` checked to be finite and within `range` (inclusive), else an error naming `field`.
+fn within(field: &str, value: f32, low: f32, high: f32, range: &str) -> Result<f32> {
+    if value.is_finite() && (low..=high).contains(&value) {
+        Ok(value)
+    } else {
+        Err(SceneFileError::new(format!(
+            "{field} = {value}: expected {range}"
+        )))
+    }
+}
+
+/// `value` checked to be finite and > 0.
+fn positive(field: &str, value: f32) -> Result<f32> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(SceneFileError::new(format!(
+            "{field} = {value}: expected a finite number > 0"
+        )))
+    }
+}
+
+/// A count checked to be within `low..=high`.
+fn count(field: &str, value: usize, low: usize, high: usize) -> Result<usize> {
+    if (low..=high).contains(&value) {
+        Ok(value)
+    } else {
+        Err(SceneFileError::new(format!(
+            "{field} = {value}: expected a whole number in {low}..={high}"
+        )))
+    }
+}
+
+/// A vector of finite components.
+fn vector(field: &str, value: [f32; 3]) -> Result<Vec3> {
+    if value.iter().all(|c| c.is_finite()) {
+        Ok(Vec3::from_array(value))
+    } else {
+        Err(SceneFileError::new(format!(
+            "{field} = {value:?}: expected three finite numbers"
+        )))
+    }
+}
+
+/// One of `names`, or an error listing them.
+fn one_of<'a>(field: &str, value: &'a str, names: &[&str]) -> Result<&'a str> {
+    if names.contains(&value) {
+        Ok(value)
+    } else {
+        Err(SceneFileError::new(format!(
+            "{field} = {value:?}: expected one of {}",
+            names.join(", ")
+        )))
+    }
+}
+
+/// Parses `WIDTHxHEIGHT`, each 16..=8192 pixels.
+pub(crate) fn parse_size(field: &str, text: &str) -> Result<(u32, u32)> {
+    let parsed = text
+        .split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)));
+    match parsed {
+        Some((w, h)) if (16..=8192).contains(&w) && (16..=8192).contains(&h) => Ok((w, h)),
+        _ => Err(SceneFileError::new(format!(
+            "{field} = {text:?}: expected WIDTHxHEIGHT in pixels, each 16..=8192, e.g. 1280x720"
+        ))),
+    }
+}
+
+impl SceneFile {
+    /// The shot this file describes, defaults filled in; errors name the field path and the
+    /// allowed range.
+    pub fn resolve(&self) -> Result<Shot> {
+        if let Some(version) = self.version
+            && version != SCENE_FILE_VERSION
+        {
+            return Err(SceneFileError::new(format!(
+                "version = {version}: this hairlod reads scene files of version \
+                 {SCENE_FILE_VERSION}"
+            )));
+        }
+        let groom = self.groom_params()?;
+        if let Some(file) = &self.body.file {
+            return Err(SceneFileError::new(format!(
+                "body.file = {file:?}: body meshes from files are not supported yet (they come \
+                 with real grooms); leave it out for the procedural head"
+            )));
+        }
+        if let Some(kind) = &self.body.kind {
+            one_of("body.kind", kind, &["procedural-head"])?;
+        }
+        let frames = &self.frames;
+        let frame_count = count("frames.count", frames.count.unwrap_or(12), 1, 1_000_000)?;
+        let fps = within(
+            "frames.fps",
+            frames.fps.unwrap_or(60.0),
+            1.0,
+            10_000.0,
+            "a rate in 1..=10000 Hz",
+        )?;
+        let (width, height) = parse_size("frames.size", frames.size.as_deref().unwrap_or("1280x720"))?;
+        let environment = Environment {
+            head: self.head_motion()?,
+            wind: self.wind_field()?,
+            ..Environment::default()
+        };
+        let settings = PipelineSettings {
+            lod: self.lod_mode(width, height)?,
+            dynamics: self.dynamics_settings(fps)?,
+            collision: self.dynamics.collision.unwrap_or(true),
+        };
+        let budget = match self.lod.budget_ms {
+            None => None,
+            Some(ms) => {
+                if !(ms.is_finite() && ms > 0.0) {
+                    return Err(SceneFileError::new(format!(
+                        "lod.budget_ms = {ms}: expected a finite number of milliseconds > 0"
+                    )));
+                }
+                // Hold a lowering of the tolerance for the blend time: its cost shows only
+                // after it.
+                let blend = match settings.lod {
+                    LodMode::Auto(lod) => lod.blend_time,
+                    LodMode::Fixed(_) => 0.0,
+                };
+                Some(BudgetSettings {
+                    hold_frames: (blend * fps).round() as usize,
+                    ..BudgetSettings::new(ms / 1e3)
+                })
+            }
+        };
+        let settle_seconds = within(
+            "dynamics.settle_seconds",
+            self.dynamics.settle_seconds.unwrap_or(1.0),
+            0.0,
+            60.0,
+            "seconds in 0..=60",
+        )?;
+        let output = &self.output;
+        let color_coded = output.color_coded.unwrap_or(false);
+        let side_by_side = output.side_by_side.unwrap_or(false);
+        let outputs = Outputs {
+            shaded: output.shaded.unwrap_or(!(color_coded || side_by_side)),
+            color_coded,
+            side_by_side,
+            contact_sheet: output.contact_sheet.unwrap_or(false),
+        };
+        if let Some(json) = &output.json
+            && json.trim().is_empty()
+        {
+            return Err(SceneFileError::new(
+                "output.json = \"\": expected a file name",
+            ));
+        }
+        if let Some(table) = self.bench.paper_table
+            && !(1..=2).contains(&table)
+        {
+            return Err(SceneFileError::new(format!(
+                "bench.paper_table = {table}: expected 1 or 2"
+            )));
+        }
+        Ok(Shot {
+            groom,
+            head: HeadParams::default(),
+            environment,
+            settings,
+            budget,
+            camera: self.camera_path()?,
+            frames: frame_count,
+            fps,
+            width,
+            height,
+            settle_seconds,
+            outputs,
+            paper_table: self.bench.paper_table,
+        })
+    }
+
+    fn groom_params(&self) -> Result<GroomParams> {
+        let table = &self.groom;
+        if let Some(file) = &table.file {
+            return Err(SceneFileError::new(format!(
+                "groom.file = {file:?}: grooms from files are not supported yet (they come with \
+                 the real-groom readers); use groom.preset"
+            )));
+        }
+        let preset = table.preset.as_deref().unwrap_or("paper-curly");
+        let mut params = GroomParams::preset(preset).map_err(|_| {
+            SceneFileError::new(format!(
+                "groom.preset = {preset:?}: expected one of {}",
+                hair_core::PRESET_NAMES.join(", ")
+            ))
+        })?;
+        if let Some(v) = table.section_count {
+            params.section_count = count("groom.section_count", v, 1, 10_000)?;
+        }
+        if let Some(v) = table.strands_per_group {
+            params.strands_per_group = count("groom.strands_per_group", v, 1, 10_000)?;
+        }
+        if let Some(v) = table.hair_length {
+            params.hair_length = positive("groom.hair_length", v)?;
+        }
+        if let Some(v) = table.style_factor_degrees {
+            params.style.factor_degrees =
+                within("groom.style_factor_degrees", v, 0.0, 90.0, "degrees in 0..=90")?;
+        }
+        if let Some(v) = table.style_size {
+            params.style.size = positive("groom.style_size", v)?;
+        }
+        if let Some(v) = table.smoothness {
+            params.style.smoothness = positive("groom.smoothness", v)?;
+        }
+        if let Some(v) = table.seed {
+            params.seed = v;
+        }
+        Ok(params)
+    }
+
+    fn head_motion(&self) -> Result<HeadMotion> {
+        let table = &self.motion;
+        let kind = table.kind.as_deref().unwrap_or("still");
+        one_of("motion.kind", kind, &["still", "shake", "nod", "keyframes"])?;
+        let amplitude = within(
+            "motion.amplitude_degrees",
+            table.amplitude_degrees.unwrap_or(14.3),
+            0.0,
+            90.0,
+            "degrees in 0..=90",
+        )?
+        .to_radians();
+        let speed = positive("motion.peak_speed", table.peak_speed.unwrap_or(1.2))?;
+        if kind != "keyframes" && !table.keyframes.is_empty() {
+            return Err(SceneFileError::new(format!(
+                "motion.keyframes: given, but motion.kind = {kind:?}; set kind = \"keyframes\""
+            )));
+        }
+        Ok(match kind {
+            "shake" => HeadMotion::shake(amplitude, speed),
+            "nod" => HeadMotion::nod(amplitude, speed),
+            "keyframes" => {
+                if table.keyframes.is_empty() {
+                    return Err(SceneFileError::new(
+                        "motion.keyframes: motion.kind = \"keyframes\" needs at least one keyframe",
+                    ));
+                }
+                let mut keys = Vec::with_capacity(table.keyframes.len());
+                for (k, key) in table.keyframes.iter().enumerate() {
+                    let field = format!("motion.keyframes[{k}]");
+                    if !(key.time.is_finite() && key.time >= 0.0) {
+                        return Err(SceneFileError::new(format!(
+                            "{field}.time = {}: expected a finite time ≥ 0 s",
+                            key.time
+                        )));
+                    }
+                    if k > 0 && key.time <= table.keyframes[k - 1].time {
+                        return Err(SceneFileError::new(format!(
+                            "{field}.time = {}: keyframe times must increase",
+                            key.time
+                        )));
+                    }
+                    let [x, y, z] = vector(
+                        &format!("{field}.rotation_degrees"),
+                        key.rotation_degrees,
+                    )?
+                    .to_array()
+                    .map(f32::to_radians);
+                    keys.push(HeadKeyframe {
+                        time: key.time,
+                        transform: RigidTransform {
+                            rotation: Quat::from_euler(EulerRot::XYZ, x, y, z),
+                            translation: vector(&format!("{field}.translation"), key.translation)?,
+                        },
+                    });
+                }
+                HeadMotion::Keyframed(keys)
+            }
+            _ => HeadMotion::default(),
+        })
+    }
+
+    fn wind_field(&self) -> Result<WindField> {
+        let table = &self.wind;
+        let speed = within(
+            "wind.speed",
+            table.speed.unwrap_or(0.0),
+            0.0,
+            100.0,
+            "a speed in 0..=100 m/s",
+        )?;
+        let gusts = within(
+            "wind.gusts",
+            table.gusts.unwrap_or(0.0),
+            0.0,
+            100.0,
+            "a speed in 0..=100 m/s",
+        )?;
+        let direction = vector(
+            "wind.direction",
+            table.direction.unwrap_or([0.6, 0.0, -0.8]),
+        )?;
+        let Some(direction) = direction.try_normalize() else {
+            return Err(SceneFileError::new(
+                "wind.direction = [0, 0, 0]: expected a direction (not all zero)",
+            ));
+        };
+        let period = positive("wind.gust_period", table.gust_period.unwrap_or(1.0))?;
+        let length = positive("wind.gust_length", table.gust_length.unwrap_or(0.5))?;
+        Ok(if gusts > 0.0 {
+            WindField::gusting(
+                direction * speed,
+                gusts,
+                period,
+                length,
+                table.seed.unwrap_or(7),
+            )
+        } else if speed > 0.0 {
+            WindField::Constant(direction * speed)
+        } else {
+            WindField::Calm
+        })
+    }
+
+    fn camera_path(&self) -> Result<CameraPath> {
+        let table = &self.camera;
+        let path = table.path.as_deref().unwrap_or("orbit");
+        one_of(
+            "camera.path",
+            path,
+            &["orbit", "zoom-out", "fixed", "keyframes"],
+        )?;
+        let distance = positive("camera.distance", table.distance.unwrap_or(0.8))?;
+        let motion = match path {
+            "orbit" => CameraMotion::Orbit,
+            "zoom-out" => CameraMotion::ZoomOut,
+            "fixed" => CameraMotion::Fixed,
+            _ => {
+                if table.keyframes.is_empty() {
+                    return Err(SceneFileError::new(
+                        "camera.keyframes: camera.path = \"keyframes\" needs at least one keyframe",
+                    ));
+                }
+                let mut keys = Vec::new();
+                for (k, key) in table.keyframes.iter().enumerate() {
+                    let field = format!("camera.keyframes[{k}]");
+                    if !(key.time.is_finite() && key.time >= 0.0)
+                        || (k > 0 && key.time <= table.keyframes[k - 1].time)
+                    {
+                        return Err(SceneFileError::new(format!(
+                            "{field}.time = {}: expected a finite time ≥ 0 s, increasing",
+                            key.time
+                        )));
+                    }
+                    let position = vector(&format!("{field}.position"), key.position)?;
+                    let target = vector(&format!("{field}.target"), key.target)?;
+                    if position.distance(target) <= 1e-6 {
+                        return Err(SceneFileError::new(format!(
+                            "{field}: the position is the target; the camera needs a direction"
+                        )));
+                    }
+                    keys.push(CameraKeyframe {
+                        time: key.time,
+                        position,
+                        target,
+                    });
+                }
+                CameraMotion::Keyframes(keys)
+            }
+        };
+        if path != "keyframes" && !table.keyframes.is_empty() {
+            return Err(SceneFileError::new(format!(
+                "camera.keyframes: given, but camera.path = {path:?}; set path = \"keyframes\""
+            )));
+        }
+        Ok(CameraPath {
+            motion,
+            target: vector("camera.target", table.target.unwrap_or([0.0; 3]))?,
+            distance,
+            end_distance: positive(
+                "camera.end_distance",
+                table.end_distance.unwrap_or(4.0 * distance),
+            )?,
+            azimuth: within(
+                "camera.azimuth_degrees",
+                table.azimuth_degrees.unwrap_or(150.0),
+                -3600.0,
+                3600.0,
+                "degrees in -3600..=3600",
+            )?
+            .to_radians(),
+            elevation: within(
+                "camera.elevation_degrees",
+                table.elevation_degrees.unwrap_or(8.0),
+                -89.0,
+                89.0,
+                "degrees in -89..=89",
+            )?
+            .to_radians(),
+            fov: within(
+                "camera.fov_degrees",
+                table.fov_degrees.unwrap_or(35.0),
+                1.0,
+                170.0,
+                "degrees in 1..=170",
+            )?
+            .to_radians(),
+        })
+    }
+
+    fn lod_mode(&self, width: u32, height: u32) -> Result<LodMode> {
+        let table = &self.lod;
+        let mode = table.mode.as_deref().unwrap_or("auto");
+        one_of(
+            "lod.mode",
+            mode,
+            &["auto", "strands", "clusters", "patches"],
+        )?;
+        let mut lod = LodSettings {
+            image_width: width,
+            image_height: height,
+            ..LodSettings::default()
+        };
+        if let Some(v) = table.pixel_tolerance {
+            lod.pixel_tolerance = within("lod.pixel_tolerance", v, 1e-3, 1e4, "pixels in 0.001..=10000")?;
+        }
+        if let Some(v) = table.blend_time {
+            lod.blend_time = within("lod.blend_time", v, 0.0, 10.0, "seconds in 0..=10")?;
+        }
+        lod.validate()
+            .map_err(|error| SceneFileError::new(format!("[lod]: {error}")))?;
+        Ok(match mode {
+            "auto" => LodMode::Auto(lod),
+            level => LodMode::Fixed(level.parse::<Level>().expect("checked above")),
+        })
+    }
+
+    fn dynamics_settings(&self, fps: f32) -> Result<SimulationSettings> {
+        let table = &self.dynamics;
+        let name = table.integrator.as_deref().unwrap_or("linear-implicit");
+        let integrator: IntegratorKind = name.parse().map_err(|_| {
+            SceneFileError::new(format!(
+                "dynamics.integrator = {name:?}: expected one of linear-implicit, \
+                 semi-implicit-euler, position-based"
+            ))
+        })?;
+        // The recommended substeps are per 1/60 s: keep the substep no longer at other rates.
+        let recommended = SimulationSettings::recommended(integrator).substeps;
+        let default = ((recommended as f32) * 60.0 / fps).ceil().max(1.0) as u32;
+        let substeps = count(
+            "dynamics.substeps",
+            table.substeps.unwrap_or(default) as usize,
+            1,
+            10_000,
+        )? as u32;
+        let settings = SimulationSettings::new(integrator, 1.0 / fps, substeps);
+        settings
+            .validate()
+            .map_err(|error| SceneFileError::new(format!("[dynamics]: {error}")))?;
+        Ok(settings)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn error_of(text: &str) -> String {
+        SceneFile::parse(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn an_empty_file_is_the_defaults() {
+        let shot = SceneFile::parse("").unwrap().resolve().unwrap();
+        assert_eq!(shot.frames, 12);
+        assert_eq!((shot.width, shot.height), (1280, 720));
+        assert_eq!(shot.groom, GroomParams::preset("paper-curly").unwrap());
+        assert!(matches!(shot.settings.lod, LodMode::Auto(_)));
+        assert!(shot.settings.collision);
+        // 60 Hz: the integrator's own recommendation.
+        assert_eq!(
+            shot.settings.dynamics,
+            SimulationSettings::recommended(IntegratorKind::LinearImplicit)
+        );
+        assert!(shot.outputs.shaded && !shot.outputs.color_coded);
+    }
+
+    #[test]
+    fn bad_values_name_the_field_and_the_range() {
+        for (text, field, range) in [
+            ("[wind]\nspeed = -1.0", "wind.speed", "0..=100"),
+            ("[camera]\nfov_degrees = 200.0", "camera.fov_degrees", "1..=170"),
+            ("[camera]\ndistance = nan", "camera.distance", "> 0"),
+            ("[frames]\ncount = 0", "frames.count", "1..=1000000"),
+            ("[frames]\nsize = \"big\"", "frames.size", "WIDTHxHEIGHT"),
+            ("[groom]\npreset = \"afro\"", "groom.preset", "paper-curly"),
+            ("[groom]\nhair_length = -0.2", "groom.hair_length", "> 0"),
+            ("[lod]\nmode = \"voxels\"", "lod.mode", "auto"),
+            ("[lod]\nbudget_ms = 0.0", "lod.budget_ms", "> 0"),
+            ("[dynamics]\nintegrator = \"rk4\"", "dynamics.integrator", "position-based"),
+            ("[dynamics]\nsubsteps = 0", "dynamics.substeps", "1..=10000"),
+            ("[motion]\nkind = \"dance\"", "motion.kind", "shake"),
+            ("[motion]\nkind = \"keyframes\"", "motion.keyframes", "at least one"),
+            ("version = 1", "version", "2"),
+            ("[groom]\nfile = \"x.tfx\"", "groom.file", "not supported yet"),
+        ] {
+            let error = error_of(text);
+            assert!(
+                error.contains(field) && error.contains(range),
+                "{text:?}: {error}"
+            );
+        }
+    }
+
+    #[test]
+    fn unknown_keys_and_wrong_types_are_errors() {
+        assert!(error_of("[frames]\ncont = 3").contains("cont"));
+        assert!(error_of("colour = 1").contains("colour"));
+        assert!(error_of("[frames]\ncount = \"many\"").contains("count"));
+    }
+
+    #[test]
+    fn keyframed_head_and_camera_resolve() {
+        let text = "[motion]\nkind = \"keyframes\"\nkeyframes = [\
+            { time = 0.0 }, { time = 1.0, rotation_degrees = [0.0, 90.0, 0.0] }]\n\
+            [camera]\npath = \"keyframes\"\nkeyframes = [\
+            { time = 0.0, position = [0.0, 0.0, 1.0] }, { time = 2.0, position = [0.0, 0.0, 3.0] }]\n\
+            [frames]\nfps = 1\ncount = 3\n";
+        let shot = SceneFile::parse(text).unwrap().resolve().unwrap();
+        // Half-way in time, the camera is half-way between its keys: z = 2 m.
+        assert!((shot.camera(1).position.z - 2.0).abs() < 1e-6);
+        // At t = 1 s the head has turned 90° about Y: +Z goes to +X.
+        let turned = shot.environment.head.transform_at(1.0).transform_vector(Vec3::Z);
+        assert!((turned - Vec3::X).length() < 1e-5, "{turned}");
+    }
+}

@@ -1,0 +1,208 @@
+//! [`Shot`]: a whole run resolved from a scene file (or built in code): the model to build (groom
+//! and head parameters), the control inputs (head motion, wind, the camera path), the pipeline
+//! settings, the frames and the outputs. Cheap to hold and clone; [`Shot::build_scene`] builds the
+//! groom.
+
+use std::f32::consts::TAU;
+
+use glam::Vec3;
+use hair_core::dynamics::Environment;
+use hair_core::lod::{BudgetSettings, LodSettings};
+use hair_core::{Camera, GroomParams, HeadParams, Scene};
+use serde::Serialize;
+
+use crate::pipeline::{Checkpoint, LodMode, Pipeline, PipelineSettings, Result};
+
+/// How the camera moves over a shot.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum CameraMotion {
+    /// Once around the target over the shot, at `distance`.
+    Orbit,
+    /// From `distance` to `end_distance`, geometrically (the paper's zoom-out).
+    ZoomOut,
+    /// Still at `distance`, `azimuth`, `elevation`.
+    Fixed,
+    /// Positions and targets at times, interpolated linearly (held before the first and after
+    /// the last).
+    Keyframes(Vec<CameraKeyframe>),
+}
+
+/// One camera keyframe.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CameraKeyframe {
+    /// Time [s] from the shot's start.
+    pub time: f64,
+    /// Camera position [m].
+    pub position: Vec3,
+    /// The point looked at [m].
+    pub target: Vec3,
+}
+
+/// The camera path of a shot.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CameraPath {
+    /// How it moves.
+    pub motion: CameraMotion,
+    /// The point looked at [m] (world space).
+    pub target: Vec3,
+    /// Distance from the target [m] (zoom-out: at the first frame).
+    pub distance: f32,
+    /// Distance at the last frame of a zoom-out [m].
+    pub end_distance: f32,
+    /// Azimuth [rad] (0: in front of the face, +Z).
+    pub azimuth: f32,
+    /// Elevation above the horizontal [rad].
+    pub elevation: f32,
+    /// Vertical field of view [rad].
+    pub fov: f32,
+}
+
+impl CameraPath {
+    /// The camera at frame `frame` of `frames`, at time `time` [s] from the start.
+    pub fn camera(&self, frame: usize, frames: usize, time: f64) -> Camera {
+        let t = if frames > 1 {
+            frame as f32 / (frames - 1) as f32
+        } else {
+            0.0
+        };
+        let orbit = |azimuth: f32, distance: f32| {
+            Camera::orbit(self.target, distance, azimuth, self.elevation, self.fov)
+        };
+        match &self.motion {
+            CameraMotion::Orbit => orbit(
+                self.azimuth + TAU * frame as f32 / frames.max(1) as f32,
+                self.distance,
+            ),
+            CameraMotion::ZoomOut => orbit(
+                self.azimuth,
+                self.distance * (self.end_distance / self.distance).powf(t),
+            ),
+            CameraMotion::Fixed => orbit(self.azimuth, self.distance),
+            CameraMotion::Keyframes(keys) => {
+                let (position, target) = interpolate_keys(keys, time);
+                let mut camera = orbit(self.azimuth, self.distance);
+                camera.position = position;
+                camera.target = target;
+                camera
+            }
+        }
+    }
+}
+
+/// Position and target at `time` [s] between keyframes sorted by time (at least one).
+fn interpolate_keys(keys: &[CameraKeyframe], time: f64) -> (Vec3, Vec3) {
+    let first = keys[0];
+    if time <= first.time || keys.len() == 1 {
+        return (first.position, first.target);
+    }
+    for pair in keys.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        if time <= b.time {
+            let span = b.time - a.time;
+            let s = if span > 0.0 {
+                ((time - a.time) / span) as f32
+            } else {
+                1.0
+            };
+            return (a.position.lerp(b.position, s), a.target.lerp(b.target, s));
+        }
+    }
+    let last = keys[keys.len() - 1];
+    (last.position, last.target)
+}
+
+/// What a shot writes besides its report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct Outputs {
+    /// Shaded frames.
+    pub shaded: bool,
+    /// Frames colour-coded by level (strands yellow, clusters red, patches blue).
+    pub color_coded: bool,
+    /// Shaded | colour-coded pairs, twice as wide.
+    pub side_by_side: bool,
+    /// A contact sheet of every frame, scaled down.
+    pub contact_sheet: bool,
+}
+
+/// A whole run: what to build, how it is driven and seen, and what comes out.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Shot {
+    /// Groom parameters (a preset with overrides).
+    pub groom: GroomParams,
+    /// The procedural head's parameters.
+    pub head: HeadParams,
+    /// Head motion, wind and gravity.
+    #[serde(skip)]
+    pub environment: Environment,
+    /// Level selection, integrator, time step and substeps, collision.
+    #[serde(skip)]
+    pub settings: PipelineSettings,
+    /// Frame budget of the automatic levels (`None`: the pixel tolerance holds).
+    #[serde(skip)]
+    pub budget: Option<BudgetSettings>,
+    /// The camera path.
+    pub camera: CameraPath,
+    /// Frames of the shot.
+    pub frames: usize,
+    /// Frame rate [Hz] (one pipeline step per frame).
+    pub fps: f32,
+    /// Image width [pixels].
+    pub width: u32,
+    /// Image height [pixels].
+    pub height: u32,
+    /// Seconds of settling at full detail under gravity before frame 0 [s].
+    pub settle_seconds: f32,
+    /// What to write.
+    pub outputs: Outputs,
+    /// The paper's table (1 or 2) whose figures `bench` prints beside its own, if any.
+    pub paper_table: Option<u8>,
+}
+
+impl Shot {
+    /// The camera of frame `frame`.
+    pub fn camera(&self, frame: usize) -> Camera {
+        let time = frame as f64 / f64::from(self.fps);
+        self.camera.camera(frame, self.frames, time)
+    }
+
+    /// The LOD settings of automatic mode matched to the image size (the defaults at a fixed
+    /// level).
+    pub fn lod_settings(&self) -> LodSettings {
+        match self.settings.lod {
+            LodMode::Auto(lod) => lod,
+            LodMode::Fixed(_) => LodSettings {
+                image_width: self.width,
+                image_height: self.height,
+                ..LodSettings::default()
+            },
+        }
+    }
+
+    /// Builds the scene: the procedural head and the groom on it.
+    pub fn build_scene(&self) -> Result<Scene> {
+        Ok(Scene::new(&self.head, &self.groom)?)
+    }
+
+    /// A pipeline on `scene` (built from this shot) with `settings`, settled for
+    /// `settle_seconds`, or going on from `checkpoint`.
+    pub fn pipeline(
+        &self,
+        scene: &Scene,
+        settings: PipelineSettings,
+        checkpoint: Option<Checkpoint>,
+    ) -> Result<Pipeline> {
+        match checkpoint {
+            Some(checkpoint) => Pipeline::resume(
+                scene.clone(),
+                self.environment.clone(),
+                settings,
+                checkpoint,
+            ),
+            None => {
+                let mut pipeline = Pipeline::new(scene.clone(), self.environment.clone(), settings)?;
+                pipeline.settle(self.settle_seconds)?;
+                Ok(pipeline)
+            }
+        }
+    }
+}
