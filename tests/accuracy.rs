@@ -102,7 +102,7 @@ fn a_render_shifted_by_one_pixel_loses_similarity() {
     let camera = camera();
     pipeline.advance(&camera).unwrap();
     let options = RendererOptions::from_env().unwrap();
-    let mut renderer = PipelineRenderer::new(&options, &pipeline).unwrap();
+    let mut renderer = PipelineRenderer::new(&options, pipeline.scene()).unwrap();
     let (image, _) = renderer
         .render(&mut pipeline, &camera, WIDTH, HEIGHT, ShadingMode::Shaded)
         .unwrap();

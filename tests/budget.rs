@@ -3,32 +3,22 @@
 //! and a budget every frame meets by far drives it to its smallest; the larger tolerance keeps no
 //! more sections detailed than a fixed 1 px run. No timing is asserted.
 
-use hairlod::benchmark::{PaperBenchmark, run_budgeted, run_mode};
+use hairlod::Scene;
+use hairlod::benchmark::{paper_shot, resized, run_budgeted, run_mode};
 use hairlod::core::lod::{BudgetSettings, LodSettings};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
-use hairlod::{Pipeline, Scene};
+use hairlod::shot::Shot;
 
-fn benchmark() -> PaperBenchmark {
-    PaperBenchmark {
-        frames: 12,
-        width: 96,
-        height: 54,
-        ..PaperBenchmark::default()
-    }
+fn benchmark() -> Shot {
+    resized(&paper_shot(false), 12, 96, 54)
 }
 
 fn run(budget_seconds: f64) -> hairlod::benchmark::BudgetedRun {
     let benchmark = benchmark();
     let scene = Scene::preset("curly").unwrap();
-    let first = Pipeline::new(
-        scene.clone(),
-        benchmark.environment(),
-        PipelineSettings::default(),
-    )
-    .unwrap();
     let mut renderer =
-        PipelineRenderer::new(&RendererOptions::from_env().unwrap(), &first).unwrap();
+        PipelineRenderer::new(&RendererOptions::from_env().unwrap(), &scene).unwrap();
     let lod = LodSettings {
         pixel_tolerance: 1.0,
         ..benchmark.lod_settings()

@@ -6,25 +6,22 @@
 //! One test in this binary: it sets an environment variable, which is only sound while no other
 //! thread reads the environment.
 
-use hairlod::benchmark::{PaperBenchmark, SETTLE_TIME};
+use hairlod::benchmark::{SETTLE_TIME, paper_shot, resized};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::{RendererOptions, ShadingMode};
 use hairlod::{Level, Pipeline, Scene};
 
 #[test]
+#[allow(unsafe_code)] // `set_var`, see the SAFETY note below.
 fn culling_cluster_back_faces_changes_almost_nothing() {
-    let benchmark = PaperBenchmark {
-        width: 320,
-        height: 180,
-        ..PaperBenchmark::default()
-    };
+    let benchmark = resized(&paper_shot(false), 60, 320, 180);
     let settings = PipelineSettings {
         lod: LodMode::Fixed(Level::Cluster),
         ..PipelineSettings::default()
     };
     let mut pipeline = Pipeline::new(
         Scene::preset("curly").unwrap(),
-        benchmark.environment(),
+        benchmark.environment.clone(),
         settings,
     )
     .unwrap();
@@ -35,7 +32,7 @@ fn culling_cluster_back_faces_changes_almost_nothing() {
         // SAFETY: the only test of this binary; no other thread reads the environment.
         unsafe { std::env::set_var("HAIRLOD_CLUSTER_CULL", cull) };
         let options = RendererOptions::from_env().unwrap();
-        let mut renderer = PipelineRenderer::new(&options, &pipeline).unwrap();
+        let mut renderer = PipelineRenderer::new(&options, pipeline.scene()).unwrap();
         let (w, h) = (benchmark.width, benchmark.height);
         renderer
             .render(&mut pipeline, &camera, w, h, ShadingMode::Shaded)

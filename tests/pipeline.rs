@@ -22,23 +22,7 @@ fn windy() -> Environment {
 
 /// Largest relative segment-length error over every simulated chain.
 fn max_length_error(pipeline: &Pipeline) -> f32 {
-    let mut worst = 0.0f32;
-    for level in Level::ALL {
-        let block = pipeline.block(level);
-        if let Some(simulation) = &block.simulation {
-            let rest = &simulation.model().rest;
-            for chain in 0..rest.chain_count() {
-                let nodes = rest.nodes(chain);
-                for k in nodes.start + 1..nodes.end {
-                    let length =
-                        block.state.node_positions[k].distance(block.state.node_positions[k - 1]);
-                    let rest_length = rest.segment_rest_lengths[k];
-                    worst = worst.max((length - rest_length).abs() / rest_length);
-                }
-            }
-        }
-    }
-    worst
+    hairlod::accuracy::segment_length_error(pipeline)
 }
 
 #[test]

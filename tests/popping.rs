@@ -5,10 +5,8 @@
 use glam::Vec3;
 use hairlod::core::dynamics::Environment;
 use hairlod::core::lod::LodSettings;
-use hairlod::pipeline::{
-    LodMode, Pipeline, PipelineRenderer, PipelineSettings, PoppingFrame, advance_measured,
-    compare_popping,
-};
+use hairlod::pipeline::{LodMode, Pipeline, PipelineRenderer, PipelineSettings};
+use hairlod::popping::{PoppingFrame, advance_measured, compare_popping};
 use hairlod::render::RendererOptions;
 use hairlod::{Camera, GroomParams, HeadParams, Level, Scene};
 
@@ -58,8 +56,7 @@ fn run(renderer: &mut PipelineRenderer, blend_time: f32) -> (Vec<PoppingFrame>, 
     for frame in 0..BEFORE + AFTER {
         if frame == BEFORE {
             levels[0] = pipeline.section_levels().to_vec();
-            let selector = pipeline.selector_mut().unwrap();
-            selector.set_pixel_tolerance(1000.0).unwrap();
+            pipeline.set_pixel_tolerance(1000.0).unwrap();
         }
         let (_, measured, _) =
             advance_measured(&mut pipeline, renderer, &camera, WIDTH, HEIGHT).unwrap();
@@ -71,10 +68,8 @@ fn run(renderer: &mut PipelineRenderer, blend_time: f32) -> (Vec<PoppingFrame>, 
 
 #[test]
 fn a_blended_switch_spreads_its_image_change_over_the_blend() {
-    let first =
-        Pipeline::new(scene(), Environment::default(), PipelineSettings::default()).unwrap();
     let options = RendererOptions::from_env().unwrap();
-    let mut renderer = PipelineRenderer::new(&options, &first).unwrap();
+    let mut renderer = PipelineRenderer::new(&options, &scene()).unwrap();
     let (blended, levels_blended) = run(&mut renderer, 0.25);
     let (instant, levels_instant) = run(&mut renderer, 0.0);
 

@@ -106,35 +106,3 @@ pub fn run_mode(
     })?;
     Ok(run.run)
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::pipeline::FrameReport;
-    use crate::run::ModeRun;
-
-    fn frame(frame: usize, max_stretch: f32) -> FrameReport {
-        FrameReport {
-            frame,
-            max_stretch,
-            ..FrameReport::default()
-        }
-    }
-
-    #[test]
-    fn stretch_beyond_the_warning_names_the_mode_and_frame() {
-        let calm = ModeRun::new("LODs", vec![frame(0, 1e-5), frame(1, 0.01)]);
-        assert_eq!(calm.worst_stretch(), (0.01, 1));
-        assert!(calm.stretch_warning().is_none());
-        let torn = ModeRun::new(
-            "Strands",
-            vec![frame(0, 0.01), frame(1, 0.22), frame(2, 0.1)],
-        );
-        let warning = torn.stretch_warning().expect("22 % is past the warning");
-        assert!(
-            warning.contains("Strands")
-                && warning.contains("22.0 %")
-                && warning.contains("frame 1")
-        );
-    }
-}

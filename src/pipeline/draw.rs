@@ -4,8 +4,10 @@
 
 use std::time::Instant;
 
-use hair_core::{Camera, RigidTransform, TriangleMesh};
-use hair_render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode};
+use hair_core::{Camera, RigidTransform, Scene, TriangleMesh};
+use hair_render::{
+    ActiveSkeletons, FrameSettings, LineShading, Renderer, RendererOptions, ShadingMode,
+};
 
 use super::error::Result;
 use super::pipeline::Pipeline;
@@ -18,19 +20,27 @@ pub struct PipelineRenderer {
     active: ActiveSkeletons,
     /// The pose the uploaded head mesh has.
     head_pose: RigidTransform,
+    /// Where strand lines are shaded.
+    line_shading: LineShading,
 }
 
 impl PipelineRenderer {
-    /// A renderer from `options` (adapter and backend), with `pipeline`'s groom and head uploaded.
-    pub fn new(options: &RendererOptions, pipeline: &Pipeline) -> Result<Self> {
+    /// A renderer from `options` (adapter and backend), with `scene`'s groom and head uploaded.
+    pub fn new(options: &RendererOptions, scene: &Scene) -> Result<Self> {
         let mut renderer = Renderer::new(options)?;
-        renderer.upload_groom(&pipeline.scene().groom)?;
-        renderer.set_head_mesh(Some(&pipeline.scene().head.mesh))?;
+        renderer.upload_groom(&scene.groom)?;
+        renderer.set_head_mesh(Some(&scene.head.mesh))?;
         Ok(PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),
             head_pose: RigidTransform::IDENTITY,
+            line_shading: LineShading::default(),
         })
+    }
+
+    /// Shades 1-pixel strand lines per vertex (the default) or per fragment.
+    pub fn set_line_shading(&mut self, line_shading: LineShading) {
+        self.line_shading = line_shading;
     }
 
     /// Uploads the groom and head of another pipeline's scene.
@@ -74,6 +84,7 @@ impl PipelineRenderer {
         self.prepare(pipeline)?;
         let settings = FrameSettings {
             mode,
+            line_shading: self.line_shading,
             ..FrameSettings::new(width, height, *camera)
         };
         let image = self.renderer.render(&self.active.frame(), &settings)?;
@@ -91,7 +102,10 @@ impl PipelineRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(pipeline)?;
-        let settings = FrameSettings::new(width, height, *camera);
+        let settings = FrameSettings {
+            line_shading: self.line_shading,
+            ..FrameSettings::new(width, height, *camera)
+        };
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;

@@ -20,6 +20,8 @@
 
 mod resolve;
 
+pub use resolve::parse_size;
+
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;

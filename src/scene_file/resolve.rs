@@ -70,8 +70,9 @@ fn one_of<'a>(field: &str, value: &'a str, names: &[&str]) -> Result<&'a str> {
     }
 }
 
-/// Parses `WIDTHxHEIGHT`, each 16..=8192 pixels.
-pub(crate) fn parse_size(field: &str, text: &str) -> Result<(u32, u32)> {
+/// Parses `WIDTHxHEIGHT`, each 16..=8192 pixels; an error names `field` (a scene-file path or a
+/// command-line flag).
+pub fn parse_size(field: &str, text: &str) -> Result<(u32, u32)> {
     let parsed = text
         .split_once(['x', 'X'])
         .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)));

@@ -19,13 +19,16 @@ use hairlod::accuracy::{
     PhysicalError, geometric_error_of_visible, head_body, head_sight, image_error, pose_head_body,
     reference_settings, sample_skeletons, strand_skeletons, visible_samples,
 };
-use hairlod::benchmark::{PaperBenchmark, SETTLE_TIME};
+use hairlod::benchmark::{paper_shot, resized};
 use hairlod::core::dynamics::{IntegratorKind, SimulationSettings};
 use hairlod::pipeline::{LodMode, PipelineError, PipelineRenderer, PipelineSettings};
-use hairlod::render::{RendererOptions, ShadingMode};
+use hairlod::render::RendererOptions;
+use hairlod::run::{RunOptions, View, run_shot};
+use hairlod::shot::Shot;
 use hairlod::{Level, Pipeline, Scene};
 
-use crate::bench_cmd::{parse_size, progress_bar, write_json};
+use crate::bench_cmd::{progress_bar, write_json};
+use crate::cli_args::Preset;
 use crate::charts::{ACCURACY_PANELS, GROUP_COLOURS, ParetoChart, write_png_and_svg};
 use sweep::{FrameErrors, Group, Point, mark_pareto};
 
@@ -51,8 +54,8 @@ const TARGET_SSIM: f64 = 0.95;
 #[derive(Debug, Args)]
 pub struct AccuracyArgs {
     /// Groom preset.
-    #[arg(long, default_value = "paper-curly")]
-    pub preset: String,
+    #[arg(long, value_enum, default_value = "paper-curly")]
+    pub preset: Preset,
     /// Blow the benchmark's gusting wind.
     #[arg(long)]
     pub wind: bool,
@@ -60,8 +63,8 @@ pub struct AccuracyArgs {
     #[arg(long, default_value_t = 40)]
     pub frames: usize,
     /// Image size WIDTHxHEIGHT [pixels].
-    #[arg(long, default_value = "640x360")]
-    pub size: String,
+    #[arg(long, default_value = "640x360", value_parser = crate::cli_args::size)]
+    pub size: (u32, u32),
     /// LOD pixel tolerances to sweep [pixels], comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "0.5,1,2,4,8,16")]
     pub tolerances: Vec<f32>,
@@ -98,7 +101,7 @@ struct ReferenceFrame {
 }
 
 /// The sweep's configurations, the reference first.
-fn configurations(args: &AccuracyArgs, benchmark: &PaperBenchmark) -> Result<Vec<Configuration>> {
+fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>> {
     let dynamics = SimulationSettings::new(args.integrator, 1.0 / 60.0, args.substeps);
     dynamics.validate()?;
     let fixed = |label: &str, level: Level| Configuration {
@@ -123,7 +126,7 @@ fn configurations(args: &AccuracyArgs, benchmark: &PaperBenchmark) -> Result<Vec
     for &tolerance in &args.tolerances {
         let lod = hairlod::core::lod::LodSettings {
             pixel_tolerance: tolerance,
-            ..benchmark.lod_settings()
+            ..shot.lod_settings()
         };
         lod.validate()?;
         list.push(Configuration {
@@ -152,18 +155,6 @@ fn configurations(args: &AccuracyArgs, benchmark: &PaperBenchmark) -> Result<Vec
     Ok(list)
 }
 
-/// Whether `error` is the method failing (an unstable step, reported by the dynamics) rather
-/// than the run (rendering, a bad setting).
-fn is_method_failure(error: &PipelineError) -> bool {
-    matches!(
-        error,
-        PipelineError::Dynamics(hairlod::core::dynamics::DynamicsError::Unstable(_))
-            | PipelineError::Collision(hairlod::collide::CollideError::Dynamics(
-                hairlod::core::dynamics::DynamicsError::Unstable(_)
-            ))
-    )
-}
-
 /// Runs `hairlod accuracy`.
 pub fn run(args: &AccuracyArgs) -> Result<()> {
     anyhow::ensure!(
@@ -171,29 +162,18 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         "--frames must be at least 2 (got {})",
         args.frames
     );
-    let (width, height) = parse_size(&args.size)?;
-    let benchmark = PaperBenchmark {
-        frames: args.frames,
-        wind: args.wind,
-        width,
-        height,
-        ..PaperBenchmark::default()
-    };
-    let scene = Scene::preset(&args.preset)?;
-    let configurations = configurations(args, &benchmark)?;
-    let first = Pipeline::new(
-        scene.clone(),
-        benchmark.environment(),
-        PipelineSettings::default(),
-    )?;
-    let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &first)?;
-    drop(first);
+    let (width, height) = args.size;
+    let mut shot = resized(&paper_shot(args.wind), args.frames, width, height);
+    shot.groom = hairlod::GroomParams::preset(args.preset.name())?;
+    let scene = shot.build_scene()?;
+    let configurations = configurations(args, &shot)?;
+    let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &scene)?;
     println!(
         "rendering on {}; {} configurations × {} frames at {width}x{height} of {}",
         renderer.renderer().adapter_report(),
         configurations.len(),
         args.frames,
-        args.preset
+        args.preset.name()
     );
     let mut reference: Vec<ReferenceFrame> = Vec::with_capacity(args.frames);
     let mut points = Vec::new();
@@ -201,14 +181,14 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         let is_reference = reference.is_empty();
         let outcome = run_configuration(
             &configuration,
-            &benchmark,
+            &shot,
             &scene,
             &mut renderer,
             &mut reference,
         );
         let point = match outcome {
             Ok(frames) => Point::new(configuration.label, configuration.group, frames),
-            Err(error) if !is_reference && is_method_failure(&error) => {
+            Err(error) if !is_reference && error.is_unstable() => {
                 Point::failed(configuration.label, configuration.group, error.to_string())
             }
             Err(error) => {
@@ -222,7 +202,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     print_fronts(&points);
     if let Some(path) = &args.json {
         let report = serde_json::json!({
-            "preset": args.preset,
+            "preset": args.preset.name(),
             "frames": args.frames,
             "width": width,
             "height": height,
@@ -248,7 +228,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
                 "Error against cost, {} ({}), {} frames at {width}x{height}; levels and LODs \
                  with {} ×{}: fixed levels (blue), LODs (red), strands with other integrators \
                  (green)",
-                args.preset,
+                args.preset.name(),
                 if args.wind { "wind" } else { "calm" },
                 args.frames,
                 args.integrator,
@@ -262,86 +242,97 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     Ok(())
 }
 
-/// Runs one configuration over the benchmark's frames and compares each frame with the
-/// reference; the first configuration run (with `reference` empty) fills `reference`.
+/// Runs one configuration over the shot's frames (through the frame loop) and compares each
+/// frame with the reference; the first configuration run (with `reference` empty) fills
+/// `reference`.
 fn run_configuration(
     configuration: &Configuration,
-    benchmark: &PaperBenchmark,
+    shot: &Shot,
     scene: &Scene,
     renderer: &mut PipelineRenderer,
     reference: &mut Vec<ReferenceFrame>,
 ) -> Result<Vec<FrameErrors>, PipelineError> {
-    let (width, height) = (benchmark.width, benchmark.height);
+    let (width, height) = (shot.width, shot.height);
     let is_reference = reference.is_empty();
-    let bar = progress_bar(benchmark.frames, &configuration.label);
-    let mut pipeline = Pipeline::new(
+    let bar = progress_bar(shot.frames, &configuration.label);
+    // The head body and (for the reference) the line of sight, built once per configuration.
+    let probe = Pipeline::new(
         scene.clone(),
-        benchmark.environment(),
-        configuration.settings,
+        shot.environment.clone(),
+        PipelineSettings {
+            lod: LodMode::Fixed(Level::Patch),
+            ..configuration.settings
+        },
     )?;
-    pipeline.settle(SETTLE_TIME)?;
-    renderer.bind(&pipeline)?;
-    let mut body = head_body(&pipeline)?;
+    let mut body = head_body(&probe)?;
     // Only the reference's samples need the line of sight (the others are compared where the
     // reference's are seen).
     let mut sight = if is_reference {
-        Some(head_sight(&pipeline)?)
+        Some(head_sight(&probe)?)
     } else {
         None
     };
-    let mut frames = Vec::with_capacity(benchmark.frames);
-    for frame in 0..benchmark.frames {
-        let camera = benchmark.camera(frame);
-        let report = pipeline.advance(&camera)?;
-        let (image, seconds) =
-            renderer.render(&mut pipeline, &camera, width, height, ShadingMode::Shaded)?;
-        let cost = report.times.total() - report.times.rendering + seconds;
-        let samples = sample_skeletons(
-            &pipeline.scene().groom,
-            &strand_skeletons(&pipeline)?,
-            SAMPLES_PER_SKELETON,
-        );
-        pose_head_body(&mut body, &pipeline)?;
-        let physical = PhysicalError::of(&pipeline, &body);
-        if let Some(sight) = sight.as_mut() {
-            // Against itself: SSIM 1, infinite PSNR, and the geometric error of its own samples.
-            let head = pipeline.environment().head.transform_at(pipeline.time());
-            sight.set_pose(head.rotation, head.translation)?;
-            let visible = visible_samples(&camera, sight, &samples);
-            let geometric =
-                geometric_error_of_visible(&camera, width, height, &samples, &samples, &visible);
-            frames.push(FrameErrors {
-                cost,
-                ssim: 1.0,
-                psnr: f64::INFINITY,
-                geometric,
-                physical,
-            });
-            reference.push(ReferenceFrame {
-                image,
-                samples,
-                visible,
-            });
-        } else {
-            let reference = &reference[frame];
-            let errors = image_error(&reference.image, &image);
-            frames.push(FrameErrors {
-                cost,
-                ssim: errors.ssim,
-                psnr: errors.psnr,
-                geometric: geometric_error_of_visible(
-                    &camera,
-                    width,
-                    height,
-                    &reference.samples,
-                    &samples,
-                    &reference.visible,
-                ),
-                physical,
-            });
-        }
-        bar.inc(1);
-    }
+    drop(probe);
+    let mut frames = Vec::with_capacity(shot.frames);
+    let views = [View::Shaded];
+    run_shot(
+        shot,
+        scene,
+        RunOptions::whole(shot, configuration.settings),
+        Some((renderer, &views)),
+        |output| {
+            let (pipeline, camera, frame) = (output.pipeline, output.camera, output.report.frame);
+            let image = &output.images[0];
+            let cost = output.report.times.total();
+            let samples = sample_skeletons(
+                &pipeline.scene().groom,
+                &strand_skeletons(pipeline)?,
+                SAMPLES_PER_SKELETON,
+            );
+            pose_head_body(&mut body, pipeline)?;
+            let physical = PhysicalError::of(pipeline, &body);
+            if let Some(sight) = sight.as_mut() {
+                // Against itself: SSIM 1, infinite PSNR, and the geometric error of its own
+                // samples.
+                let head = pipeline.environment().head.transform_at(pipeline.time());
+                sight.set_pose(head.rotation, head.translation)?;
+                let visible = visible_samples(camera, sight, &samples);
+                let geometric =
+                    geometric_error_of_visible(camera, width, height, &samples, &samples, &visible);
+                frames.push(FrameErrors {
+                    cost,
+                    ssim: 1.0,
+                    psnr: f64::INFINITY,
+                    geometric,
+                    physical,
+                });
+                reference.push(ReferenceFrame {
+                    image: image.clone(),
+                    samples,
+                    visible,
+                });
+            } else {
+                let reference = &reference[frame];
+                let errors = image_error(&reference.image, image);
+                frames.push(FrameErrors {
+                    cost,
+                    ssim: errors.ssim,
+                    psnr: errors.psnr,
+                    geometric: geometric_error_of_visible(
+                        camera,
+                        width,
+                        height,
+                        &reference.samples,
+                        &samples,
+                        &reference.visible,
+                    ),
+                    physical,
+                });
+            }
+            bar.inc(1);
+            Ok(())
+        },
+    )?;
     bar.finish_and_clear();
     Ok(frames)
 }

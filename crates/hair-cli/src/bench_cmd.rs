@@ -1,28 +1,49 @@
-//! `hairlod bench paper`: the paper's Tables 1 and 2 (§8.2) measured on this machine, next to the
-//! paper's own figures, with the speedup of LODs over Strands and the popping measure.
+//! `hairlod bench SCENE`: any scene run in LODs and in each fixed level over the same frames, in
+//! the layout of the paper's Tables 1 and 2 (§8.2), with the speedup of LODs over Strands, the
+//! popping measure and the SSIM of each mode against Strands. `hairlod bench paper [--wind]` is
+//! the shorthand for `scenes/paper-table1.toml` (`-2`), printed next to the paper's own figures.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
+use hairlod::Scene;
 use hairlod::benchmark::{
-    BudgetedRun, ExcessPopping, ModeRun, PAPER_TABLE_1, PAPER_TABLE_2, PaperBenchmark, Popping,
-    PoppingMeter, excess_popping, luma, paper_modes, run_budgeted, run_mode, ssim,
+    BudgetedRun, paper_figures, paper_modes, paper_shot, resized, run_budgeted, run_mode,
 };
 use hairlod::core::lod::{BudgetSettings, LodSettings};
+use hairlod::metrics::{luma, ssim};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
+use hairlod::popping::{ExcessPopping, Popping, PoppingMeter, excess_popping};
 use hairlod::render::RendererOptions;
-use hairlod::{Pipeline, Scene};
+use hairlod::run::ModeRun;
+use hairlod::scene_file::SceneFile;
+use hairlod::shot::Shot;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use crate::charts::{ModelSeries, ModelSizeChart, write_png_and_svg};
 
-/// Arguments of `hairlod bench`.
+/// Arguments of `hairlod bench`: a scene file, or one of the built-in benchmarks.
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct BenchArgs {
     #[command(subcommand)]
-    pub which: BenchKind,
+    pub which: Option<BenchKind>,
+    /// Scene file to run in LODs and in each fixed level (its [lod] settings are the LODs').
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Write every number (per mode, per stage, per frame) as JSON to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Also run the LODs in frame-budget mode at MS milliseconds (default: the scene's
+    /// lod.budget_ms, if any).
+    #[arg(long, value_name = "MS")]
+    pub budget_ms: Option<f64>,
+    /// Chart the simulated nodes and drawn segments per frame of LODs and Strands to FILE.png
+    /// and FILE.svg.
+    #[arg(long, value_name = "FILE")]
+    pub chart: Option<PathBuf>,
 }
 
 /// The benchmarks.
@@ -46,8 +67,8 @@ pub struct PaperArgs {
     #[arg(long, default_value_t = 60)]
     pub frames: usize,
     /// Image size WIDTHxHEIGHT [pixels].
-    #[arg(long, default_value = "1280x720")]
-    pub size: String,
+    #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
+    pub size: (u32, u32),
     /// Write every number (per mode, per stage, per frame) as JSON to FILE.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
@@ -73,28 +94,9 @@ pub struct PaperExtras {
     pub chart: Option<PathBuf>,
 }
 
-/// Parses `WIDTHxHEIGHT`.
-pub fn parse_size(text: &str) -> Result<(u32, u32)> {
-    let (w, h) = text
-        .split_once(['x', 'X'])
-        .with_context(|| format!("size `{text}` is not WIDTHxHEIGHT (for example 1280x720)"))?;
-    let parse = |s: &str| -> Result<u32> {
-        let value: u32 = s
-            .trim()
-            .parse()
-            .with_context(|| format!("size `{text}`: `{s}` is not a whole number of pixels"))?;
-        anyhow::ensure!(
-            (16..=8192).contains(&value),
-            "size `{text}`: {value} pixels is outside 16..=8192"
-        );
-        Ok(value)
-    };
-    Ok((parse(w)?, parse(h)?))
-}
-
 #[derive(Serialize)]
 struct PaperReport<'a> {
-    benchmark: PaperBenchmark,
+    shot: &'a Shot,
     adapter: String,
     table: &'static str,
     modes: &'a [ModeRun],
@@ -103,10 +105,10 @@ struct PaperReport<'a> {
     popping_instant: Popping,
     excess_popping_blended: ExcessPopping,
     excess_popping_instant: ExcessPopping,
-    popping_lod_stage: hairlod::pipeline::PoppingComparison,
+    popping_lod_stage: hairlod::popping::PoppingComparison,
     pixel_tolerance: f32,
     mean_ssim_against_strands: SsimAgainstStrands,
-    paper_seconds_per_frame: [[f64; 4]; 3],
+    paper_seconds_per_frame: Option<[[f64; 4]; 3]>,
     budgeted: Option<Budgeted>,
 }
 
@@ -136,10 +138,36 @@ struct Speedups {
 
 /// Runs `hairlod bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
-    match &args.which {
-        BenchKind::Paper(paper) => run_paper(paper),
-        BenchKind::Shading(shading) => crate::bench_shading::run(shading),
+    match (&args.which, &args.scene) {
+        (Some(BenchKind::Paper(paper)), _) => run_paper(paper),
+        (Some(BenchKind::Shading(shading)), _) => crate::bench_shading::run(shading),
+        (None, Some(path)) => run_scene(path, args),
+        (None, None) => anyhow::bail!(
+            "bench what? give a scene file (hairlod bench scenes/paper-table1.toml), or `paper` \
+             or `shading`"
+        ),
     }
+}
+
+/// `hairlod bench SCENE`.
+fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
+    let shot = SceneFile::read(path)?.resolve()?;
+    anyhow::ensure!(
+        shot.frames >= 2,
+        "{}: [frames] count must be at least 2 to benchmark (got {})",
+        path.display(),
+        shot.frames
+    );
+    let extras = PaperExtras {
+        budget_ms: args.budget_ms,
+        chart: args.chart.clone(),
+    };
+    let pixel_tolerance = shot.lod_settings().pixel_tolerance;
+    let report = paper_tables(&shot, pixel_tolerance, &extras)?;
+    if let Some(path) = &args.json {
+        write_json(path, &report)?;
+    }
+    Ok(())
 }
 
 fn run_paper(args: &PaperArgs) -> Result<()> {
@@ -148,58 +176,48 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
         "--frames must be at least 2 (got {})",
         args.frames
     );
-    let (width, height) = parse_size(&args.size)?;
-    let benchmark = PaperBenchmark {
-        frames: args.frames,
-        wind: args.wind,
-        width,
-        height,
-        ..PaperBenchmark::default()
-    };
+    let (width, height) = args.size;
+    let shot = resized(&paper_shot(args.wind), args.frames, width, height);
     let extras = PaperExtras {
         budget_ms: args.budget_ms,
         chart: args.chart.clone(),
     };
-    let report = paper_tables(&benchmark, args.pixel_tolerance, &extras)?;
+    let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
     if let Some(path) = &args.json {
         write_json(path, &report)?;
     }
     Ok(())
 }
 
-/// Runs the four modes (and the LODs again with instant switching for the popping measure),
-/// prints the table and returns the report.
+/// Runs `shot` in the four modes (LODs at `pixel_tolerance`, then the fixed levels; and the LODs
+/// again with instant switching for the popping measure), prints the table in the paper's layout
+/// (with the paper's figures when the shot is one of its tables) and returns the report.
 pub fn paper_tables(
-    benchmark: &PaperBenchmark,
+    shot: &Shot,
     pixel_tolerance: f32,
     extras: &PaperExtras,
 ) -> Result<serde_json::Value> {
-    let scene = Scene::preset("paper-curly")?;
+    let scene = shot.build_scene()?;
     let options = RendererOptions::from_env()?;
-    let lod = hairlod::core::lod::LodSettings {
+    let lod = LodSettings {
         pixel_tolerance,
-        ..benchmark.lod_settings()
+        ..shot.lod_settings()
     };
     lod.validate()?;
-    let budget = extras
-        .budget_ms
-        .map(|ms| {
+    let budget = match extras.budget_ms {
+        Some(ms) => {
             // Hold a lowering of the tolerance for the blend time: its cost shows only after it.
-            let frame_time = PipelineSettings::default().dynamics.time_step;
+            let frame_time = shot.settings.dynamics.time_step;
             let settings = BudgetSettings {
                 hold_frames: (lod.blend_time / frame_time).round() as usize,
                 ..BudgetSettings::new(ms / 1e3)
             };
-            settings.validate().map(|()| settings)
-        })
-        .transpose()?;
-    let first = Pipeline::new(
-        scene.clone(),
-        benchmark.environment(),
-        PipelineSettings::default(),
-    )?;
-    let mut renderer = PipelineRenderer::new(&options, &first)?;
-    drop(first);
+            settings.validate()?;
+            Some(settings)
+        }
+        None => shot.budget,
+    };
+    let mut renderer = PipelineRenderer::new(&options, &scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();
     println!("rendering on {adapter}");
     let mut modes = Vec::new();
@@ -221,14 +239,14 @@ pub fn paper_tables(
     let mut instant_switched = Vec::new();
     let mut ssim_sums = [0.0f64; 4];
     for (index, (mode, label)) in runs.iter().enumerate() {
-        let bar = progress_bar(benchmark.frames, label);
+        let bar = progress_bar(shot.frames, label);
         let settings = PipelineSettings {
             lod: *mode,
-            ..PipelineSettings::default()
+            ..shot.settings
         };
         let mut meter = PoppingMeter::default();
         let run = run_mode(
-            benchmark,
+            shot,
             &scene,
             settings,
             Some(&mut renderer),
@@ -264,15 +282,13 @@ pub fn paper_tables(
             modes.push(run);
         }
     }
-    let (title, paper) = if benchmark.wind {
-        (
-            "Table 2: wind blowing through the hair as the camera zooms out",
-            PAPER_TABLE_2,
-        )
-    } else {
-        ("Table 1: camera zooming out from the head", PAPER_TABLE_1)
+    let paper = shot.paper_table.and_then(paper_figures);
+    let title = match shot.paper_table {
+        Some(1) => "Table 1: camera zooming out from the head",
+        Some(2) => "Table 2: wind blowing through the hair as the camera zooms out",
+        _ => "The scene in each mode",
     };
-    let speedups = print_table(title, &modes, &paper, benchmark);
+    let speedups = print_table(title, &modes, paper.as_ref(), shot);
     let blended_switched: Vec<bool> = modes[0]
         .frames
         .iter()
@@ -290,9 +306,9 @@ pub fn paper_tables(
         excess_instant.switch_frames,
         excess_instant.elsewhere
     );
-    let bar = progress_bar(2 * benchmark.frames, "popping, blended and instant");
+    let bar = progress_bar(2 * shot.frames, "popping, blended and instant");
     let popping_lod_stage =
-        hairlod::pipeline::measure_popping(benchmark, &scene, lod, &mut renderer, || bar.inc(1))?;
+        hairlod::popping::measure_popping(shot, &scene, lod, &mut renderer, || bar.inc(1))?;
     bar.finish();
     let (blended, instant) = (popping_lod_stage.blended, popping_lod_stage.instant);
     println!(
@@ -308,7 +324,7 @@ pub fn paper_tables(
         blended.peak_lod_change,
         instant.peak_lod_change
     );
-    let frames = benchmark.frames as f64;
+    let frames = shot.frames as f64;
     let mean_ssim = SsimAgainstStrands {
         lods: ssim_sums[0] / frames,
         clusters: ssim_sums[2] / frames,
@@ -334,7 +350,7 @@ pub fn paper_tables(
     );
     let budgeted = match budget {
         Some(budget) => Some(budgeted_run(
-            benchmark,
+            shot,
             &scene,
             lod,
             budget,
@@ -344,10 +360,10 @@ pub fn paper_tables(
         None => None,
     };
     if let Some(path) = &extras.chart {
-        model_size_chart(path, benchmark, &modes)?;
+        model_size_chart(path, shot, &modes)?;
     }
     let report = PaperReport {
-        benchmark: *benchmark,
+        shot,
         adapter,
         table: title,
         modes: &modes,
@@ -367,17 +383,17 @@ pub fn paper_tables(
 
 /// Runs the LODs under a frame budget and prints how often it was met and the SSIM it paid.
 fn budgeted_run(
-    benchmark: &PaperBenchmark,
+    shot: &Shot,
     scene: &Scene,
     lod: LodSettings,
     budget: BudgetSettings,
     renderer: &mut PipelineRenderer,
     strand_frames: &[image::GrayImage],
 ) -> Result<Budgeted> {
-    let bar = progress_bar(benchmark.frames, "LODs, frame budget");
+    let bar = progress_bar(shot.frames, "LODs, frame budget");
     let mut ssim_sum = 0.0;
     let run = run_budgeted(
-        benchmark,
+        shot,
         scene,
         lod,
         budget,
@@ -392,7 +408,7 @@ fn budgeted_run(
     )
     .context("the frame-budget run failed")?;
     bar.finish();
-    let mean_ssim = ssim_sum / benchmark.frames.max(1) as f64;
+    let mean_ssim = ssim_sum / shot.frames.max(1) as f64;
     let b = &run.budget;
     println!(
         "frame budget {:.1} ms: met in {} of {} frames ({:.0} %), mean cost {:.1} ms, mean \
@@ -425,15 +441,11 @@ pub fn progress_bar(frames: usize, label: &str) -> ProgressBar {
 
 /// Charts the simulated nodes and drawn segments per frame of the LODs and Strands runs with the
 /// camera distance.
-fn model_size_chart(
-    path: &std::path::Path,
-    benchmark: &PaperBenchmark,
-    modes: &[ModeRun],
-) -> Result<()> {
-    let distances: Vec<f64> = (0..benchmark.frames)
+fn model_size_chart(path: &std::path::Path, shot: &Shot, modes: &[ModeRun]) -> Result<()> {
+    let distances: Vec<f64> = (0..shot.frames)
         .map(|f| {
             f64::from({
-                let camera = benchmark.camera(f);
+                let camera = shot.camera(f);
                 camera.position.distance(camera.target)
             })
         })
@@ -452,8 +464,12 @@ fn model_size_chart(
         })
         .collect();
     let title = format!(
-        "Model size over the zoom-out ({}): LODs against Strands",
-        if benchmark.wind { "wind" } else { "calm" }
+        "Model size over the camera path ({}): LODs against Strands",
+        if shot.environment.wind == hairlod::core::dynamics::WindField::Calm {
+            "calm"
+        } else {
+            "wind"
+        }
     );
     let chart = ModelSizeChart {
         title,
@@ -469,13 +485,20 @@ fn model_size_chart(
 fn print_table(
     title: &str,
     modes: &[ModeRun],
-    paper: &[[f64; 4]; 3],
-    benchmark: &PaperBenchmark,
+    paper: Option<&[[f64; 4]; 3]>,
+    shot: &Shot,
 ) -> Speedups {
     println!();
     println!(
-        "{title} ({} frames, {}x{}; seconds per frame, mean; the paper's in brackets)",
-        benchmark.frames, benchmark.width, benchmark.height
+        "{title} ({} frames, {}x{}; seconds per frame, mean{})",
+        shot.frames,
+        shot.width,
+        shot.height,
+        if paper.is_some() {
+            "; the paper's in brackets"
+        } else {
+            ""
+        }
     );
     print!("{:<12}", "Breakdown");
     for run in modes {
@@ -492,24 +515,37 @@ fn print_table(
     for (row, (name, value)) in rows.iter().enumerate() {
         print!("{name:<12}");
         for (column, run) in modes.iter().enumerate() {
-            print!("{:>11.4} ({:.3})", value(run), paper[row][column]);
+            match paper {
+                Some(paper) => print!("{:>11.4} ({:.3})", value(run), paper[row][column]),
+                None => print!("{:>20.4}", value(run)),
+            }
         }
         speedup[row] = value(&modes[1]) / value(&modes[0]).max(1e-12);
         println!("{:>13.2}×", speedup[row]);
     }
     print!("{:<12}", "Total");
     for (column, run) in modes.iter().enumerate() {
-        let paper_total: f64 = paper.iter().map(|row| row[column]).sum();
         let total = run.mean.dynamics + run.mean.collision + run.mean.rendering;
-        print!("{total:>11.4} ({paper_total:.3})");
+        match paper {
+            Some(paper) => {
+                let paper_total: f64 = paper.iter().map(|row| row[column]).sum();
+                print!("{total:>11.4} ({paper_total:.3})");
+            }
+            None => print!("{total:>20.4}"),
+        }
     }
     let total = |run: &ModeRun| run.mean.dynamics + run.mean.collision + run.mean.rendering;
     speedup[3] = total(&modes[1]) / total(&modes[0]).max(1e-12);
     println!("{:>13.2}×", speedup[3]);
-    let paper_speedup =
-        paper.iter().map(|r| r[1]).sum::<f64>() / paper.iter().map(|r| r[0]).sum::<f64>();
+    if let Some(paper) = paper {
+        let paper_speedup =
+            paper.iter().map(|r| r[1]).sum::<f64>() / paper.iter().map(|r| r[0]).sum::<f64>();
+        print!("(the paper's LODs speedup in total: {paper_speedup:.2}×; ");
+    } else {
+        print!("(");
+    }
     println!(
-        "(the paper's LODs speedup in total: {paper_speedup:.2}×; LOD level selection took {:.4} s per frame)",
+        "LOD level selection took {:.4} s per frame)",
         modes[0].mean.lod
     );
     Speedups {

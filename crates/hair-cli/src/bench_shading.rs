@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
-use hairlod::benchmark::{luma, luma_difference, ssim};
+use hairlod::metrics::{luma, luma_difference, ssim};
 use hairlod::core::{Level, Scene};
 use hairlod::render::settings::MAX_SEGMENTS_LIMIT;
 use hairlod::render::{
@@ -19,7 +19,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use plotters::style::RGBColor;
 use serde::Serialize;
 
-use crate::bench_cmd::{parse_size, write_json};
+use crate::bench_cmd::write_json;
 use crate::charts::{ParetoChart, ScatterPoint, write_png_and_svg};
 use crate::pareto::pareto_front;
 
@@ -27,8 +27,8 @@ use crate::pareto::pareto_front;
 #[derive(Debug, Args)]
 pub struct ShadingArgs {
     /// Image size WIDTHxHEIGHT [pixels].
-    #[arg(long, default_value = "1280x720")]
-    pub size: String,
+    #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
+    pub size: (u32, u32),
     /// Segments per strand to measure, comma-separated.
     #[arg(long, default_value = "16,32,64,128", value_delimiter = ',')]
     pub segments: Vec<u32>,
@@ -105,7 +105,7 @@ fn check_args(args: &ShadingArgs) -> Result<()> {
 /// Runs `hairlod bench shading`.
 pub fn run(args: &ShadingArgs) -> Result<()> {
     check_args(args)?;
-    let (width, height) = parse_size(&args.size)?;
+    let (width, height) = args.size;
     let scene = Scene::preset("paper-curly")?;
     let groom = &scene.groom;
     let mut renderer = Renderer::new(&RendererOptions::from_env()?)?;

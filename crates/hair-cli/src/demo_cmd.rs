@@ -7,14 +7,15 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use hairlod::benchmark::PaperBenchmark;
+use hairlod::benchmark::{paper_shot, resized};
+use hairlod::core::lod::LodSettings;
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
+use hairlod::render::RendererOptions;
 use hairlod::render::output::{frame_path, write_png_atomic};
-use hairlod::render::{RendererOptions, ShadingMode};
-use hairlod::{Pipeline, Scene};
+use hairlod::run::{RunOptions, View, run_shot};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::bench_cmd::{PaperExtras, paper_tables, parse_size, write_json};
+use crate::bench_cmd::{PaperExtras, paper_tables, write_json};
 
 /// Arguments of `hairlod demo` (also writes `side_by_side.png`: a frame a quarter through, shaded |
 /// colour-coded).
@@ -27,8 +28,8 @@ pub struct DemoArgs {
     #[arg(long, default_value_t = 36)]
     pub frames: usize,
     /// Image size WIDTHxHEIGHT [pixels].
-    #[arg(long, default_value = "640x360")]
-    pub size: String,
+    #[arg(long, default_value = "640x360", value_parser = crate::cli_args::size)]
+    pub size: (u32, u32),
     /// Only write the image sequences; skip the four-mode comparison.
     #[arg(long)]
     pub no_bench: bool,
@@ -44,26 +45,18 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         "--frames must be at least 2 (got {})",
         args.frames
     );
-    let (width, height) = parse_size(&args.size)?;
-    let benchmark = PaperBenchmark {
-        frames: args.frames,
-        wind: true,
-        width,
-        height,
-        ..PaperBenchmark::default()
-    };
-    let scene = Scene::preset("paper-curly")?;
-    let lod = hairlod::core::lod::LodSettings {
+    let (width, height) = args.size;
+    let shot = resized(&paper_shot(true), args.frames, width, height);
+    let scene = shot.build_scene()?;
+    let lod = LodSettings {
         pixel_tolerance: args.pixel_tolerance,
-        ..benchmark.lod_settings()
+        ..shot.lod_settings()
     };
     let settings = PipelineSettings {
         lod: LodMode::Auto(lod),
-        ..PipelineSettings::default()
+        ..shot.settings
     };
-    let mut pipeline = Pipeline::new(scene, benchmark.environment(), settings)?;
-    pipeline.settle(hairlod::benchmark::SETTLE_TIME)?;
-    let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &pipeline)?;
+    let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &scene)?;
     println!("rendering on {}", renderer.renderer().adapter_report());
     let shaded_dir = args.out.join("shaded");
     let levels_dir = args.out.join("levels");
@@ -75,26 +68,30 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             .expect("a valid template")
             .progress_chars("=> "),
     );
-    for frame in 0..args.frames {
-        let camera = benchmark.camera(frame);
-        let report = pipeline.advance(&camera)?;
-        let frames = args.frames as u64;
-        for (mode, dir) in [
-            (ShadingMode::Shaded, &shaded_dir),
-            (ShadingMode::LevelColors, &levels_dir),
-        ] {
-            let (image, _) = renderer.render(&mut pipeline, &camera, width, height, mode)?;
-            write_png_atomic(&image, &frame_path(dir, frame as u64, frames))?;
-        }
-        if frame == args.frames / 4 {
-            // One picture like the paper's Fig. 6: shaded | colour-coded.
-            let (image, _) = renderer.render_side_by_side(&mut pipeline, &camera, width, height)?;
-            write_png_atomic(&image, &args.out.join("side_by_side.png"))?;
-        }
-        let [p, c, s] = report.sections_at;
-        bar.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));
-        bar.inc(1);
-    }
+    let views = [View::Shaded, View::LevelColors];
+    let frames = args.frames as u64;
+    run_shot(
+        &shot,
+        &scene,
+        RunOptions::whole(&shot, settings),
+        Some((&mut renderer, &views)),
+        |frame| {
+            let index = frame.report.frame;
+            write_png_atomic(&frame.images[0], &frame_path(&shaded_dir, index as u64, frames))?;
+            write_png_atomic(&frame.images[1], &frame_path(&levels_dir, index as u64, frames))?;
+            if index == args.frames / 4 {
+                // One picture like the paper's Fig. 6: shaded | colour-coded.
+                let mut pair = image::RgbaImage::new(2 * width, height);
+                image::imageops::replace(&mut pair, &frame.images[0], 0, 0);
+                image::imageops::replace(&mut pair, &frame.images[1], i64::from(width), 0);
+                write_png_atomic(&pair, &args.out.join("side_by_side.png"))?;
+            }
+            let [p, c, s] = frame.report.sections_at;
+            bar.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));
+            bar.inc(1);
+            Ok(())
+        },
+    )?;
     bar.finish();
     println!(
         "wrote {} frames to {} and {} (strands yellow, clusters red, patches blue)",
@@ -107,7 +104,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             budget_ms: None,
             chart: Some(args.out.join("model_size.png")),
         };
-        let report = paper_tables(&benchmark, args.pixel_tolerance, &extras)?;
+        let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
         write_json(&args.out.join("bench.json"), &report)?;
     }
     Ok(())

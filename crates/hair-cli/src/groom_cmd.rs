@@ -46,7 +46,7 @@ pub fn run(args: &GroomArgs) -> Result<()> {
     let scene = args.scene.build()?;
     let counts = scene.groom.counts();
     let report = GroomReport {
-        preset: &args.scene.preset,
+        preset: args.scene.preset.name(),
         style: scene.groom.params.style.kind.name(),
         hair_length_m: scene.groom.params.hair_length,
         section_width_m: scene.groom.sections.first().map_or(0.0, |s| s.width),

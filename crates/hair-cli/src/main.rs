@@ -1,10 +1,13 @@
-//! The `hairlod` command-line tool: grooms, OBJ export (and, as they land, simulation, rendering and
-//! benchmarks).
+//! The `hairlod` command-line tool: every verb that makes frames runs a scene through the one frame
+//! loop (`hairlod::run`): `render` (image sequences, checkpoints), `bench` (a scene in every mode,
+//! the paper's tables), `demo` (the main job), `accuracy` (speed against accuracy); and `groom`
+//! (counts, OBJ export) and `stability` (where each integrator holds).
 
 mod accuracy_cmd;
 mod bench_cmd;
 mod bench_shading;
 mod charts;
+mod cli_args;
 mod demo_cmd;
 mod groom_cmd;
 mod pareto;
@@ -31,10 +34,12 @@ enum Command {
     /// Sweep the three skeleton integrators over time step, stiffness, wind and head shake and
     /// report where each is stable.
     Stability(stability_cmd::StabilityArgs),
-    /// Render a groom to a PNG sequence (headless wgpu): one level, shaded or colour-coded.
+    /// Run a scene (SCENE.toml or flags) with levels of detail, dynamics and collision, and
+    /// write its frames as PNG sequences: shaded, colour-coded by level, or side by side.
     Render(render_cmd::RenderArgs),
-    /// Benchmarks: `bench paper` measures the paper's Tables 1 and 2 (LODs vs fixed levels),
-    /// `bench shading` the strand-line shading's cost against its error.
+    /// Benchmarks: `bench SCENE` runs a scene in LODs and each fixed level in the paper's table
+    /// layout, `bench paper` the paper's Tables 1 and 2, `bench shading` the strand-line
+    /// shading's cost against its error.
     Bench(bench_cmd::BenchArgs),
     /// The main job: the benchmark scene with wind and LODs rendered to ./out (shaded and
     /// colour-coded), then the Table 2 comparison.

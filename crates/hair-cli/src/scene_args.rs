@@ -5,12 +5,14 @@ use clap::Args;
 use hairlod::core::head::HeadParams;
 use hairlod::core::{GroomParams, Scene};
 
+use crate::cli_args::Preset;
+
 /// A preset groom and overrides of its parameters (shared by the verbs that build a scene).
 #[derive(Debug, Clone, Args)]
 pub struct SceneArgs {
-    /// Preset name: paper-curly, straight, wavy or curly.
-    #[arg(long, default_value = "paper-curly")]
-    pub preset: String,
+    /// Preset groom.
+    #[arg(long, value_enum, default_value = "paper-curly")]
+    pub preset: Preset,
     /// Override: number of sections (each 1 patch = 3 clusters = 5 strand groups).
     #[arg(long, value_name = "N")]
     pub sections: Option<usize>,
@@ -37,7 +39,7 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// The groom parameters: the preset with the overrides applied (not yet validated).
     pub fn groom_params(&self) -> Result<GroomParams> {
-        let mut params = GroomParams::preset(&self.preset)?;
+        let mut params = GroomParams::preset(self.preset.name())?;
         if let Some(sections) = self.sections {
             params.section_count = sections;
         }
@@ -66,6 +68,6 @@ impl SceneArgs {
     pub fn build(&self) -> Result<Scene> {
         let params = self.groom_params()?;
         Scene::new(&HeadParams::default(), &params)
-            .with_context(|| format!("could not build the `{}` groom", self.preset))
+            .with_context(|| format!("could not build the `{}` groom", self.preset.name()))
     }
 }

@@ -1,0 +1,212 @@
+//! Typed command-line values shared by the verbs: presets, levels, camera paths, head motions,
+//! backends, image sizes and frame ranges.
+
+use std::ops::Range;
+
+use anyhow::{Result, bail};
+use clap::ValueEnum;
+use hairlod::render::BackendChoice;
+use hairlod::scene_file::parse_size;
+
+/// A preset groom.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Preset {
+    /// The paper's benchmark groom: 91 sections, 37,765 curly strands.
+    PaperCurly,
+    /// Straight hair.
+    Straight,
+    /// Wavy hair.
+    Wavy,
+    /// Ringlet curls.
+    Curly,
+}
+
+impl Preset {
+    /// The preset's name in hair-core and scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::PaperCurly => "paper-curly",
+            Preset::Straight => "straight",
+            Preset::Wavy => "wavy",
+            Preset::Curly => "curly",
+        }
+    }
+}
+
+/// Level of detail: chosen per section every frame, or one fixed level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LevelArg {
+    /// Chosen per section from visibility, screen size and motion (§7).
+    Auto,
+    /// Every section as five strand groups.
+    Strands,
+    /// Every section as three clusters.
+    Clusters,
+    /// Every section as one patch.
+    Patches,
+}
+
+impl LevelArg {
+    /// The scene file's `lod.mode` value.
+    pub fn name(self) -> &'static str {
+        match self {
+            LevelArg::Auto => "auto",
+            LevelArg::Strands => "strands",
+            LevelArg::Clusters => "clusters",
+            LevelArg::Patches => "patches",
+        }
+    }
+}
+
+/// Camera path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CameraArg {
+    /// Once around the head.
+    Orbit,
+    /// From the start distance to 4× (or `camera.end_distance`), geometrically.
+    ZoomOut,
+    /// Still.
+    Fixed,
+}
+
+impl CameraArg {
+    /// The scene file's `camera.path` value.
+    pub fn name(self) -> &'static str {
+        match self {
+            CameraArg::Orbit => "orbit",
+            CameraArg::ZoomOut => "zoom-out",
+            CameraArg::Fixed => "fixed",
+        }
+    }
+}
+
+/// Head motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MotionArg {
+    /// The head holds still.
+    Still,
+    /// The head shakes (about the vertical axis).
+    Shake,
+    /// The head nods.
+    Nod,
+}
+
+impl MotionArg {
+    /// The scene file's `motion.kind` value.
+    pub fn name(self) -> &'static str {
+        match self {
+            MotionArg::Still => "still",
+            MotionArg::Shake => "shake",
+            MotionArg::Nod => "nod",
+        }
+    }
+}
+
+/// Graphics backend.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BackendArg {
+    /// Any adapter (a GPU first, then Mesa's CPU drivers).
+    Auto,
+    /// Vulkan (lavapipe on a CPU).
+    Vulkan,
+    /// OpenGL through EGL (llvmpipe on a CPU).
+    Gl,
+}
+
+impl From<BackendArg> for BackendChoice {
+    fn from(backend: BackendArg) -> Self {
+        match backend {
+            BackendArg::Auto => BackendChoice::Auto,
+            BackendArg::Vulkan => BackendChoice::Vulkan,
+            BackendArg::Gl => BackendChoice::Gl,
+        }
+    }
+}
+
+/// An image size `WIDTHxHEIGHT` [pixels] (clap value parser).
+pub fn size(text: &str) -> Result<(u32, u32)> {
+    Ok(parse_size("size", text)?)
+}
+
+/// Which frames: a count `N` (the shot is N frames long) or a range `A..B` / `A..` of the
+/// shot's frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FramesArg {
+    /// The shot has this many frames; all of them.
+    Count(usize),
+    /// Frames `start..end` of the shot (`end` `None`: to the shot's end).
+    Range(usize, Option<usize>),
+}
+
+impl FramesArg {
+    /// Parses `N`, `A..B` or `A..` (clap value parser).
+    pub fn parse(text: &str) -> Result<FramesArg> {
+        let bad = || {
+            anyhow::anyhow!(
+                "frames {text:?}: expected a count N ≥ 1, or a range A..B (A < B) or A.. of the \
+                 shot's frames"
+            )
+        };
+        match text.split_once("..") {
+            None => {
+                let count: usize = text.trim().parse().map_err(|_| bad())?;
+                if count == 0 {
+                    bail!(bad());
+                }
+                Ok(FramesArg::Count(count))
+            }
+            Some((a, b)) => {
+                let start: usize = a.trim().parse().map_err(|_| bad())?;
+                let end = if b.trim().is_empty() {
+                    None
+                } else {
+                    Some(b.trim().parse::<usize>().map_err(|_| bad())?)
+                };
+                if end.is_some_and(|end| end <= start) {
+                    bail!(bad());
+                }
+                Ok(FramesArg::Range(start, end))
+            }
+        }
+    }
+
+    /// The range within a shot of `shot_frames` frames.
+    pub fn range(self, shot_frames: usize) -> Result<Range<usize>> {
+        let range = match self {
+            FramesArg::Count(count) => 0..count,
+            FramesArg::Range(start, end) => start..end.unwrap_or(shot_frames),
+        };
+        if range.end > shot_frames || range.start >= range.end {
+            bail!(
+                "frames {}..{}: the shot has frames 0..{shot_frames} (set [frames] count in the \
+                 scene file, or give --frames N)",
+                range.start,
+                range.end
+            );
+        }
+        Ok(range)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_parse_as_counts_and_ranges_or_explain() {
+        assert_eq!(FramesArg::parse("12").unwrap(), FramesArg::Count(12));
+        assert_eq!(FramesArg::parse("3..7").unwrap(), FramesArg::Range(3, Some(7)));
+        assert_eq!(FramesArg::parse("3..").unwrap(), FramesArg::Range(3, None));
+        for bad in ["0", "7..3", "a..b", "-1", ""] {
+            assert!(FramesArg::parse(bad).is_err(), "{bad}");
+        }
+        assert_eq!(FramesArg::Range(3, None).range(10).unwrap(), 3..10);
+        assert!(FramesArg::Range(3, Some(11)).range(10).is_err());
+    }
+
+    #[test]
+    fn sizes_parse_or_name_the_range() {
+        assert_eq!(size("640x360").unwrap(), (640, 360));
+        assert!(size("0x10").unwrap_err().to_string().contains("16..=8192"));
+    }
+}
