@@ -32,9 +32,7 @@ pub mod shot;
 pub use hair_collide as collide;
 pub use hair_core as core;
 pub use hair_render as render;
-pub use pipeline::{
-    Checkpoint, LodMode, Pipeline, PipelineError, PipelineSettings, PipelineState,
-};
+pub use pipeline::{Checkpoint, LodMode, Pipeline, PipelineError, PipelineSettings, PipelineState};
 pub use scene_file::SceneFile;
 pub use shot::Shot;
 

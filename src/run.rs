@@ -11,7 +11,6 @@ use hair_core::lod::{BudgetController, BudgetReport, BudgetSettings};
 use hair_render::ShadingMode;
 use serde::Serialize;
 
-
 use crate::pipeline::{
     Checkpoint, FrameReport, Pipeline, PipelineError, PipelineRenderer, PipelineSettings, Result,
     StageTimes,

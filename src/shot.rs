@@ -199,7 +199,8 @@ impl Shot {
                 checkpoint,
             ),
             None => {
-                let mut pipeline = Pipeline::new(scene.clone(), self.environment.clone(), settings)?;
+                let mut pipeline =
+                    Pipeline::new(scene.clone(), self.environment.clone(), settings)?;
                 pipeline.settle(self.settle_seconds)?;
                 Ok(pipeline)
             }

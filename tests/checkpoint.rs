@@ -37,11 +37,7 @@ struct Outcome {
 }
 
 /// Runs `frames` of the shot, from `checkpoint` when given, on `threads` threads.
-fn run(
-    frames: std::ops::Range<usize>,
-    checkpoint: Option<Checkpoint>,
-    threads: usize,
-) -> Outcome {
+fn run(frames: std::ops::Range<usize>, checkpoint: Option<Checkpoint>, threads: usize) -> Outcome {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -89,14 +85,24 @@ fn a_resumed_run_is_bit_identical_to_an_uninterrupted_one_at_any_thread_count() 
     for threads in [1, 2] {
         let straight = run(0..FRAMES, None, threads);
         // The run switches levels (so blocks are rebuilt and state handed over) and collides.
-        assert!(straight.level_changes > 0, "no level switch: {:?}", straight.levels);
+        assert!(
+            straight.level_changes > 0,
+            "no level switch: {:?}",
+            straight.levels
+        );
         let first = run(0..FRAMES / 2, None, threads);
         let path = dir.join(format!("checkpoint_{threads}.json"));
         first.checkpoint.write(&path).unwrap();
         let read = Checkpoint::read(&path).unwrap();
-        assert_eq!(read.state, first.state, "the file round trip changes the state");
+        assert_eq!(
+            read.state, first.state,
+            "the file round trip changes the state"
+        );
         let second = run(FRAMES / 2..FRAMES, Some(read), threads);
-        assert_eq!(second.state, straight.state, "{threads} thread(s): final states differ");
+        assert_eq!(
+            second.state, straight.state,
+            "{threads} thread(s): final states differ"
+        );
         let images: Vec<_> = first.images.iter().chain(&second.images).collect();
         for (k, (a, b)) in images.iter().zip(&straight.images).enumerate() {
             assert!(*a == b, "{threads} thread(s): frame {k} differs");

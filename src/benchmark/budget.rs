@@ -53,7 +53,9 @@ pub fn run_budgeted(
     run.mode = "LODs, frame budget".to_string();
     Ok(BudgetedRun {
         run,
-        budget: result.budget.expect("a budget was given at automatic levels"),
+        budget: result
+            .budget
+            .expect("a budget was given at automatic levels"),
         tolerances: result.tolerances,
     })
 }

@@ -125,7 +125,12 @@ impl LevelBlock {
     /// Checks a block read from a checkpoint against `groom`: its layout must be the one
     /// [`LevelBlock::laid_out`] gives for its sections, its state sized to it and finite.
     pub fn check(&self, groom: &Groom, level: Level) -> Result<()> {
-        let bad = |why: String| Err(PipelineError::State(format!("{} block: {why}", level.name())));
+        let bad = |why: String| {
+            Err(PipelineError::State(format!(
+                "{} block: {why}",
+                level.name()
+            )))
+        };
         if self.level != level {
             return bad(format!("stored as the {} block", self.level.name()));
         }

@@ -154,7 +154,10 @@ mod tests {
         let path = dir.join("bad.json");
         for (text, expected) in [
             ("{\"format\": \"something\"}", "not a checkpoint"),
-            ("{\"format\": \"hairlod-checkpoint\", \"version\": 99}", "version"),
+            (
+                "{\"format\": \"hairlod-checkpoint\", \"version\": 99}",
+                "version",
+            ),
             (
                 "{\"format\": \"hairlod-checkpoint\", \"version\": 1, \"hairlod_version\": \"0.0.0\"}",
                 "hairlod 0.1",

@@ -15,9 +15,7 @@ use hair_render::ShadingMode;
 use serde::Serialize;
 
 use crate::metrics::{luma, luma_difference};
-use crate::pipeline::{
-    FrameReport, LodMode, Pipeline, PipelineRenderer, PipelineSettings, Result,
-};
+use crate::pipeline::{FrameReport, LodMode, Pipeline, PipelineRenderer, PipelineSettings, Result};
 use crate::shot::Shot;
 
 /// The image changes of one frame at its own camera, in mean absolute luma difference `[0, 1]`.

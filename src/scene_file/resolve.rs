@@ -115,7 +115,8 @@ impl SceneFile {
             10_000.0,
             "a rate in 1..=10000 Hz",
         )?;
-        let (width, height) = parse_size("frames.size", frames.size.as_deref().unwrap_or("1280x720"))?;
+        let (width, height) =
+            parse_size("frames.size", frames.size.as_deref().unwrap_or("1280x720"))?;
         let environment = Environment {
             head: self.head_motion()?,
             wind: self.wind_field()?,
@@ -218,8 +219,13 @@ impl SceneFile {
             params.hair_length = positive("groom.hair_length", v)?;
         }
         if let Some(v) = table.style_factor_degrees {
-            params.style.factor_degrees =
-                within("groom.style_factor_degrees", v, 0.0, 90.0, "degrees in 0..=90")?;
+            params.style.factor_degrees = within(
+                "groom.style_factor_degrees",
+                v,
+                0.0,
+                90.0,
+                "degrees in 0..=90",
+            )?;
         }
         if let Some(v) = table.style_size {
             params.style.size = positive("groom.style_size", v)?;
@@ -275,12 +281,10 @@ impl SceneFile {
                             key.time
                         )));
                     }
-                    let [x, y, z] = vector(
-                        &format!("{field}.rotation_degrees"),
-                        key.rotation_degrees,
-                    )?
-                    .to_array()
-                    .map(f32::to_radians);
+                    let [x, y, z] =
+                        vector(&format!("{field}.rotation_degrees"), key.rotation_degrees)?
+                            .to_array()
+                            .map(f32::to_radians);
                     keys.push(HeadKeyframe {
                         time: key.time,
                         transform: RigidTransform {
@@ -437,7 +441,13 @@ impl SceneFile {
             ..LodSettings::default()
         };
         if let Some(v) = table.pixel_tolerance {
-            lod.pixel_tolerance = within("lod.pixel_tolerance", v, 1e-3, 1e4, "pixels in 0.001..=10000")?;
+            lod.pixel_tolerance = within(
+                "lod.pixel_tolerance",
+                v,
+                1e-3,
+                1e4,
+                "pixels in 0.001..=10000",
+            )?;
         }
         if let Some(v) = table.blend_time {
             lod.blend_time = within("lod.blend_time", v, 0.0, 10.0, "seconds in 0..=10")?;
@@ -504,7 +514,11 @@ mod tests {
     fn bad_values_name_the_field_and_the_range() {
         for (text, field, range) in [
             ("[wind]\nspeed = -1.0", "wind.speed", "0..=100"),
-            ("[camera]\nfov_degrees = 200.0", "camera.fov_degrees", "1..=170"),
+            (
+                "[camera]\nfov_degrees = 200.0",
+                "camera.fov_degrees",
+                "1..=170",
+            ),
             ("[camera]\ndistance = nan", "camera.distance", "> 0"),
             ("[frames]\ncount = 0", "frames.count", "1..=1000000"),
             ("[frames]\nsize = \"big\"", "frames.size", "WIDTHxHEIGHT"),
@@ -512,12 +526,24 @@ mod tests {
             ("[groom]\nhair_length = -0.2", "groom.hair_length", "> 0"),
             ("[lod]\nmode = \"voxels\"", "lod.mode", "auto"),
             ("[lod]\nbudget_ms = 0.0", "lod.budget_ms", "> 0"),
-            ("[dynamics]\nintegrator = \"rk4\"", "dynamics.integrator", "position-based"),
+            (
+                "[dynamics]\nintegrator = \"rk4\"",
+                "dynamics.integrator",
+                "position-based",
+            ),
             ("[dynamics]\nsubsteps = 0", "dynamics.substeps", "1..=10000"),
             ("[motion]\nkind = \"dance\"", "motion.kind", "shake"),
-            ("[motion]\nkind = \"keyframes\"", "motion.keyframes", "at least one"),
+            (
+                "[motion]\nkind = \"keyframes\"",
+                "motion.keyframes",
+                "at least one",
+            ),
             ("version = 1", "version", "2"),
-            ("[groom]\nfile = \"x.tfx\"", "groom.file", "not supported yet"),
+            (
+                "[groom]\nfile = \"x.tfx\"",
+                "groom.file",
+                "not supported yet",
+            ),
         ] {
             let error = error_of(text);
             assert!(
@@ -545,7 +571,11 @@ mod tests {
         // Half-way in time, the camera is half-way between its keys: z = 2 m.
         assert!((shot.camera(1).position.z - 2.0).abs() < 1e-6);
         // At t = 1 s the head has turned 90° about Y: +Z goes to +X.
-        let turned = shot.environment.head.transform_at(1.0).transform_vector(Vec3::Z);
+        let turned = shot
+            .environment
+            .head
+            .transform_at(1.0)
+            .transform_vector(Vec3::Z);
         assert!((turned - Vec3::X).length() < 1e-5, "{turned}");
     }
 }

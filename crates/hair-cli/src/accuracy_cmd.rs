@@ -28,8 +28,8 @@ use hairlod::shot::Shot;
 use hairlod::{Level, Pipeline, Scene};
 
 use crate::bench_cmd::{progress_bar, write_json};
-use crate::cli_args::Preset;
 use crate::charts::{ACCURACY_PANELS, GROUP_COLOURS, ParetoChart, write_png_and_svg};
+use crate::cli_args::Preset;
 use sweep::{FrameErrors, Group, Point, mark_pareto};
 
 /// Samples per strand-group skeleton for the geometric error.
@@ -179,13 +179,8 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     let mut points = Vec::new();
     for configuration in configurations {
         let is_reference = reference.is_empty();
-        let outcome = run_configuration(
-            &configuration,
-            &shot,
-            &scene,
-            &mut renderer,
-            &mut reference,
-        );
+        let outcome =
+            run_configuration(&configuration, &shot, &scene, &mut renderer, &mut reference);
         let point = match outcome {
             Ok(frames) => Point::new(configuration.label, configuration.group, frames),
             Err(error) if !is_reference && error.is_unstable() => {

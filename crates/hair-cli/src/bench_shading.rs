@@ -9,8 +9,8 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
-use hairlod::metrics::{luma, luma_difference, ssim};
 use hairlod::core::{Level, Scene};
+use hairlod::metrics::{luma, luma_difference, ssim};
 use hairlod::render::settings::MAX_SEGMENTS_LIMIT;
 use hairlod::render::{
     ActiveSkeletons, Camera, FrameSettings, LineShading, Renderer, RendererOptions,

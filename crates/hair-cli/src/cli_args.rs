@@ -195,7 +195,10 @@ mod tests {
     #[test]
     fn frames_parse_as_counts_and_ranges_or_explain() {
         assert_eq!(FramesArg::parse("12").unwrap(), FramesArg::Count(12));
-        assert_eq!(FramesArg::parse("3..7").unwrap(), FramesArg::Range(3, Some(7)));
+        assert_eq!(
+            FramesArg::parse("3..7").unwrap(),
+            FramesArg::Range(3, Some(7))
+        );
         assert_eq!(FramesArg::parse("3..").unwrap(), FramesArg::Range(3, None));
         for bad in ["0", "7..3", "a..b", "-1", ""] {
             assert!(FramesArg::parse(bad).is_err(), "{bad}");

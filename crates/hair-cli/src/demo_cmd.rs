@@ -77,8 +77,14 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         Some((&mut renderer, &views)),
         |frame| {
             let index = frame.report.frame;
-            write_png_atomic(&frame.images[0], &frame_path(&shaded_dir, index as u64, frames))?;
-            write_png_atomic(&frame.images[1], &frame_path(&levels_dir, index as u64, frames))?;
+            write_png_atomic(
+                &frame.images[0],
+                &frame_path(&shaded_dir, index as u64, frames),
+            )?;
+            write_png_atomic(
+                &frame.images[1],
+                &frame_path(&levels_dir, index as u64, frames),
+            )?;
             if index == args.frames / 4 {
                 // One picture like the paper's Fig. 6: shaded | colour-coded.
                 let mut pair = image::RgbaImage::new(2 * width, height);

@@ -121,7 +121,8 @@ impl RenderArgs {
             file.output.contact_sheet = Some(true);
         }
         // Flags are checked like the file's own values.
-        file.resolve().context("the scene with the command-line flags")?;
+        file.resolve()
+            .context("the scene with the command-line flags")?;
         Ok(file)
     }
 }
@@ -289,6 +290,9 @@ fn print_summary(out: &Path, frames: &[FrameReport], setup: Duration, write: Dur
         ("render", total.rendering),
         ("write png", write.as_secs_f64()),
     ] {
-        eprintln!("  {name:<10} {seconds:>10.3} {:>15.1}", 1e3 * seconds / count);
+        eprintln!(
+            "  {name:<10} {seconds:>10.3} {:>15.1}",
+            1e3 * seconds / count
+        );
     }
 }

@@ -1,5 +1,6 @@
 //! `hairlod render` end to end, through the binary: a scene file at automatic levels with a
-//! shaking head, colour-coded by level, shows more than one level and a head that moves; a run
+//! shaking head, colour-coded by level, shows more than one level; the head mesh is drawn where
+//! the simulation moves it (checked against the projected displacement); a run
 //! split by a checkpoint writes the same frames as one run straight through; bad scene files and
 //! flags get errors that name the field.
 
@@ -16,18 +17,27 @@ fn folder(name: &str) -> PathBuf {
     dir
 }
 
-/// A small scene: the curly groom seen from the side at 1.1 m, 4 frames at 30 Hz, 256×160,
-/// automatic levels, colour-coded, the head doing `motion`.
+/// The head swaying sideways: 5 cm along +X over the first 0.2 s, then held.
+const SWAY: &str = "kind = \"keyframes\"\nkeyframes = [{ time = 0.0 }, \
+                    { time = 0.2, translation = [0.05, 0.0, 0.0] }]\n";
+
+/// A small scene: a short curly groom (12 sections, 10 cm) seen from the front at 1.1 m, 4 frames
+/// at 15 Hz, 256×160, automatic levels, colour-coded, the head doing `motion` (`shake`, `still`
+/// or `sway`).
 fn scene(dir: &Path, motion: &str) -> PathBuf {
+    let motion = match motion {
+        "sway" => SWAY.to_string(),
+        kind => format!("kind = \"{kind}\"\namplitude_degrees = 30.0\npeak_speed = 4.0\n"),
+    };
     let path = dir.join("scene.toml");
     let text = format!(
         "version = 2\n\
-         [groom]\npreset = \"curly\"\n\
-         [motion]\nkind = \"{motion}\"\namplitude_degrees = 30.0\npeak_speed = 4.0\n\
-         [camera]\npath = \"fixed\"\ndistance = 1.1\nazimuth_degrees = 80.0\nelevation_degrees = 5.0\n\
+         [groom]\npreset = \"curly\"\nsection_count = 12\nhair_length = 0.1\n\
+         [motion]\n{motion}\
+         [camera]\npath = \"fixed\"\ndistance = 1.1\nazimuth_degrees = 0.0\nelevation_degrees = 0.0\n\
          [lod]\nmode = \"auto\"\npixel_tolerance = 2.0\n\
-         [dynamics]\nsettle_seconds = 0.25\n\
-         [frames]\ncount = 4\nfps = 30\nsize = \"256x160\"\n\
+         [dynamics]\nsettle_seconds = 1.0\n\
+         [frames]\ncount = 4\nfps = 15\nsize = \"256x160\"\n\
          [output]\ncolor_coded = true\n"
     );
     std::fs::write(&path, text).unwrap();
@@ -70,28 +80,8 @@ fn levels_seen(image: &image::RgbaImage) -> [bool; 3] {
     counts.map(|n| n > 20)
 }
 
-/// The pixels showing the head: its colour-code grey (linear 0.2, unlit), r = g = b.
-fn head_mask(image: &image::RgbaImage) -> Vec<bool> {
-    image
-        .pixels()
-        .map(|p| {
-            let [r, g, b, _] = p.0;
-            r == g && g == b && (100..=150).contains(&r)
-        })
-        .collect()
-}
-
-/// Pixels where the head is in one image and not the other.
-fn head_change(a: &image::RgbaImage, b: &image::RgbaImage) -> usize {
-    head_mask(a)
-        .iter()
-        .zip(head_mask(b))
-        .filter(|(x, y)| **x != *y)
-        .count()
-}
-
 #[test]
-fn a_shaking_head_at_automatic_levels_shows_several_levels_and_moves() {
+fn a_shaking_head_at_automatic_levels_shows_several_levels() {
     let shaking = folder("shake");
     let out = shaking.join("frames");
     let text = hairlod(&[
@@ -99,6 +89,11 @@ fn a_shaking_head_at_automatic_levels_shows_several_levels_and_moves() {
         scene(&shaking, "shake").to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
+        "--level",
+        "auto",
+        "--color-code",
+        "--motion",
+        "shake",
     ]);
     let images: Vec<_> = (0..4).map(|k| frame(&out, k)).collect();
     // More than one level over the frames (the face and part line stay at least clusters, the
@@ -113,25 +108,60 @@ fn a_shaking_head_at_automatic_levels_shows_several_levels_and_moves() {
         seen.iter().filter(|s| **s).count() >= 2,
         "levels seen (patches, clusters, strands): {seen:?}\n{text}"
     );
-    let head_pixels = head_mask(&images[0]).iter().filter(|h| **h).count();
-    assert!(head_pixels > 500, "the head is drawn: {head_pixels} pixels");
+}
 
-    // The same scene with the head still: only the hair's settling moves the head's outline.
-    let still = folder("still");
-    let still_out = still.join("frames");
+/// The x centroid [pixels] of the head's pixels in rows that show no hair in either image (the
+/// neck and chin, which the hair's own motion cannot cover or uncover).
+fn bare_head_centroid(image: &image::RgbaImage, other: &image::RgbaImage) -> f64 {
+    let (width, height) = image.dimensions();
+    let is_hair = |p: &image::Rgba<u8>| {
+        let [r, g, b, _] = p.0;
+        r > 200 || g > 200 || b > 200
+    };
+    let (mut sum, mut count) = (0.0, 0usize);
+    for y in 0..height {
+        let hair_row =
+            (0..width).any(|x| is_hair(image.get_pixel(x, y)) || is_hair(other.get_pixel(x, y)));
+        if hair_row {
+            continue;
+        }
+        for x in 0..width {
+            let [r, g, b, _] = image.get_pixel(x, y).0;
+            if r == g && g == b && (100..=150).contains(&r) {
+                sum += f64::from(x) + 0.5;
+                count += 1;
+            }
+        }
+    }
+    assert!(
+        count > 100,
+        "too few bare head pixels ({count}) to place the head"
+    );
+    sum / count as f64
+}
+
+#[test]
+fn the_head_mesh_is_drawn_where_the_simulation_moves_it() {
+    let dir = folder("sway");
+    let out = dir.join("frames");
     hairlod(&[
         "render",
-        scene(&still, "still").to_str().unwrap(),
+        scene(&dir, "sway").to_str().unwrap(),
         "--out",
-        still_out.to_str().unwrap(),
+        out.to_str().unwrap(),
     ]);
-    let moving = head_change(&images[0], &images[3]);
-    let resting = head_change(&frame(&still_out, 0), &frame(&still_out, 3));
-    // 30° of shake seen from the side moves the face's outline by tens of pixels along its
-    // height: hundreds of pixels change, against the few that settling hair uncovers.
+    let (first, third) = (frame(&out, 0), frame(&out, 2));
+    let shift = bare_head_centroid(&third, &first) - bare_head_centroid(&first, &third);
+    println!("bare head shift {shift:.3} px");
+    // Frame k is drawn at t = (k + 1)/15 s, so the head has moved from 5 cm·(1/15)/0.2 to
+    // 5 cm·(3/15)/0.2, by 3.33 cm, across the view. Seen from 1.1 m with a 35° vertical field of
+    // view over 160 pixels (focal length 80/tan 17.5° = 253.7 px), that is 0.0333·253.7/1.1 =
+    // 7.7 pixels to the right (+X is to the camera's right from the front). Pixel rounding and
+    // the neck's depth of a few cm allow one pixel.
+    let expected = 0.05 * (2.0 / 3.0) * (80.0 / 17.5f64.to_radians().tan()) / 1.1;
     assert!(
-        moving > 200 && moving > 4 * resting,
-        "head pixels changed: shaking {moving}, still {resting}"
+        (shift - expected).abs() < 1.0,
+        "the bare head moved {shift:.2} px, expected {expected:.2}"
     );
 }
 
@@ -207,5 +237,8 @@ fn bad_scenes_and_flags_name_the_problem() {
         .output()
         .unwrap();
     let error = String::from_utf8_lossy(&output.stderr);
-    assert!(!output.status.success() && error.contains("voxels"), "{error}");
+    assert!(
+        !output.status.success() && error.contains("voxels"),
+        "{error}"
+    );
 }

@@ -34,8 +34,7 @@ struct Fixture {
 }
 
 fn solver_for(fixture: &mut Fixture, chains: &[CollisionChain]) -> CollisionSolver {
-    let mut solver =
-        CollisionSolver::new(CollisionSettings::default()).unwrap();
+    let mut solver = CollisionSolver::new(CollisionSettings::default()).unwrap();
     solver.set_chains(&fixture.simulation, chains).unwrap();
     solver
         .before_step(

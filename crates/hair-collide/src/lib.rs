@@ -41,9 +41,8 @@ pub use layout::{
 pub use query::{SegmentContacts, query_body, query_body_brute_force};
 pub use sight::LineOfSight;
 pub use solver::{
-    VelocityMemory,
     CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,
-    ProjectionReport, STRETCH_WARNING,
+    ProjectionReport, STRETCH_WARNING, VelocityMemory,
 };
 pub use surface::SurfacePoint;
 pub use volume::{Lss, Pss, Rss, SweptSphere};

@@ -104,11 +104,11 @@ fn paper_curly_bvh_equals_brute_force_at_every_level_and_after_motion() {
     solver.set_chains(&simulation, &chains).unwrap();
     let report = solver
         .before_step(
-                std::slice::from_mut(&mut body),
-                &simulation,
-                &mut state,
-                &environment,
-            )
+            std::slice::from_mut(&mut body),
+            &simulation,
+            &mut state,
+            &environment,
+        )
         .unwrap();
     assert!(!report.rebuilt);
 }

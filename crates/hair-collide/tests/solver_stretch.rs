@@ -101,7 +101,8 @@ fn a_segment_that_cannot_keep_its_length_is_reported() {
 /// Nothing inside: nothing projected, no stretch.
 #[test]
 fn hair_outside_reports_no_stretch() {
-    let (simulation, mut state, mut solver, mut body, _) = one_chain_on_the_sphere(Vec3::new(0.0, 0.2, 0.0));
+    let (simulation, mut state, mut solver, mut body, _) =
+        one_chain_on_the_sphere(Vec3::new(0.0, 0.2, 0.0));
     let report = solver
         .after_step(
             std::slice::from_mut(&mut body),
