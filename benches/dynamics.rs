@@ -1,7 +1,15 @@
 //! Criterion benches of the skeleton dynamics: one 60 Hz step (the recommended substeps) of each
 //! integrator on the paper-curly groom, with its 455 strand-group skeletons and with all 37,765
 //! strands simulated as skeletons of their own. Throughput is in vertex-steps (nodes × substeps).
+//!
+//! Each step is measured twice: in wall time, and in the CPU time of all the process's threads
+//! (the sum over `/proc/self/task/*/schedstat`; groups named `cpu-time …`), the measure least
+//! disturbed by other work on a shared machine. The CPU-time groups are Linux only: elsewhere the
+//! bench says so and skips them.
+//!
+//! `cargo bench --bench dynamics` (add `-- position-based` for one integrator).
 
+use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;
 use hairlod::core::dynamics::{
@@ -10,6 +18,93 @@ use hairlod::core::dynamics::{
 };
 use hairlod::{Level, Scene, SkeletonRest};
 use std::hint::black_box;
+
+/// CPU time [ns] of all threads of this process so far (Linux `schedstat`), if readable.
+fn process_cpu_nanoseconds() -> Option<u64> {
+    let mut nanoseconds = 0u64;
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let stat = std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok()?;
+        nanoseconds += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(nanoseconds)
+}
+
+/// Criterion measurement: CPU time of all the process's threads [ns].
+struct ProcessCpuTime;
+
+impl Measurement for ProcessCpuTime {
+    type Intermediate = u64;
+    type Value = u64;
+
+    fn start(&self) -> u64 {
+        process_cpu_nanoseconds().expect("/proc/self/task/*/schedstat is readable")
+    }
+
+    fn end(&self, start: u64) -> u64 {
+        self.start().saturating_sub(start)
+    }
+
+    fn add(&self, v1: &u64, v2: &u64) -> u64 {
+        v1 + v2
+    }
+
+    fn zero(&self) -> u64 {
+        0
+    }
+
+    fn to_f64(&self, value: &u64) -> f64 {
+        *value as f64
+    }
+
+    fn formatter(&self) -> &dyn ValueFormatter {
+        &CpuTimeFormatter
+    }
+}
+
+/// Formats CPU nanoseconds as CPU time, and throughputs as elements per CPU-second.
+struct CpuTimeFormatter;
+
+impl ValueFormatter for CpuTimeFormatter {
+    fn scale_values(&self, typical_nanoseconds: f64, values: &mut [f64]) -> &'static str {
+        let (factor, unit) = if typical_nanoseconds < 1e3 {
+            (1.0, "ns CPU")
+        } else if typical_nanoseconds < 1e6 {
+            (1e-3, "µs CPU")
+        } else if typical_nanoseconds < 1e9 {
+            (1e-6, "ms CPU")
+        } else {
+            (1e-9, "s CPU")
+        };
+        for value in values {
+            *value *= factor;
+        }
+        unit
+    }
+
+    fn scale_throughputs(
+        &self,
+        _typical_nanoseconds: f64,
+        throughput: &Throughput,
+        values: &mut [f64],
+    ) -> &'static str {
+        let elements = match *throughput {
+            Throughput::Elements(elements) | Throughput::ElementsAndBytes { elements, .. } => {
+                elements
+            }
+            Throughput::Bytes(bytes) | Throughput::BytesDecimal(bytes) => bytes,
+            Throughput::Bits(bits) => bits,
+        };
+        // Millions per CPU-second: the dynamics' steps run at tens to hundreds of millions.
+        for value in values {
+            *value = elements as f64 * 1e9 / *value / 1e6;
+        }
+        "M/CPU-s"
+    }
+
+    fn scale_for_machines(&self, _values: &mut [f64]) -> &'static str {
+        "ns"
+    }
+}
 
 /// A head shake of 3 rad/s in a 3 m/s gusting side wind, with gravity.
 fn environment() -> Environment {
@@ -20,7 +115,12 @@ fn environment() -> Environment {
     }
 }
 
-fn bench_model(c: &mut Criterion, name: &str, rest: &SkeletonRest, params: DynamicsParams) {
+fn bench_model<M: Measurement>(
+    c: &mut Criterion<M>,
+    name: &str,
+    rest: &SkeletonRest,
+    params: DynamicsParams,
+) {
     let mut group = c.benchmark_group(name);
     group.sample_size(10);
     let environment = environment();
@@ -56,5 +156,24 @@ fn dynamics(c: &mut Criterion) {
     bench_model(c, "paper-curly 37765 strands", &strands, params);
 }
 
+fn dynamics_cpu_time(c: &mut Criterion<ProcessCpuTime>) {
+    if process_cpu_nanoseconds().is_none() {
+        eprintln!("/proc/self/task/*/schedstat is not readable (Linux only); no CPU time measured");
+        return;
+    }
+    let scene = Scene::preset("paper-curly").expect("paper-curly");
+    let groom = &scene.groom;
+    let params = DynamicsParams::for_style(&groom.params.style);
+    let groups = level_skeletons(groom, Level::StrandGroup).expect("strand groups");
+    bench_model(c, "cpu-time paper-curly 455 strand groups", &groups, params);
+    let strands = strand_skeletons(groom).expect("strands");
+    bench_model(c, "cpu-time paper-curly 37765 strands", &strands, params);
+}
+
 criterion_group!(benches, dynamics);
-criterion_main!(benches);
+criterion_group! {
+    name = cpu_time;
+    config = Criterion::default().with_measurement(ProcessCpuTime);
+    targets = dynamics_cpu_time
+}
+criterion_main!(benches, cpu_time);

@@ -695,14 +695,4 @@ impl Pipeline {
         }
         Ok(())
     }
-
-    /// The largest distance of any simulated node from `centre` [m] (a sanity measure).
-    pub fn max_node_distance(&self, centre: Vec3) -> f32 {
-        self.state
-            .blocks
-            .values()
-            .flat_map(|block| block.state.node_positions.iter())
-            .map(|p| p.distance(centre))
-            .fold(0.0, f32::max)
-    }
 }

@@ -578,4 +578,30 @@ mod tests {
             .transform_vector(Vec3::Z);
         assert!((turned - Vec3::X).length() < 1e-5, "{turned}");
     }
+
+    #[test]
+    fn the_shipped_scenes_parse_and_the_example_sets_every_table() {
+        let example = SceneFile::parse(include_str!("../../scenes/example.toml")).unwrap();
+        let shot = example.resolve().unwrap();
+        assert_eq!(shot.groom.section_count, 60);
+        assert_eq!((shot.frames, shot.width, shot.height), (24, 960, 540));
+        assert!(shot.outputs.shaded && shot.outputs.color_coded && shot.outputs.contact_sheet);
+        assert!(matches!(shot.environment.wind, WindField::Gusting { .. }));
+        assert_eq!(example.json_output(), Some("report.json"));
+        for (text, table) in [
+            (include_str!("../../scenes/paper-table1.toml"), 1),
+            (include_str!("../../scenes/paper-table2.toml"), 2),
+        ] {
+            let shot = SceneFile::parse(text).unwrap().resolve().unwrap();
+            assert_eq!(shot.paper_table, Some(table));
+            assert_eq!(shot.frames, 60);
+            // The paper's camera: 0.45 m to 12 m, 0.5 rad azimuth, 0.15 rad elevation.
+            assert!((shot.camera.azimuth - 0.5).abs() < 1e-6);
+            assert!((shot.camera.elevation - 0.15).abs() < 1e-6);
+            let first = shot.camera(0);
+            let last = shot.camera(59);
+            assert!((first.position.distance(first.target) - 0.45).abs() < 1e-5);
+            assert!((last.position.distance(last.target) - 12.0).abs() < 1e-4);
+        }
+    }
 }

@@ -30,7 +30,7 @@ fn bad_parameters_name_themselves_and_fail() {
         (&["--hair-length", "nan"], "hair length"),
         (&["--style-factor", "95"], "curl factor"),
         (&["--strands-per-group", "0"], "strands per group"),
-        (&["--preset=nope"], "unknown preset `nope`"),
+        (&["--preset=nope"], "invalid value 'nope' for '--preset"),
     ];
     for (extra, expected) in cases {
         let mut args = vec!["groom"];

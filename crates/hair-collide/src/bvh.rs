@@ -281,9 +281,4 @@ impl HairBvh {
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
     }
-
-    /// The padded AABB \[m\] stored for segment `segment` (`None` when out of range).
-    pub fn leaf_aabb(&self, segment: u32) -> Option<Aabb> {
-        self.bvh.leaf_node(segment).map(|node| node.aabb())
-    }
 }

@@ -293,11 +293,6 @@ impl CollisionSolver {
         self.hierarchy.as_ref()
     }
 
-    /// Per node of the hierarchy (see [`HairBvh::chain_offsets`]), its index in the state.
-    pub fn hierarchy_model_nodes(&self) -> &[u32] {
-        &self.hair.model_nodes
-    }
-
     /// Refits (or, after a layout change, rebuilds) the hierarchy from `state` with the bodies at
     /// the head pose of `state.time`, queries every body and writes F_col into
     /// `state.collision_forces`: response, friction and hair–hair forces on the active nodes,

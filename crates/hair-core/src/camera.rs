@@ -63,15 +63,6 @@ impl Camera {
         }
     }
 
-    /// This camera turned by `angle` [rad] about the vertical axis through its target.
-    pub fn orbited(&self, angle: f32) -> Camera {
-        let rotation = glam::Quat::from_axis_angle(Vec3::Y, angle);
-        Camera {
-            position: self.target + rotation * (self.position - self.target),
-            ..*self
-        }
-    }
-
     /// Checks that the camera is finite and well formed, naming what is wrong.
     pub fn validate(&self) -> Result<()> {
         let finite = self.position.is_finite()

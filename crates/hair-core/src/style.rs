@@ -28,15 +28,6 @@ impl StyleKind {
             StyleKind::Curly => "curly",
         }
     }
-
-    /// Nodes per repeat of the φ0 pattern: 1 (straight), 2 (wavy), 4 (curly).
-    pub fn azimuth_period(self) -> usize {
-        match self {
-            StyleKind::Straight => 1,
-            StyleKind::Wavy => 2,
-            StyleKind::Curly => 4,
-        }
-    }
 }
 
 /// A hairstyle: the rest shape of every skeleton of a groom (§3.6).

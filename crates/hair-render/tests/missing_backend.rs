@@ -1,14 +1,46 @@
 //! (f) With no Vulkan driver visible, asking for Vulkan fails with an error that says what to install.
-//! Its own test binary: it hides the Vulkan drivers from this whole process.
+//! The drivers are hidden from a child process: the test re-runs this test binary with the Vulkan
+//! loader's driver lists pointing at a file that does not exist, and the child asks for Vulkan.
+
+use std::process::Command;
+
+/// Set in the child run, which asks for Vulkan with the drivers hidden.
+const CHILD_MARKER: &str = "HAIRLOD_CHILD";
+/// Printed by the child once its checks passed, so that a child which ran no test cannot pass.
+const CHILD_PASSED: &str = "hairlod child: checks passed";
+/// A Vulkan driver list (ICD manifest) that does not exist.
+const NO_DRIVERS: &str = "/nonexistent/hair-render-icd.json";
 
 #[test]
-#[allow(unsafe_code)] // `set_var`, see the SAFETY note below.
 fn missing_vulkan_driver_error_says_what_to_install() {
-    // SAFETY: this binary runs this single test, before any other thread reads the environment.
-    unsafe {
-        std::env::set_var("VK_ICD_FILENAMES", "/nonexistent/hair-render-icd.json");
-        std::env::set_var("VK_DRIVER_FILES", "/nonexistent/hair-render-icd.json");
+    if std::env::var_os(CHILD_MARKER).is_some() {
+        check_vulkan_request_fails();
+        println!("{CHILD_PASSED}");
+        return;
     }
+    let output = Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "missing_vulkan_driver_error_says_what_to_install",
+            "--nocapture",
+        ])
+        .env(CHILD_MARKER, "1")
+        .env("VK_ICD_FILENAMES", NO_DRIVERS)
+        .env("VK_DRIVER_FILES", NO_DRIVERS)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.success() && stdout.contains(CHILD_PASSED),
+        "the child run failed ({}):\n{stdout}\n{stderr}",
+        output.status
+    );
+}
+
+/// In the child, where no Vulkan driver is visible: asking for Vulkan gives `NoAdapter`, whose
+/// message names the backend and the packages to install.
+fn check_vulkan_request_fails() {
     let options = hair_render::RendererOptions {
         device: hair_render::DeviceOptions {
             backend: hair_render::BackendChoice::Vulkan,
