@@ -3,7 +3,6 @@
 
 use std::time::Instant;
 
-use glam::Vec3;
 use hair_collide::{
     CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, groom_chain,
 };
@@ -159,7 +158,8 @@ impl Pipeline {
         let ours = pipeline.fingerprint();
         if checkpoint.scene_fingerprint != ours {
             return Err(PipelineError::State(format!(
-                "the checkpoint is of another scene (its fingerprint {}, this scene's {ours}):                  resume with the scene file, groom and settings that wrote it",
+                "the checkpoint is of another scene (its fingerprint {}, this scene's {ours}): \
+                 resume with the scene file, groom and settings that wrote it",
                 checkpoint.scene_fingerprint
             )));
         }

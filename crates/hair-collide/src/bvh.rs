@@ -7,7 +7,6 @@
 //! reject a pair that the exact f32 test would accept.
 
 use glam::Vec3;
-use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 
 use crate::error::{CollideError, Result, require_finite_points, require_len};

@@ -33,7 +33,7 @@ fn missing_vulkan_driver_error_says_what_to_install() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
         output.status.success() && stdout.contains(CHILD_PASSED),
-        "the child run failed ({}):\n{stdout}\n{stderr}",
+        "the child run did not pass ({}):\n{stdout}\n{stderr}",
         output.status
     );
 }
