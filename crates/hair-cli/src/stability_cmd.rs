@@ -1,12 +1,14 @@
-//! `hairlod stability`: the stability map of the three skeleton integrators over time step,
-//! stiffness, wind and head shake, printed as a table and optionally written as JSON and drawn as
-//! one heat map per integrator.
+//! `hairlod stability`: the stability map of the skeleton integrators over time step, stiffness,
+//! wind and head shake, and the substeps each needs at 60 Hz frames with what they cost; printed
+//! as tables and optionally written as JSON, drawn as one heat map per integrator and as error
+//! against cost per simulated second for every scenario.
 
 use std::path::{Path, PathBuf};
 
 use crate::charts::{recompress_png, register_chart_font};
 use anyhow::{Context, Result};
 use clap::Args;
+use hairlod::core::dynamics::IntegratorKind;
 use hairlod::core::dynamics::stability::{Outcome, StabilityReport, SweepConfig, run_sweep};
 use plotters::prelude::*;
 
@@ -19,6 +21,10 @@ pub struct StabilityArgs {
     /// Draw one heat map per integrator (rows: chain × scenario, columns: time step) into FILE.png.
     #[arg(long, value_name = "FILE.png")]
     pub chart: Option<PathBuf>,
+    /// Draw the substep study (error against cost per simulated second, one panel per chain and
+    /// scenario, one line per integrator) into FILE.png.
+    #[arg(long, value_name = "FILE.png")]
+    pub cost_chart: Option<PathBuf>,
     /// Simulated time per run [s].
     #[arg(long, default_value_t = 3.0)]
     pub duration: f32,
@@ -36,6 +42,7 @@ pub fn run(args: &StabilityArgs) -> Result<()> {
     let started = std::time::Instant::now();
     let report = run_sweep(&config).context("the stability sweep failed")?;
     print_table(&report);
+    print_substep_table(&report);
     println!(
         "({} runs in {:.1} s)",
         report.runs.len(),
@@ -50,7 +57,68 @@ pub fn run(args: &StabilityArgs) -> Result<()> {
         draw_chart(&report, path)?;
         println!("wrote {}", path.display());
     }
+    if let Some(path) = &args.cost_chart {
+        draw_cost_chart(&report, path)?;
+        println!("wrote {}", path.display());
+    }
     Ok(())
+}
+
+/// The substep study: per chain and scenario, the substeps each integrator needs at 60 Hz frames
+/// to be stable (within the error tolerance, motion ratio in range) and what that costs.
+fn print_substep_table(report: &StabilityReport) {
+    let config = &report.config;
+    if report.frame_needs.is_empty() {
+        return;
+    }
+    println!(
+        "\nsubsteps needed at {:.0} Hz frames to be stable (tried {:?}), early error, and cost \
+         [µs of one core per node per simulated second]:",
+        1.0 / config.frame_step,
+        config.frame_substeps
+    );
+    let header: String = report
+        .summaries
+        .iter()
+        .map(|s| format!("{:>28}", s.integrator.name()))
+        .collect();
+    println!("{:26}{header}", "");
+    for &chain in &config.chains {
+        for (s, scenario) in config.scenarios.iter().enumerate() {
+            let cells: String = report
+                .summaries
+                .iter()
+                .map(|summary| {
+                    let cell = match report.frame_need(summary.integrator, chain, s) {
+                        Some(need) => match (
+                            need.substeps,
+                            need.position_error,
+                            need.microseconds_per_node_second,
+                        ) {
+                            (Some(n), Some(e), Some(c)) => {
+                                format!("{n} ({:.1}%, {c:.1} µs)", 100.0 * e)
+                            }
+                            (Some(n), Some(e), None) => format!("{n} ({:.1}%, ?)", 100.0 * e),
+                            _ => "none".to_string(),
+                        },
+                        None => "?".to_string(),
+                    };
+                    format!("{cell:>28}")
+                })
+                .collect();
+            println!("{:>9} {:16}{cells}", chain.name(), scenario.label);
+        }
+    }
+    println!("\ncost per node-substep [ns, one core]:");
+    for summary in &report.summaries {
+        let costs: String = report
+            .costs
+            .iter()
+            .filter(|c| c.integrator == summary.integrator)
+            .map(|c| format!("  ×{}: {:.1}", c.substeps, c.nanoseconds_per_node_substep))
+            .collect();
+        println!("{:>20}{costs}", summary.integrator.name());
+    }
 }
 
 /// One letter per class: `.` stable, `d` damped-wrong, `X` unstable.
@@ -202,6 +270,149 @@ fn draw_chart(report: &StabilityReport, path: &Path) -> Result<()> {
         (500, legend_y + 2),
         small,
     ))?;
+    root.present()
+        .with_context(|| format!("writing {}", path.display()))?;
+    drop(root);
+    recompress_png(path)
+}
+
+fn integrator_colour(integrator: IntegratorKind) -> RGBColor {
+    match integrator {
+        IntegratorKind::SemiImplicitEuler => RGBColor(30, 136, 229),
+        IntegratorKind::PositionBased => RGBColor(255, 143, 0),
+        IntegratorKind::LinearImplicit => RGBColor(142, 36, 170),
+        IntegratorKind::Xpbd => RGBColor(46, 125, 50),
+    }
+}
+
+/// Error against cost per simulated second: one panel per chain and scenario, one line per
+/// integrator through its substep counts (runs that failed are left out), log-log, with the error
+/// tolerance as a dashed line.
+fn draw_cost_chart(report: &StabilityReport, path: &Path) -> Result<()> {
+    register_chart_font()?;
+    let config = &report.config;
+    let cases: Vec<_> = config
+        .chains
+        .iter()
+        .flat_map(|&chain| (0..config.scenarios.len()).map(move |s| (chain, s)))
+        .collect();
+    let columns = 5usize;
+    let rows = cases.len().div_ceil(columns).max(1);
+    let (panel_width, panel_height, header) = (360u32, 280u32, 60u32);
+    let root = BitMapBackend::new(
+        path,
+        (
+            panel_width * columns as u32,
+            header + panel_height * rows as u32,
+        ),
+    )
+    .into_drawing_area();
+    root.fill(&WHITE)?;
+    let cost = |integrator: IntegratorKind, substeps: u32| {
+        report
+            .costs
+            .iter()
+            .find(|c| c.integrator == integrator && c.substeps == substeps)
+            .map(|c| c.microseconds_per_node_second as f64)
+    };
+    let points = |chain, s| {
+        report
+            .frame_runs
+            .iter()
+            .filter(move |r| r.chain == chain && r.scenario == s)
+            .filter_map(move |r| {
+                let error = r.position_error? as f64;
+                Some((
+                    r.integrator,
+                    cost(r.integrator, r.substeps)?,
+                    error.max(1e-4),
+                ))
+            })
+    };
+    let all: Vec<(f64, f64)> = cases
+        .iter()
+        .flat_map(|&(chain, s)| points(chain, s).map(|(_, c, e)| (c, e)))
+        .collect();
+    if all.is_empty() {
+        anyhow::bail!("the substep study has no finished run with a measured cost to draw");
+    }
+    let (mut low, mut high) = (f64::INFINITY, 0.0f64);
+    let (mut bottom, mut top) = (f64::INFINITY, 0.0f64);
+    for &(c, e) in &all {
+        low = low.min(c);
+        high = high.max(c);
+        bottom = bottom.min(e);
+        top = top.max(e);
+    }
+    let (low, high) = (low / 1.5, high * 1.5);
+    let (bottom, top) = (bottom / 1.5, top.max(config.error_tolerance as f64) * 1.5);
+    root.draw(&Text::new(
+        format!(
+            "early position error (fraction of the chain length) against cost [µs of one core per node per simulated second], {:.0} Hz frames, substeps {:?}",
+            1.0 / config.frame_step,
+            config.frame_substeps
+        ),
+        (10, 8),
+        ("sans-serif", 16).into_font(),
+    ))?;
+    for (i, integrator) in report.summaries.iter().map(|s| s.integrator).enumerate() {
+        let x = 10 + 200 * i as i32;
+        root.draw(&Rectangle::new(
+            [(x, 34), (x + 24, 38)],
+            integrator_colour(integrator).filled(),
+        ))?;
+        root.draw(&Text::new(
+            integrator.name(),
+            (x + 30, 28),
+            ("sans-serif", 13).into_font(),
+        ))?;
+    }
+    let body = root.margin(header, 0, 0, 0);
+    let panels = body.split_evenly((rows, columns));
+    for (&(chain, s), area) in cases.iter().zip(panels.iter()) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(
+                format!("{} {}", chain.name(), config.scenarios[s].label),
+                ("sans-serif", 13),
+            )
+            .margin(8)
+            .x_label_area_size(28)
+            .y_label_area_size(44)
+            .build_cartesian_2d((low..high).log_scale(), (bottom..top).log_scale())
+            .map_err(|e| anyhow::anyhow!("drawing the cost chart: {e}"))?;
+        chart
+            .configure_mesh()
+            .x_labels(4)
+            .y_labels(4)
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(("sans-serif", 10))
+            .draw()
+            .map_err(|e| anyhow::anyhow!("drawing the cost chart: {e}"))?;
+        let tolerance = config.error_tolerance as f64;
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(low, tolerance), (high, tolerance)],
+                4,
+                4,
+                BLACK.stroke_width(1),
+            ))
+            .map_err(|e| anyhow::anyhow!("drawing the cost chart: {e}"))?;
+        for integrator in report.summaries.iter().map(|s| s.integrator) {
+            let mut line: Vec<(f64, f64)> = points(chain, s)
+                .filter(|p| p.0 == integrator)
+                .map(|(_, c, e)| (c, e))
+                .collect();
+            line.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let colour = integrator_colour(integrator);
+            chart
+                .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
+                .map_err(|e| anyhow::anyhow!("drawing the cost chart: {e}"))?;
+            chart
+                .draw_series(line.into_iter().map(|p| Circle::new(p, 3, colour.filled())))
+                .map_err(|e| anyhow::anyhow!("drawing the cost chart: {e}"))?;
+        }
+    }
     root.present()
         .with_context(|| format!("writing {}", path.display()))?;
     drop(root);

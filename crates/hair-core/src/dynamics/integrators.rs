@@ -1,4 +1,5 @@
-//! One substep of one chain for each of the three integrators, and the data they share.
+//! One substep of one chain for each of the three force-based integrators, and the data they
+//! share with the fourth, XPBD (`xpbd.rs`).
 //!
 //! All three evaluate forces at the start of the substep (time `t`, head pose at `t`), carry
 //! attached roots to the head pose at `t + h` and end with every segment at its rest length.
@@ -66,18 +67,18 @@ pub(crate) struct Substep<'a> {
 }
 
 impl Substep<'_> {
-    fn attached(&self) -> bool {
+    pub(crate) fn attached(&self) -> bool {
         self.roots == RootMode::Attached
     }
 
     /// First integrated node: 1 with attached roots, 0 with free ones.
-    fn first_free_node(&self) -> usize {
+    pub(crate) fn first_free_node(&self) -> usize {
         usize::from(self.attached())
     }
 }
 
 /// Root position [m] at the end of the substep and root velocity [m/s] over it.
-fn root_motion(chain: &ChainConstants, step: &Substep) -> (Vec3, Vec3) {
+pub(crate) fn root_motion(chain: &ChainConstants, step: &Substep) -> (Vec3, Vec3) {
     let start = step.head_start.transform_point(chain.root_position);
     let end = step.head_end.transform_point(chain.root_position);
     (end, (end - start) / step.h)

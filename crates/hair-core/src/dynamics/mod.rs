@@ -1,6 +1,6 @@
 //! Skeleton dynamics (§4.1): angular springs, gravity, wind, damping and collision forces on the
-//! base skeleton's nodes, roots carried by the moving head, fixed segment lengths, and three
-//! integrators with failure detection.
+//! base skeleton's nodes, roots carried by the moving head, fixed segment lengths, and four
+//! integrators (semi-implicit Euler, position-based, linear-implicit, XPBD) with failure detection.
 //!
 //! - [`DynamicsModel`]: per-node masses, spring stiffnesses and rest directions from a
 //!   [`SkeletonRest`](crate::SkeletonRest) and [`DynamicsParams`];
@@ -49,9 +49,12 @@ pub mod stability;
 mod state;
 mod strands;
 mod wind;
+mod xpbd;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_xpbd;
 
 pub use banded::solve_block_pentadiagonal;
 pub use constraints::{follow_the_leader, remove_stretch_velocity};
@@ -70,3 +73,4 @@ pub use simulation::{Environment, Simulation, StepReport};
 pub use state::SimulationState;
 pub use strands::{level_skeletons, strand_skeletons};
 pub use wind::{GUST_WAVE_COUNT, GustWave, WindField};
+pub use xpbd::{BendConstraint, BendCorrection, bend_correction};

@@ -22,14 +22,19 @@ pub enum IntegratorKind {
     /// Linearised backward Euler of spring, damping and drag forces along each chain (a banded
     /// block solve per chain), then the same length projection as the semi-implicit integrator.
     LinearImplicit,
+    /// XPBD with small steps (Macklin et al. 2016, 2019): prediction under external forces with
+    /// implicit drag, one Gauss-Seidel sweep of the angular springs as compliant constraints
+    /// (compliance `1/k`, so any stiffness is stable), then the exact length projection.
+    Xpbd,
 }
 
 impl IntegratorKind {
     /// All integrators, in the order of the issue.
-    pub const ALL: [IntegratorKind; 3] = [
+    pub const ALL: [IntegratorKind; 4] = [
         IntegratorKind::SemiImplicitEuler,
         IntegratorKind::PositionBased,
         IntegratorKind::LinearImplicit,
+        IntegratorKind::Xpbd,
     ];
 
     /// The default integrator, linear-implicit: in the stability map (`hairlod stability`,
@@ -46,6 +51,7 @@ impl IntegratorKind {
             IntegratorKind::SemiImplicitEuler => "semi-implicit-euler",
             IntegratorKind::PositionBased => "position-based",
             IntegratorKind::LinearImplicit => "linear-implicit",
+            IntegratorKind::Xpbd => "xpbd",
         }
     }
 }
@@ -66,7 +72,7 @@ impl FromStr for IntegratorKind {
                 DynamicsError::invalid(
                     "integrator",
                     s,
-                    "semi-implicit-euler, position-based or linear-implicit",
+                    "semi-implicit-euler, position-based, linear-implicit or xpbd",
                 )
             })
     }
@@ -208,6 +214,7 @@ impl SimulationSettings {
             IntegratorKind::SemiImplicitEuler => 16,
             IntegratorKind::PositionBased => 4,
             IntegratorKind::LinearImplicit => 4,
+            IntegratorKind::Xpbd => 8,
         };
         SimulationSettings::new(integrator, 1.0 / 60.0, substeps)
     }

@@ -17,6 +17,7 @@ use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings}
 use crate::dynamics::position_based_lanes::{BatchState, BatchStep, step_batch};
 use crate::dynamics::state::SimulationState;
 use crate::dynamics::wind::WindField;
+use crate::dynamics::xpbd::xpbd;
 use crate::transform::RigidTransform;
 
 /// The control inputs of a simulation: head motion, wind and gravity.
@@ -418,6 +419,12 @@ fn step_chain(
                 IntegratorKind::PositionBased => position_based(constants, &mut arrays, &step),
                 IntegratorKind::LinearImplicit => {
                     if !linear_implicit(constants, &mut arrays, &step) {
+                        solved = false;
+                        break;
+                    }
+                }
+                IntegratorKind::Xpbd => {
+                    if !xpbd(constants, &mut arrays, &step) {
                         solved = false;
                         break;
                     }

@@ -162,6 +162,10 @@ pub struct SweepConfig {
     pub motion_ratio_range: (f32, f32),
     /// Motion ratio above which a finished run counts as unstable.
     pub blow_up_ratio: f32,
+    /// The frame step of the substep study [s] (60 Hz).
+    pub frame_step: f32,
+    /// Substep counts per frame tried in the substep study, ascending; empty skips the study.
+    pub frame_substeps: Vec<u32>,
 }
 
 /// The spring stiffness range of the styles, `EI/λ` [m³/s²]: straight to curly.
@@ -176,7 +180,8 @@ impl Default for SweepConfig {
     /// Time steps 1/1000 … 1/15 s; stiffness over the styles' range and 10× and 100× beyond (with a
     /// 3 rad/s head shake); gusting wind of 3, 10 and 25 m/s; head shakes of 1.5, 5 and 10 rad/s;
     /// 3 s per run, samples every 0.2 s, early error within 10% of the chain length over the first
-    /// 0.6 s, motion ratio within 0.75..1.33, unstable above 2.
+    /// 0.6 s, motion ratio within 0.75..1.33, unstable above 2; the substep study at 60 Hz frames
+    /// with 1, 2, 4, … 64 substeps.
     fn default() -> Self {
         let (low, high) = style_stiffness_range();
         let stiffness = |label: &str, stiffness_per_mass| Scenario {
@@ -228,6 +233,8 @@ impl Default for SweepConfig {
             early_window: 0.6,
             motion_ratio_range: (0.75, 1.33),
             blow_up_ratio: 2.0,
+            frame_step: 1.0 / 60.0,
+            frame_substeps: vec![1, 2, 4, 8, 16, 32, 64],
         }
     }
 }
@@ -266,6 +273,8 @@ pub struct RunResult {
     pub scenario: usize,
     /// Time step [s].
     pub time_step: f32,
+    /// Substeps per step (1 in the map, the tried count in the substep study).
+    pub substeps: u32,
     /// Class.
     pub outcome: Outcome,
     /// Early position error `e` (fraction of the chain length), when it finished.
@@ -306,9 +315,59 @@ pub struct StabilityReport {
     pub summaries: Vec<IntegratorSummary>,
     /// The integrator with the most stable runs (ties: the larger all-stable step).
     pub widest_stable_region: IntegratorKind,
+    /// The substep study's runs: every integrator, chain and scenario at
+    /// [`SweepConfig::frame_step`] with each of [`SweepConfig::frame_substeps`].
+    pub frame_runs: Vec<RunResult>,
+    /// What each integrator needs at [`SweepConfig::frame_step`], per chain and scenario.
+    pub frame_needs: Vec<SubstepNeed>,
+    /// The measured cost of each integrator and substep count.
+    pub costs: Vec<StepCost>,
+}
+
+/// How many substeps per frame one integrator needs in one scenario, and what that costs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SubstepNeed {
+    /// Integrator.
+    pub integrator: IntegratorKind,
+    /// Test chain.
+    pub chain: TestChain,
+    /// Index into [`SweepConfig::scenarios`].
+    pub scenario: usize,
+    /// The smallest tried substep count from which every larger tried count is stable; `None`
+    /// when even the largest is not.
+    pub substeps: Option<u32>,
+    /// The early position error at that count (fraction of the chain length).
+    pub position_error: Option<f32>,
+    /// Its cost: one core's time per node per simulated second [µs], from [`StepCost`].
+    pub microseconds_per_node_second: Option<f32>,
+}
+
+/// The measured cost of one integrator at one substep count per frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepCost {
+    /// Integrator.
+    pub integrator: IntegratorKind,
+    /// Substeps per frame.
+    pub substeps: u32,
+    /// One core's wall time per node and substep [ns].
+    pub nanoseconds_per_node_substep: f32,
+    /// One core's wall time per node per simulated second [µs] at [`SweepConfig::frame_step`].
+    pub microseconds_per_node_second: f32,
 }
 
 impl StabilityReport {
+    /// What `integrator` needs on `chain` in scenario `scenario` at 60 Hz, if studied.
+    pub fn frame_need(
+        &self,
+        integrator: IntegratorKind,
+        chain: TestChain,
+        scenario: usize,
+    ) -> Option<&SubstepNeed> {
+        self.frame_needs
+            .iter()
+            .find(|n| n.integrator == integrator && n.chain == chain && n.scenario == scenario)
+    }
+
     /// The run of `integrator` on `chain` in scenario `scenario` at time step index `step`.
     pub fn run(
         &self,
@@ -407,15 +466,98 @@ fn reference_settings(
     )
 }
 
-/// Runs the sweep (in parallel over runs; the result does not depend on the thread count).
+/// Runs one integrator on one chain and scenario with `settings` and classifies the run against
+/// the reference `(trajectory, motion)` of that case.
+fn classify(
+    integrator: IntegratorKind,
+    chain: TestChain,
+    s: usize,
+    settings: SimulationSettings,
+    reference: &(Trajectory, f32),
+    config: &SweepConfig,
+) -> RunResult {
+    let scenario = &config.scenarios[s];
+    let mut result = RunResult {
+        integrator,
+        chain,
+        scenario: s,
+        time_step: settings.time_step,
+        substeps: settings.substeps,
+        outcome: Outcome::Unstable,
+        position_error: None,
+        motion_ratio: None,
+        max_length_error: None,
+        failure: None,
+    };
+    match simulate(chain, scenario, settings, config) {
+        Err(error) => result.failure = Some(error.to_string()),
+        Ok(trajectory) => {
+            let (reference, reference_motion) = reference;
+            let early = (config.early_window / config.sample_interval)
+                .round()
+                .max(1.0) as usize;
+            let mut sum = 0.0f64;
+            let mut count = 0usize;
+            for (a, b) in trajectory
+                .samples
+                .iter()
+                .zip(&reference.samples)
+                .take(early)
+            {
+                for (p, q) in a.iter().zip(b) {
+                    sum += (*p - *q).length_squared() as f64;
+                    count += 1;
+                }
+            }
+            let error = (sum / count.max(1) as f64).sqrt() as f32 / TestChain::LENGTH;
+            let motion = motion_from_rest(&trajectory, chain, scenario, config);
+            // A floor of 2% of the length keeps the ratio meaningful for stiff hair whose
+            // reference barely moves from the head-carried rest shape.
+            let floor = 0.02 * TestChain::LENGTH;
+            let ratio = (motion + floor) / (reference_motion + floor);
+            result.position_error = Some(error);
+            result.motion_ratio = Some(ratio);
+            result.max_length_error = Some(trajectory.max_length_error);
+            let (low, high) = config.motion_ratio_range;
+            result.outcome = if ratio > config.blow_up_ratio {
+                Outcome::Unstable
+            } else if error <= config.error_tolerance && (low..=high).contains(&ratio) {
+                Outcome::Stable
+            } else {
+                Outcome::DampedWrong
+            };
+        }
+    }
+    result
+}
+
+/// Checks that `step` [s] divides the sample interval.
+fn check_divides(step: f32, config: &SweepConfig, what: &'static str) -> Result<(), DynamicsError> {
+    let ratio = config.sample_interval / step;
+    if step > 0.0 && (ratio - ratio.round()).abs() < 1e-3 {
+        Ok(())
+    } else {
+        Err(DynamicsError::invalid(
+            what,
+            step,
+            "a step > 0 s that divides the sample interval",
+        ))
+    }
+}
+
+/// Runs the sweep (in parallel over runs; the classes do not depend on the thread count), then
+/// the substep study and the cost measurement (one thread, one integrator at a time).
 pub fn run_sweep(config: &SweepConfig) -> Result<StabilityReport, DynamicsError> {
     for &step in &config.time_steps {
-        let ratio = config.sample_interval / step;
-        if !(step > 0.0 && (ratio - ratio.round()).abs() < 1e-3) {
+        check_divides(step, config, "sweep time step")?;
+    }
+    if !config.frame_substeps.is_empty() {
+        check_divides(config.frame_step, config, "frame step")?;
+        if config.frame_substeps.iter().any(|&n| n == 0 || n > 1 << 16) {
             return Err(DynamicsError::invalid(
-                "sweep time step",
-                step,
-                "a step > 0 s that divides the sample interval",
+                "frame substeps",
+                format!("{:?}", config.frame_substeps),
+                "counts in 1..=65536",
             ));
         }
     }
@@ -440,71 +582,27 @@ pub fn run_sweep(config: &SweepConfig) -> Result<StabilityReport, DynamicsError>
         })
         .collect::<Result<_, DynamicsError>>()?;
     let mut jobs = Vec::new();
+    let mut frame_jobs = Vec::new();
     for &integrator in &config.integrators {
         for (case, &(chain, s)) in cases.iter().enumerate() {
             for &time_step in &config.time_steps {
-                jobs.push((integrator, case, chain, s, time_step));
+                jobs.push((integrator, case, chain, s, time_step, 1));
+            }
+            for &substeps in &config.frame_substeps {
+                frame_jobs.push((integrator, case, chain, s, config.frame_step, substeps));
             }
         }
     }
-    let runs: Vec<RunResult> = jobs
-        .par_iter()
-        .map(|&(integrator, case, chain, s, time_step)| {
-            let scenario = &config.scenarios[s];
-            let settings = SimulationSettings::new(integrator, time_step, 1);
-            let mut result = RunResult {
-                integrator,
-                chain,
-                scenario: s,
-                time_step,
-                outcome: Outcome::Unstable,
-                position_error: None,
-                motion_ratio: None,
-                max_length_error: None,
-                failure: None,
-            };
-            match simulate(chain, scenario, settings, config) {
-                Err(error) => result.failure = Some(error.to_string()),
-                Ok(trajectory) => {
-                    let (reference, reference_motion) = &references[case];
-                    let early = (config.early_window / config.sample_interval)
-                        .round()
-                        .max(1.0) as usize;
-                    let mut sum = 0.0f64;
-                    let mut count = 0usize;
-                    for (a, b) in trajectory
-                        .samples
-                        .iter()
-                        .zip(&reference.samples)
-                        .take(early)
-                    {
-                        for (p, q) in a.iter().zip(b) {
-                            sum += (*p - *q).length_squared() as f64;
-                            count += 1;
-                        }
-                    }
-                    let error = (sum / count.max(1) as f64).sqrt() as f32 / TestChain::LENGTH;
-                    let motion = motion_from_rest(&trajectory, chain, scenario, config);
-                    // A floor of 2% of the length keeps the ratio meaningful for stiff hair whose
-                    // reference barely moves from the head-carried rest shape.
-                    let floor = 0.02 * TestChain::LENGTH;
-                    let ratio = (motion + floor) / (reference_motion + floor);
-                    result.position_error = Some(error);
-                    result.motion_ratio = Some(ratio);
-                    result.max_length_error = Some(trajectory.max_length_error);
-                    let (low, high) = config.motion_ratio_range;
-                    result.outcome = if ratio > config.blow_up_ratio {
-                        Outcome::Unstable
-                    } else if error <= config.error_tolerance && (low..=high).contains(&ratio) {
-                        Outcome::Stable
-                    } else {
-                        Outcome::DampedWrong
-                    };
-                }
-            }
-            result
-        })
-        .collect();
+    let run_jobs = |jobs: &[(IntegratorKind, usize, TestChain, usize, f32, u32)]| {
+        jobs.par_iter()
+            .map(|&(integrator, case, chain, s, time_step, substeps)| {
+                let settings = SimulationSettings::new(integrator, time_step, substeps);
+                classify(integrator, chain, s, settings, &references[case], config)
+            })
+            .collect::<Vec<RunResult>>()
+    };
+    let runs = run_jobs(&jobs);
+    let frame_runs = run_jobs(&frame_jobs);
     let summaries: Vec<IntegratorSummary> = config
         .integrators
         .iter()
@@ -521,12 +619,111 @@ pub fn run_sweep(config: &SweepConfig) -> Result<StabilityReport, DynamicsError>
         })
         .map(|s| s.integrator)
         .unwrap_or(IntegratorKind::PositionBased);
+    let costs = if config.frame_substeps.is_empty() {
+        Vec::new()
+    } else {
+        measure_costs(config)?
+    };
+    let mut frame_needs = Vec::new();
+    for &integrator in &config.integrators {
+        for &(chain, s) in &cases {
+            let mine: Vec<&RunResult> = frame_runs
+                .iter()
+                .filter(|r| r.integrator == integrator && r.chain == chain && r.scenario == s)
+                .collect();
+            // The smallest count from which every larger count is stable too.
+            let mut need: Option<&RunResult> = None;
+            for run in mine.iter().rev() {
+                if run.outcome != Outcome::Stable {
+                    break;
+                }
+                need = Some(run);
+            }
+            let cost = need.and_then(|run| {
+                costs
+                    .iter()
+                    .find(|c| c.integrator == integrator && c.substeps == run.substeps)
+                    .map(|c| c.microseconds_per_node_second)
+            });
+            frame_needs.push(SubstepNeed {
+                integrator,
+                chain,
+                scenario: s,
+                substeps: need.map(|run| run.substeps),
+                position_error: need.and_then(|run| run.position_error),
+                microseconds_per_node_second: cost,
+            });
+        }
+    }
     Ok(StabilityReport {
         config: config.clone(),
         runs,
         summaries,
         widest_stable_region,
+        frame_runs,
+        frame_needs,
+        costs,
     })
+}
+
+/// Chains in the cost measurement.
+const COST_CHAINS: usize = 256;
+
+/// Measures every integrator's cost at every substep count of the study: 256 copies of the curly
+/// test chain in a 3 rad/s head shake and a 3 m/s wind, 0.1 s of 60 Hz frames after a 0.05 s
+/// warm-up, on one thread, the best of three runs (wall time, so a busy machine reads slower).
+fn measure_costs(config: &SweepConfig) -> Result<Vec<StepCost>, DynamicsError> {
+    let chain = TestChain::Curly;
+    let single = chain.rest();
+    let mut rest = SkeletonRest::default();
+    for _ in 0..COST_CHAINS {
+        rest.push_chain_from(&single, 0)?;
+    }
+    let scenario = Scenario {
+        label: String::new(),
+        stiffness_per_mass: None,
+        wind_speed: 3.0,
+        shake_speed: 3.0,
+    };
+    let environment = scenario.environment();
+    let model = DynamicsModel::new(rest, scenario.params(&chain.style()))?;
+    let nodes = model.node_count();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|_| DynamicsError::invalid("thread pool", 1, "a pool of one thread"))?;
+    let frames = (0.1 / config.frame_step).round().max(1.0) as usize;
+    let warm_up = (0.05 / config.frame_step).round().max(1.0) as usize;
+    let mut costs = Vec::new();
+    for &integrator in &config.integrators {
+        for &substeps in &config.frame_substeps {
+            let settings = SimulationSettings::new(integrator, config.frame_step, substeps);
+            let mut simulation = Simulation::new(model.clone(), settings)?;
+            let seconds = pool.install(|| -> Result<f64, DynamicsError> {
+                let mut best = f64::INFINITY;
+                for _ in 0..3 {
+                    let mut state = simulation.rest_state(&environment, 0.0);
+                    simulation.run(&mut state, &environment, warm_up)?;
+                    let started = std::time::Instant::now();
+                    simulation.run(&mut state, &environment, frames)?;
+                    best = best.min(started.elapsed().as_secs_f64());
+                }
+                Ok(best)
+            });
+            // An integrator that fails in this mild scene has no cost to report.
+            let Ok(seconds) = seconds else { continue };
+            let node_substeps = (nodes * frames * substeps as usize) as f64;
+            let per_node_substep = seconds / node_substeps;
+            let substeps_per_second = substeps as f64 / config.frame_step as f64;
+            costs.push(StepCost {
+                integrator,
+                substeps,
+                nanoseconds_per_node_substep: (per_node_substep * 1e9) as f32,
+                microseconds_per_node_second: (per_node_substep * substeps_per_second * 1e6) as f32,
+            });
+        }
+    }
+    Ok(costs)
 }
 
 fn summarise(
