@@ -8,7 +8,7 @@ use glam::{Mat3, Vec3, Vec4};
 
 use crate::dynamics::banded::{cross_matrix, outer, solve_block_pentadiagonal};
 use crate::dynamics::constraints::{LENGTH_TOLERANCE, follow_the_leader, project_lengths};
-use crate::dynamics::forces::{add_external_forces, add_spring_forces, walk_joints};
+use crate::dynamics::forces::{Joint, add_external_forces, add_spring_forces, walk_joints};
 use crate::dynamics::params::{DynamicsParams, RootMode};
 use crate::frame::Frame;
 use crate::transform::RigidTransform;
@@ -279,6 +279,29 @@ pub(crate) fn shape_target_scale(energy: f32, weighted: f32, h: f32) -> f32 {
     1.0 / (weighted / (2.0 * energy) + 1.0 / (h * h))
 }
 
+/// Adds one spring's Gauss-Newton stiffness `c·J_iᵀJ_i` (`J_i = ∂(d_i − r_i)/∂x`, the local
+/// blocks `Q`, `S − Q`, `−S` of [`Joint`]) to the block-pentadiagonal system of its chain:
+/// `diagonal[i] = A_ii`, `first[i] = A_{i,i−1}`, `second[i] = A_{i,i−2}`.
+pub(crate) fn add_spring_blocks(joint: &Joint, c: f32, implicit: &mut ImplicitArrays) {
+    let i = joint.node;
+    let q = (Mat3::IDENTITY - outer(joint.direction, joint.direction)) * (1.0 / joint.length);
+    implicit.diagonal[i] += q * q * c;
+    if let Some((parent_direction, parent_length)) = joint.parent {
+        let s = cross_matrix(joint.rest_direction)
+            * cross_matrix(parent_direction)
+            * (1.0 / parent_length);
+        let middle = s - q;
+        implicit.diagonal[i - 1] += middle.transpose() * middle * c;
+        implicit.diagonal[i - 2] += s.transpose() * s * c;
+        implicit.first[i] += q * middle * c;
+        implicit.second[i] -= q * s * c;
+        implicit.first[i - 1] -= middle.transpose() * s * c;
+    } else {
+        implicit.diagonal[i - 1] += q * q * c;
+        implicit.first[i] -= q * q * c;
+    }
+}
+
 /// Linearised backward Euler of springs, spring damping and drag, then the length projection.
 ///
 /// `(M(1 + hγ) + (hβ + h²)·H)·v' = M·v + h·(F_spring + M·g + M·γ·w + F_col)` with `H = Σ k_i J_iᵀJ_i`
@@ -336,23 +359,7 @@ pub(crate) fn linear_implicit(
             forces[1] += qg;
             forces[0] -= qg;
         }
-        let q = (Mat3::IDENTITY - outer(joint.direction, joint.direction)) * (1.0 / joint.length);
-        let c = weight * k;
-        implicit.diagonal[i] += q * q * c;
-        if let Some((parent_direction, parent_length)) = joint.parent {
-            let s = cross_matrix(joint.rest_direction)
-                * cross_matrix(parent_direction)
-                * (1.0 / parent_length);
-            let middle = s - q;
-            implicit.diagonal[i - 1] += middle.transpose() * middle * c;
-            implicit.diagonal[i - 2] += s.transpose() * s * c;
-            implicit.first[i] += q * middle * c;
-            implicit.second[i] -= q * s * c;
-            implicit.first[i - 1] -= middle.transpose() * s * c;
-        } else {
-            implicit.diagonal[i - 1] += q * q * c;
-            implicit.first[i] -= q * q * c;
-        }
+        add_spring_blocks(joint, weight * k, implicit);
     });
     for (((rhs, velocity), mass), force) in implicit
         .rhs

@@ -73,4 +73,4 @@ pub use simulation::{Environment, Simulation, StepReport};
 pub use state::SimulationState;
 pub use strands::{level_skeletons, strand_skeletons};
 pub use wind::{GUST_WAVE_COUNT, GustWave, WindField};
-pub use xpbd::{BendConstraint, BendCorrection, bend_correction};
+pub use xpbd::LINE_SEARCH_HALVINGS;

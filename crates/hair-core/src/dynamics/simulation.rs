@@ -132,7 +132,10 @@ impl Simulation {
         scratch.work.resize(nodes, Vec4::ZERO);
         scratch.backup_positions.resize(nodes, Vec3::ZERO);
         scratch.backup_velocities.resize(nodes, Vec3::ZERO);
-        let implicit_nodes = if settings.integrator == IntegratorKind::LinearImplicit {
+        let implicit_nodes = if matches!(
+            settings.integrator,
+            IntegratorKind::LinearImplicit | IntegratorKind::Xpbd
+        ) {
             nodes
         } else {
             0

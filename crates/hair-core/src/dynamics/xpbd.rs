@@ -1,24 +1,36 @@
 //! The XPBD integrator with small steps (Macklin, Müller, Chentanez 2016, "XPBD: position-based
 //! simulation of compliant constrained dynamics"; Macklin et al. 2019, "Small steps in physics
-//! simulation"): one substep is a prediction under the external forces, one Gauss-Seidel sweep of
-//! compliant bending constraints root to tip, and an exact projection onto the segment lengths.
+//! simulation"), with each chain's bending constraints solved together: one substep is a
+//! prediction under the external forces, one Gauss-Newton step of all the chain's compliant
+//! bending constraints (a block-pentadiagonal solve along the chain) with a line search, an exact
+//! projection onto the segment lengths, and a dissipative damping sweep on the velocities.
 //!
-//! **Bending as compliant constraints.** The spring of node `i` is the scalar constraint
-//! `C_i = α_i`, the angle between the segment direction `d_i` and its rest direction `r_i` in the
-//! parent frame parallel-transported along the current chain (as in
-//! [`forces`](crate::dynamics::forces)), with compliance `1/k_i`: its energy is the springs'
-//! `½·k_i·α_i²` exactly. Its gradient follows from `e = d − r` (`|e| = 2·sin(α/2)`): `∇α = Jᵀg`,
-//! `g = ê/cos(α/2)`, where `J = ∂e/∂x` has the blocks `Q` (node `i`), `S − Q` (node `i − 1`) and
-//! `−S` (node `i − 2`) of [`Joint`](crate::dynamics::Joint): `Q = (I − d·dᵀ)/l`,
-//! `S = [r]ₓ[d_{i−1}]ₓ/l_{i−1}`. One XPBD iteration from `λ = 0` (small steps):
+//! **Bending as compliant constraints.** The spring of node `i` is the constraint `α_i = 0` with
+//! compliance `1/k_i`, `α_i` the angle between the segment direction `d_i` and its rest direction
+//! `r_i` in the parent frame parallel-transported along the current chain (as in
+//! [`forces`](crate::dynamics::forces)): its energy is the springs' `½·k_i·α_i²`. One XPBD
+//! iteration of all of them from `λ = 0` is, by the Woodbury identity, the position step
 //!
-//! `Δλ = −α/(W + α̃)`, `Δx_j = w_j·∇_j α·Δλ`, `W = Σ w_j·|∇_j α|²`, `α̃ = 1/(k·h²)`,
-//! `w` the inverse masses (0 at an attached root).
+//! `(M/h² + H)·Δx = F(x̃)`,
 //!
-//! For `α̃ → ∞` (soft springs or short substeps) this is `h²·F/m`, the explicit spring step
-//! (`F = −k·α·∇α`); for `α̃ → 0` (stiff springs or long substeps) it is one Newton step onto the
-//! rest angle, which cannot overshoot: the step is stable at any stiffness. A scalar constraint
-//! has no 3×3 system to solve: the bend's two degrees of freedom need no redundant third one.
+//! from the prediction `x̃`, with `F = −∇E` the springs' exact forces (twist included, as in
+//! [`add_spring_forces`](crate::dynamics::add_spring_forces)) and `H = Σ k_i·J_iᵀJ_i` the
+//! Gauss-Newton stiffness of the local blocks `J_i = ∂(d_i − r_i)/∂x` on nodes `i`, `i − 1`,
+//! `i − 2` (block-pentadiagonal: the linear-implicit integrator's solver). It is one Newton step
+//! of implicit Euler's objective `Φ(x) = ½·|x − x̃|²_M/h² + E(x)`: for soft springs or short
+//! substeps it is `h²·F/m`, the explicit spring step; for stiff springs or long ones a projection
+//! onto the rest shape. `M/h² + H` is symmetric positive definite, so `Δx` is a descent direction
+//! of `Φ`, and a **line search** takes it whole where `Φ(x̃ + Δx) ≤ Φ(x̃)`, else halves it (up to
+//! [`LINE_SEARCH_HALVINGS`] times, then drops it): the step cannot pump energy into the springs,
+//! at any stiffness and step.
+//!
+//! Why not the usual XPBD: solving the bends one after the other (one Gauss-Seidel sweep per
+//! substep) leaves the chain softer than its springs by `O((h·ω)²)` (`ω` a joint's spring
+//! frequency; measured, 12.5 % of a cantilever's deflection at `h·ω = 0.33`, and on the stability
+//! map 3–27× the reference's motion at 10× and 100× stiffness); solving them together in
+//! constraint space with the local blocks alone, the twist that moving a segment carries into
+//! every later transported frame (`O(n)` long-range coupling) is missing from the system, and on
+//! curly chains the step stops being a descent direction and blows up at `h·ω ≳ 1`.
 //!
 //! **Lengths** are constraints of zero compliance, solved exactly: the mass-weighted fast
 //! projection (a tridiagonal Newton solve along the chain,
@@ -30,139 +42,61 @@
 //! to tip, each joint implicit in its own rate `ė = J·v`,
 //! `Δv = −W·Jᵀ·μ`, `μ = h·β·k·ė/(1 + h·β·k·W̄)` with `W̄ ≥ ‖J·W·Jᵀ‖` (a Frobenius bound), so every
 //! joint's update removes kinetic energy, at any `β·k·h`. It is zero at rest: damping inside the
-//! position solve (XPBD's `γ̃`) would slow the one sweep's convergence and shift the static
-//! equilibrium (by 64 % of a cantilever's deflection at `h·ω = 0.23`, measured).
+//! position solve (XPBD's `γ̃`) shifts the static equilibrium (measured: by 64 % of a
+//! cantilever's deflection at `h·ω = 0.23` with a Gauss-Seidel sweep).
 //!
-//! **The twist.** Moving segment `j` twists every later transported frame about its tangent (the
-//! holonomy of parallel transport; [`add_spring_forces`](crate::dynamics::add_spring_forces)
-//! includes it), so `∇α_i` reaches every node `0..=i`: `∂α_i/∂d_j = −τ_i·c_j` with
-//! `τ_i = t_{i−1}·(d_i × r_i)/sin α_i`, `c_j = (κb_j + κb_{j+1})/2` (`κb_j/2` for `j = i − 1`),
-//! `κb_j = 2·t_{j−1} × d_j/(1 + t_{j−1}·d_j)`. Left out, the constraints are not the gradient of
-//! an energy: on curly chains (90° rest bends) the rest shape then drifts and a free swing gains
-//! energy (measured: 1.6·m·g·L in 3 s). With it, a joint costs `O(i)`, a chain `O(n²)`.
-//!
-//! What it does not do: a single sweep per substep solves the coupled bending constraints only
-//! approximately, so the chain is softer than its springs by `O((h·ω)²)` (`ω` a joint's spring
-//! frequency; 12.5 % of a cantilever's deflection at `h·ω = 0.33`, 0.3 % at 0.08); it converges
-//! as the substeps grow, at first order in the step (see `docs/dynamics.md`).
+//! The step works on the displacements `δ = x − x_n`, not on the positions: a bending correction
+//! of a short substep, `h²·F/m`, is far below the rounding of a position (`~1e-8 m` at 0.3 m from
+//! the origin) and would be lost in it, but not in a displacement.
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 
+use crate::dynamics::banded::solve_block_pentadiagonal;
 use crate::dynamics::constraints::{follow_the_leader, project_lengths};
-use crate::dynamics::forces::{rest_direction, transport, walk_joints};
-use crate::dynamics::integrators::{ChainArrays, ChainConstants, Substep, root_motion};
+use crate::dynamics::forces::{add_spring_forces, rest_direction, transport, walk_joints};
+use crate::dynamics::integrators::{
+    ChainArrays, ChainConstants, Substep, add_spring_blocks, root_motion,
+};
 use crate::frame::Frame;
 
 /// Newton iterations of the length projection (it converges quadratically and stops when within
 /// [`LENGTH_TOLERANCE`](crate::dynamics::constraints::LENGTH_TOLERANCE)).
 const LENGTH_ITERATIONS: usize = 3;
 
-/// The position change of one bending constraint.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BendCorrection {
-    /// Displacement [m] of the node at the end of the bent segment (node `i`).
-    pub node: Vec3,
-    /// Displacement [m] of the node at the bend (node `i − 1`).
-    pub parent: Vec3,
-    /// Displacement [m] of the node before it (node `i − 2`); zero for the root bend.
-    pub grandparent: Vec3,
-}
+/// The lengths' stiffness in the bending step, relative to the larger of the inertia `m/h²` and
+/// the bending stiffness `k/l²` at the segment.
+const LENGTH_STIFFNESS: f32 = 100.0;
 
-/// One bend as the XPBD constraint sees it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BendConstraint {
-    /// Unit direction `d_i` of the bent segment.
-    pub direction: Vec3,
-    /// Its current length [m].
-    pub length: f32,
-    /// Unit direction and length [m] of the parent segment; `None` at the root bend (the parent
-    /// frame is the head-carried root frame).
-    pub parent: Option<(Vec3, f32)>,
-    /// The rest direction `r_i` in the transported parent frame.
-    pub rest_direction: Vec3,
-    /// Spring stiffness `k_i` [N·m/rad].
-    pub stiffness: f32,
-    /// Inverse masses [1/kg] of nodes `i`, `i − 1`, `i − 2` (0 for an attached root; the third is
-    /// unused at the root bend).
-    pub inverse_masses: [f32; 3],
-}
+/// Newton steps per substep at most: a second one only where the line search had to shorten the
+/// first (the objective is far from quadratic: large rotations in one substep).
+const NEWTON_ITERATIONS: usize = 4;
 
-/// The smallest `cos(α/2)` used in the gradient: a segment folded back onto its rest direction
-/// (α → π) has an ill-defined bend plane, and the step there is capped rather than infinite.
-const MIN_HALF_ANGLE_COSINE: f32 = 1e-3;
-
-/// The bend angle α [rad] of one constraint, `g = ∂α/∂e` [1], and the local blocks of `∇α`
-/// [1/m] on nodes `i`, `i − 1`, `i − 2` (module docs; without the twist terms). `None` at the
-/// rest direction (α = 0, where the direction of `∇α` is undefined and nothing moves).
+/// The lengths' stiffness κ_j [N/m] in the bending step (module docs).
 #[inline]
-pub fn bend_gradient(bend: &BendConstraint) -> Option<(f32, Vec3, [Vec3; 3])> {
-    let d = bend.direction;
-    let r = bend.rest_direction;
-    let residual = d - r;
-    let distance = residual.length();
-    if distance <= 1e-7 {
-        return None;
-    }
-    let angle = d.cross(r).length().atan2(d.dot(r));
-    // ∂α/∂e = ê/cos(α/2), cos(α/2) = √(1 − |e|²/4).
-    let half_cosine = (1.0 - 0.25 * distance * distance)
-        .max(0.0)
-        .sqrt()
-        .max(MIN_HALF_ANGLE_COSINE);
-    let g = residual * (1.0 / (distance * half_cosine));
-    // Q·g with Q = (I − d·dᵀ)/l.
-    let node_gradient = (g - d * d.dot(g)) * (1.0 / bend.length);
-    let (parent_gradient, grandparent_gradient) = match bend.parent {
-        // Sᵀ·g = d_{i−1} × (r × g)/l_{i−1}.
-        Some((parent_direction, parent_length)) => {
-            let s_g = parent_direction.cross(r.cross(g)) * (1.0 / parent_length);
-            (s_g - node_gradient, -s_g)
-        }
-        None => (-node_gradient, Vec3::ZERO),
-    };
-    Some((
-        angle,
-        g,
-        [node_gradient, parent_gradient, grandparent_gradient],
-    ))
+fn length_stiffness(chain: &ChainConstants, j: usize, inverse_h_squared: f32) -> f32 {
+    let rest = chain.rest_lengths[j];
+    let next = chain.stiffness.get(j + 1).copied().unwrap_or(0.0);
+    let bending = chain.stiffness[j].max(next) / (rest * rest);
+    LENGTH_STIFFNESS * (chain.masses[j] * inverse_h_squared).max(bending)
 }
 
-/// The XPBD correction of one bending constraint over a substep of `h` [s] (module docs), from
-/// its local gradient blocks alone (exact for the root bend, which no twist reaches). Returns
-/// `None` when a value is not finite (a non-finite input).
-#[inline]
-pub fn bend_correction(bend: &BendConstraint, h: f32) -> Option<BendCorrection> {
-    let Some((angle, _, gradient)) = bend_gradient(bend) else {
-        return Some(BendCorrection {
-            node: Vec3::ZERO,
-            parent: Vec3::ZERO,
-            grandparent: Vec3::ZERO,
-        });
-    };
-    let w = bend.inverse_masses;
-    let weight: f32 = (0..3).map(|j| w[j] * gradient[j].length_squared()).sum();
-    let denominator = weight + 1.0 / (bend.stiffness * h * h);
-    let multiplier = -angle / denominator;
-    if !(multiplier.is_finite() && denominator > 0.0) {
-        return None;
-    }
-    Some(BendCorrection {
-        node: gradient[0] * (w[0] * multiplier),
-        parent: gradient[1] * (w[1] * multiplier),
-        grandparent: gradient[2] * (w[2] * multiplier),
-    })
-}
+/// The relative rounding of `Φ` (sums of a few dozen f32 terms) below which the line search
+/// does not tell a rise from noise.
+const ROUNDING: f32 = 1e-6;
 
-/// One XPBD substep of one chain (module docs). The step works on the displacements
-/// `δ = x − x_n` (held in `arrays.forces`), not on the positions: a bending correction of a short
-/// substep, `h²·F/m`, is far below the rounding of a position (`~1e-8 m` at 0.3 m from the origin)
-/// and would be lost in it, but not in a displacement. Returns `false` when a value was not finite
-/// (the state is then not usable; the caller treats it as a failure).
+/// How many times the line search halves a bending step before dropping it.
+pub const LINE_SEARCH_HALVINGS: usize = 4;
+
+/// One XPBD substep of one chain (module docs). `arrays.forces` holds `δ = x − x_n` during the
+/// step, `arrays.corrections` the prediction's `δ`. Returns `false` when a value was not finite
+/// or the system could not be factorised (the state is then not usable; the caller treats it as
+/// a failure).
 pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) -> bool {
     let h = step.h;
     let params = step.params;
     let n = arrays.positions.len();
     let first = step.first_free_node();
+    let attached = step.attached();
     let gamma = params.air_drag_rate;
     let drag_divisor = 1.0 / (1.0 + h * gamma);
     // 1. Prediction: implicit drag towards the wind, gravity and F_col held over the substep;
@@ -178,11 +112,161 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
         arrays.forces[i] = velocity * h;
     }
     let (root_end, root_velocity) = root_motion(chain, step);
-    if step.attached() {
+    if attached {
         arrays.forces[0] = root_end - arrays.positions[0];
     }
-    // 2. Bending, one Gauss-Seidel sweep root to tip, on x = x_n + δ.
+    arrays.corrections.copy_from_slice(arrays.forces);
+    // 2. Bending: Newton steps (M/h² + H)·Δx = −∇Φ, linearised at x = x_n + δ (held in the
+    //    velocities meanwhile), each with a line search on Φ.
     let root_frame = step.head_end.transform_frame(&chain.root_frame);
+    let inverse_h_squared = 1.0 / (h * h);
+    // The inertia of implicit Euler with the drag in it: M·(1 + h·γ)/h² (the prediction already
+    // divides by 1 + h·γ), so that drag slows motion but does not lift a hanging chain.
+    let inertia_scale = (1.0 + h * gamma) * inverse_h_squared;
+    let Some(implicit) = arrays.implicit.as_mut() else {
+        return false;
+    };
+    let inertia = |moved: &[Vec3], predicted: &[Vec3]| {
+        (first..n)
+            .map(|i| 0.5 * chain.masses[i] * (moved[i] - predicted[i]).length_squared())
+            .sum::<f32>()
+            * inertia_scale
+    };
+    for _ in 0..NEWTON_ITERATIONS {
+        for i in 0..n {
+            arrays.velocities[i] = arrays.positions[i] + arrays.forces[i];
+        }
+        if attached {
+            arrays.velocities[0] = root_end;
+        }
+        // Assemble and solve; where f32 cannot factorise the system (stiffness 10⁴× the
+        // inertia's and beyond), again with a Levenberg-Marquardt term μ·I on the diagonal, which
+        // keeps the step a descent direction for the line search.
+        let mut solved = None;
+        for regularization in [0.0f32, 1e-4, 1e-2] {
+            for i in 0..n {
+                implicit.diagonal[i] =
+                    Mat3::from_diagonal(Vec3::splat(chain.masses[i] * inertia_scale));
+                implicit.first[i] = Mat3::ZERO;
+                implicit.second[i] = Mat3::ZERO;
+                implicit.rhs[i] =
+                    (arrays.corrections[i] - arrays.forces[i]) * (chain.masses[i] * inertia_scale);
+            }
+            let here = &*arrays.velocities;
+            let mut energy = add_spring_forces(
+                here,
+                here,
+                &root_frame,
+                Vec3::ZERO,
+                chain.rest_local,
+                chain.stiffness,
+                0.0,
+                !attached,
+                arrays.work,
+                implicit.rhs,
+            );
+            walk_joints(here, &root_frame, chain.rest_local, |joint| {
+                let k = chain.stiffness[joint.node];
+                if k > 0.0 && (joint.node >= 2 || attached) {
+                    add_spring_blocks(joint, k, implicit);
+                }
+            });
+            // The lengths, in the same step, as stiff springs ½·κ_j·(|x_j − x_{j−1}| − l_j)² with
+            // κ_j = LENGTH_STIFFNESS·max(m_j/h², k_j/l_j², k_{j+1}/l_j²): so that the step bends the
+            // chain instead of stretching it (the exact projection below then has little to do).
+            // Left out, the step and the projection undo each other on curly chains at h·ω ≳ 1.
+            for j in 1..n {
+                let segment = here[j] - here[j - 1];
+                let length = segment.length();
+                if length <= 1e-12 {
+                    continue;
+                }
+                let u = segment / length;
+                let kappa = length_stiffness(chain, j, inverse_h_squared);
+                let stretch = length - chain.rest_lengths[j];
+                energy += 0.5 * kappa * stretch * stretch;
+                let force = u * (kappa * stretch);
+                implicit.rhs[j] -= force;
+                implicit.rhs[j - 1] += force;
+                // Gauss-Newton block κ·u·uᵀ on (j, j) and (j−1, j−1), −κ·u·uᵀ on (j, j−1).
+                let block = Mat3::from_cols(u * u.x, u * u.y, u * u.z) * kappa;
+                implicit.diagonal[j] += block;
+                implicit.diagonal[j - 1] += block;
+                implicit.first[j] -= block;
+            }
+            let objective = energy + inertia(arrays.forces, arrays.corrections);
+            if regularization > 0.0 {
+                let largest = implicit.diagonal[first..n]
+                    .iter()
+                    .map(|block| block.x_axis.x.max(block.y_axis.y).max(block.z_axis.z))
+                    .fold(0.0f32, f32::max);
+                for block in &mut implicit.diagonal[first..n] {
+                    *block += Mat3::from_diagonal(Vec3::splat(regularization * largest));
+                }
+            }
+            if attached {
+                implicit.diagonal[0] = Mat3::IDENTITY;
+                implicit.rhs[0] = Vec3::ZERO;
+                if n > 1 {
+                    implicit.first[1] = Mat3::ZERO;
+                }
+                if n > 2 {
+                    implicit.second[2] = Mat3::ZERO;
+                }
+            }
+            if solve_block_pentadiagonal(
+                implicit.diagonal,
+                implicit.first,
+                implicit.second,
+                implicit.rhs,
+            ) {
+                solved = Some(objective);
+                break;
+            }
+        }
+        let Some(objective) = solved else {
+            return false;
+        };
+        // Line search: the whole step where Φ does not rise, else halved; the iterate waits in
+        // `work` meanwhile.
+        for i in 0..n {
+            arrays.work[i] = arrays.forces[i].extend(0.0);
+        }
+        let mut scale = 1.0f32;
+        let mut accepted = false;
+        for _ in 0..=LINE_SEARCH_HALVINGS {
+            for i in first..n {
+                arrays.forces[i] = arrays.work[i].truncate() + implicit.rhs[i] * scale;
+            }
+            let trial = step_energy(
+                chain,
+                arrays.positions,
+                arrays.forces,
+                &root_frame,
+                attached,
+                inverse_h_squared,
+            ) + inertia(arrays.forces, arrays.corrections);
+            // Within the rounding of the sums (a relative 1e-6): at short substeps a whole
+            // step changes Φ by less than that, and rounding must not reject it.
+            if trial <= objective + ROUNDING * (objective.abs() + trial.abs()) {
+                accepted = true;
+                break;
+            }
+            scale *= 0.5;
+        }
+        if !accepted {
+            for i in first..n {
+                arrays.forces[i] = arrays.work[i].truncate();
+            }
+            break;
+        }
+        if scale == 1.0 {
+            // A whole Newton step: the objective is close to quadratic here.
+            break;
+        }
+    }
+    // 3. Lengths: exact mass-weighted projection, then follow-the-leader for the rounding, on the
+    //    positions x_n + δ; x_n waits in the velocities meanwhile.
     let inverse_mass = |i: usize| {
         if i < first {
             0.0
@@ -190,103 +274,12 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
             1.0 / chain.masses[i]
         }
     };
-    let start = &*arrays.positions;
-    let moved = &mut *arrays.forces;
-    let position = |moved: &[Vec3], i: usize| start[i] + moved[i];
-    let mut frame = root_frame;
-    let mut parent: Option<(Vec3, f32)> = None;
-    for i in 1..n {
-        if let Some((parent_direction, _)) = parent {
-            // The parent frame F_{i−1}, transported from F_{i−2} along the current d_{i−1}.
-            frame = transport(&frame, parent_direction);
-        }
-        let segment = position(moved, i) - position(moved, i - 1);
-        let length = segment.length().max(1e-12);
-        let direction = if length > 1e-12 {
-            segment / length
-        } else {
-            frame.tangent
-        };
-        let k = chain.stiffness[i];
-        if k > 0.0 && (i >= 2 || step.attached()) {
-            let rest = rest_direction(&frame, chain.rest_local[i]);
-            let bend = BendConstraint {
-                direction,
-                length,
-                parent,
-                rest_direction: rest,
-                stiffness: k,
-                inverse_masses: [
-                    inverse_mass(i),
-                    inverse_mass(i - 1),
-                    if i >= 2 { inverse_mass(i - 2) } else { 0.0 },
-                ],
-            };
-            if let Some((angle, _, local)) = bend_gradient(&bend) {
-                // ∇α on nodes 0..=i: the local blocks, plus the twist that moving segments
-                // 1..i−1 carries into the transported frame F_{i−1} (module docs):
-                // ∂α/∂d_j = −τ·c_j, τ = t_{i−1}·(d × r)/sin α, c_j = (κb_j + κb_{j+1})/2 for
-                // j ≤ i − 2 and κb_{i−1}/2 for j = i − 1.
-                let gradient = &mut *arrays.corrections;
-                gradient[..=i].fill(Vec3::ZERO);
-                gradient[i] = local[0];
-                gradient[i - 1] = local[1];
-                if i >= 2 {
-                    gradient[i - 2] = local[2];
-                }
-                let sine = direction.cross(rest).length();
-                let tau = frame.tangent.dot(direction.cross(rest)) / sine.max(1e-12);
-                if i >= 2 && tau != 0.0 {
-                    let root_tangent = root_frame.tangent;
-                    let mut previous = root_tangent;
-                    let mut here = segment_direction(start, moved, 1, previous);
-                    for j in 1..i {
-                        let next = segment_direction(start, moved, j + 1, here.0);
-                        let half_binormal =
-                            |a: Vec3, b: Vec3| a.cross(b) / (1.0 + a.dot(b)).max(1e-6);
-                        let mut pull = half_binormal(previous, here.0);
-                        if j + 1 < i {
-                            pull += half_binormal(here.0, next.0);
-                        }
-                        let (d_j, l_j) = here;
-                        let g_j = (pull - d_j * d_j.dot(pull)) * (-tau / l_j);
-                        gradient[j] += g_j;
-                        gradient[j - 1] -= g_j;
-                        previous = d_j;
-                        here = next;
-                    }
-                }
-                let weight: f32 = (0..=i)
-                    .map(|p| inverse_mass(p) * gradient[p].length_squared())
-                    .sum();
-                let denominator = weight + 1.0 / (k * h * h);
-                let multiplier = -angle / denominator;
-                if !multiplier.is_finite() {
-                    return false;
-                }
-                for p in first..=i {
-                    moved[p] += gradient[p] * (inverse_mass(p) * multiplier);
-                }
-            }
-        }
-        // The direction this joint leaves behind is the next joint's parent.
-        let segment = position(moved, i) - position(moved, i - 1);
-        let length = segment.length().max(1e-12);
-        let direction = if length > 1e-12 {
-            segment / length
-        } else {
-            direction
-        };
-        parent = Some((direction, length));
-    }
-    // 3. Lengths: exact mass-weighted projection, then follow-the-leader for the rounding, on the
-    //    positions x_n + δ; x_n waits in the velocities meanwhile.
     for i in 0..n {
         let start = arrays.positions[i];
         arrays.velocities[i] = start;
         arrays.positions[i] = start + arrays.forces[i];
     }
-    if step.attached() {
+    if attached {
         arrays.positions[0] = root_end;
     }
     project_lengths(
@@ -307,12 +300,11 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
         let correction = arrays.positions[i] - before;
         arrays.velocities[i] = (arrays.forces[i] + correction) * inverse_h;
     }
-    if step.attached() {
+    if attached {
         arrays.velocities[0] = root_velocity;
     }
     // 5. Spring damping on the velocities.
     if params.bending_damping > 0.0 {
-        let root_frame = step.head_end.transform_frame(&chain.root_frame);
         damp_bending(
             arrays.positions,
             arrays.velocities,
@@ -321,14 +313,54 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
             chain,
             inverse_mass,
             h * params.bending_damping,
-            step.attached(),
+            attached,
         );
     }
-    arrays
+    let ok = arrays
         .velocities
         .iter()
         .chain(arrays.positions.iter())
-        .all(|v| v.is_finite())
+        .all(|v| v.is_finite());
+    ok
+}
+
+/// The step's energy [J] of one chain at `start + moved`: the bending energy `Σ ½·k_i·α_i²`, with
+/// the parent frames parallel-transported along it from `root_frame` (the springs' own
+/// definition), and the lengths' `Σ ½·κ_j·(|x_j − x_{j−1}| − l_j)²` (the step's stiff springs).
+fn step_energy(
+    chain: &ChainConstants,
+    start: &[Vec3],
+    moved: &[Vec3],
+    root_frame: &Frame,
+    attached: bool,
+    inverse_h_squared: f32,
+) -> f32 {
+    let mut frame = *root_frame;
+    let mut parent: Option<Vec3> = None;
+    let mut energy = 0.0f32;
+    for i in 1..start.len() {
+        if let Some(parent_direction) = parent {
+            frame = transport(&frame, parent_direction);
+        }
+        let segment = (start[i] + moved[i]) - (start[i - 1] + moved[i - 1]);
+        let length = segment.length();
+        let direction = if length > 1e-12 {
+            segment / length
+        } else {
+            frame.tangent
+        };
+        let k = chain.stiffness[i];
+        if k > 0.0 && (i >= 2 || attached) {
+            let rest = rest_direction(&frame, chain.rest_local[i]);
+            let angle = direction.cross(rest).length().atan2(direction.dot(rest));
+            energy += 0.5 * k * angle * angle;
+        }
+        let kappa = length_stiffness(chain, i, inverse_h_squared);
+        let stretch = length - chain.rest_lengths[i];
+        energy += 0.5 * kappa * stretch * stretch;
+        parent = Some(direction);
+    }
+    energy
 }
 
 /// The spring damping sweep (module docs): `gain` is `h·β` [s²], `root_spin` the root frame's
@@ -384,20 +416,4 @@ fn damp_bending(
             velocities[i - 2] += s_mu * inverse_mass(i - 2);
         }
     });
-}
-
-/// The unit direction and length [m] of segment `j` (nodes `j − 1` to `j`) at `start + moved`;
-/// `fallback` for a segment of zero length.
-#[inline]
-fn segment_direction(start: &[Vec3], moved: &[Vec3], j: usize, fallback: Vec3) -> (Vec3, f32) {
-    if j >= start.len() {
-        return (fallback, 1.0);
-    }
-    let segment = (start[j] + moved[j]) - (start[j - 1] + moved[j - 1]);
-    let length = segment.length();
-    if length > 1e-12 {
-        (segment / length, length)
-    } else {
-        (fallback, 1e-12)
-    }
 }
