@@ -337,12 +337,11 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
             attached,
         );
     }
-    let ok = arrays
+    arrays
         .velocities
         .iter()
         .chain(arrays.positions.iter())
-        .all(|v| v.is_finite());
-    ok
+        .all(|v| v.is_finite())
 }
 
 /// The step's energy [J] of one chain at `start + moved`: the bending energy `Σ ½·k_i·α_i²`, with
