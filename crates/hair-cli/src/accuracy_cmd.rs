@@ -36,8 +36,9 @@ use sweep::{FrameErrors, Group, Point, mark_pareto};
 const SAMPLES_PER_SKELETON: usize = 8;
 
 /// The integrator sweep: each integrator at a coarser and a finer step around its recommended
-/// substeps per 60 Hz frame (16, 4, 4). Linear-implicit ×4 is the `Strands` point itself.
-const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 7] = [
+/// substeps per 60 Hz frame (16, 4, 4, 4), XPBD at its recommended too. Linear-implicit ×4 is the
+/// `Strands` point itself.
+const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 10] = [
     (IntegratorKind::SemiImplicitEuler, 4),
     (IntegratorKind::SemiImplicitEuler, 16),
     (IntegratorKind::SemiImplicitEuler, 64),
@@ -45,6 +46,9 @@ const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 7] = [
     (IntegratorKind::PositionBased, 16),
     (IntegratorKind::LinearImplicit, 1),
     (IntegratorKind::LinearImplicit, 16),
+    (IntegratorKind::Xpbd, 1),
+    (IntegratorKind::Xpbd, 4),
+    (IntegratorKind::Xpbd, 16),
 ];
 
 /// The accuracy target: the mean SSIM a cheap configuration must keep.

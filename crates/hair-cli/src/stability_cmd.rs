@@ -324,6 +324,7 @@ fn draw_cost_chart(report: &StabilityReport, path: &Path) -> Result<()> {
                 let error = r.position_error? as f64;
                 Some((
                     r.integrator,
+                    r.substeps,
                     cost(r.integrator, r.substeps)?,
                     error.max(1e-4),
                 ))
@@ -331,7 +332,7 @@ fn draw_cost_chart(report: &StabilityReport, path: &Path) -> Result<()> {
     };
     let all: Vec<(f64, f64)> = cases
         .iter()
-        .flat_map(|&(chain, s)| points(chain, s).map(|(_, c, e)| (c, e)))
+        .flat_map(|&(chain, s)| points(chain, s).map(|(_, _, c, e)| (c, e)))
         .collect();
     if all.is_empty() {
         anyhow::bail!("the substep study has no finished run with a measured cost to draw");
@@ -399,11 +400,14 @@ fn draw_cost_chart(report: &StabilityReport, path: &Path) -> Result<()> {
             ))
             .map_err(|e| anyhow::anyhow!("drawing the cost chart: {e}"))?;
         for integrator in report.summaries.iter().map(|s| s.integrator) {
-            let mut line: Vec<(f64, f64)> = points(chain, s)
+            // Joined in the order of the substep counts (a cost need not grow with them: a
+            // Newton solver iterates more at long substeps).
+            let mut line: Vec<(u32, f64, f64)> = points(chain, s)
                 .filter(|p| p.0 == integrator)
-                .map(|(_, c, e)| (c, e))
+                .map(|(_, n, c, e)| (n, c, e))
                 .collect();
-            line.sort_by(|a, b| a.0.total_cmp(&b.0));
+            line.sort_by_key(|p| p.0);
+            let line: Vec<(f64, f64)> = line.into_iter().map(|(_, c, e)| (c, e)).collect();
             let colour = integrator_colour(integrator);
             chart
                 .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))

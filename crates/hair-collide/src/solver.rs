@@ -109,10 +109,10 @@ pub struct ProjectionReport {
     /// The deepest penetration found \[m\] (0 when none).
     pub max_depth: f32,
     /// The largest relative length error `|ℓ − ℓ₀| / ℓ₀` of a segment whose lower end was
-    /// projected, after the projection (0 when none). Where a segment cannot keep its length and
-    /// its node stay outside (a deep penetration, a crease), the position wins and the segment
-    /// stretches: a large value means the step threw hair deep into the head (see
-    /// [`STRETCH_WARNING`]).
+    /// projected, after the projection (0 when none). A projected segment is turned about its
+    /// parent to keep its length; only where no direction at that length is outside (its parent
+    /// itself inside: a root set in the scalp) does the position win and the segment stretch,
+    /// which a large value reports (see [`STRETCH_WARNING`]).
     pub max_stretch: f32,
 }
 
@@ -429,9 +429,11 @@ impl CollisionSolver {
     /// [`CollisionSettings::skin`], and loses the inward part of its velocity relative to the
     /// surface. Nodes further down a chain than a projected node are first carried after it
     /// (follow-the-leader: each keeps its segment's rest length and direction), so a chain is
-    /// pushed out whole instead of torn; only the projected segments change length. Afterwards no
-    /// such node is deeper than [`PENETRATION_TOLERANCE`] in a closed body, whatever the
-    /// integrator did. Does nothing when projection is off.
+    /// pushed out whole instead of torn, and a projected segment is turned about its parent where
+    /// that keeps its length (`restore_length`). Afterwards no such node is deeper than
+    /// [`PENETRATION_TOLERANCE`] in a closed body, whatever the integrator did, and segments keep
+    /// their lengths within 0.1 % unless a parent is itself inside. Does nothing when projection
+    /// is off.
     ///
     /// Cost: nodes are skipped while they stay within their last measured clearance (in head
     /// space), so only nodes near a surface pay for a closest-point search.
@@ -546,10 +548,15 @@ impl CollisionSolver {
     }
 }
 
-/// Alternates giving the segment `pair[0] → pair[1]` its rest `length` [m] (moving `pair[1]`
-/// along the segment) and projecting `pair[1]` out of `body`, a few times: on a smooth body the
-/// two constraints meet within rounding in two or three rounds. The last move is a projection, so
-/// the positional guarantee wins where both cannot hold (a segment shorter than a crease).
+/// Gives the segment `pair[0] → pair[1]` its rest `length` [m] with `pair[1]` outside `body`.
+/// First alternates giving the segment its length (moving `pair[1]` along it) and projecting
+/// `pair[1]` out, a few rounds: on a smooth body the two meet within rounding in two or three.
+/// Where they do not (a node driven deep into the head, or a crease), the segment is turned
+/// about `pair[0]` instead, from its direction towards the surface's outward normal at
+/// `pair[1]`, by the least angle (bisection) that puts `pair[1]`, at the segment's length, at
+/// least half the skin outside: length and position then hold together. Only where even the
+/// normal direction does not reach outside (the parent itself inside, a root set in the scalp)
+/// does the position win and the segment keep the stretch, which the caller reports.
 fn restore_length(
     body: &CollisionBody,
     pair: &mut [Vec3],
@@ -559,12 +566,13 @@ fn restore_length(
     surface_velocity: impl Fn(Vec3) -> Vec3 + Copy,
 ) {
     const ROUNDS: usize = 4;
+    let parent = pair[0];
+    let kept = |p: Vec3| ((p - parent).length() - length).abs() <= LENGTH_KEPT * length;
     for _ in 0..ROUNDS {
-        let parent = pair[0];
         let Some(direction) = (pair[1] - parent).try_normalize() else {
             return;
         };
-        if ((pair[1] - parent).length() - length).abs() <= 1e-6 * length.max(1e-3) {
+        if kept(pair[1]) {
             return;
         }
         pair[1] = parent + direction * length;
@@ -574,7 +582,60 @@ fn restore_length(
             return;
         }
     }
+    if kept(pair[1]) {
+        return;
+    }
+    // Turn the segment towards the outward normal: d(t) = normalize(d₀ + t·n).
+    let Some(start) = (pair[1] - parent).try_normalize() else {
+        return;
+    };
+    let Some(surface) = body.closest_surface_point(pair[1]) else {
+        return;
+    };
+    let normal = surface.normal;
+    let at = |t: f32| {
+        (start + normal * t)
+            .try_normalize()
+            .map(|d| parent + d * length)
+    };
+    let outside = |p: Vec3| {
+        body.closest_surface_point(p)
+            .is_none_or(|s| s.signed_distance >= 0.5 * skin)
+    };
+    // The far end: the normal direction itself (t → ∞), reached as t = 1e3.
+    let (mut low, mut high) = (0.0f32, 1e3f32);
+    match at(high) {
+        Some(p) if outside(p) => {}
+        _ => return,
+    }
+    for _ in 0..TURN_BISECTIONS {
+        let middle = if high > 1.0 {
+            (low + high).min(high * 0.25)
+        } else {
+            0.5 * (low + high)
+        };
+        match at(middle) {
+            Some(p) if outside(p) => high = middle,
+            _ => low = middle,
+        }
+    }
+    if let Some(p) = at(high) {
+        pair[1] = p;
+        let relative = *velocity - surface_velocity(p);
+        let inward = relative.dot(normal);
+        if inward < 0.0 {
+            *velocity -= normal * inward;
+        }
+    }
 }
+
+/// Relative length error [1] within which the projection leaves a segment's length alone (ten
+/// times inside the 0.1 % that the dynamics promise).
+const LENGTH_KEPT: f32 = 1e-4;
+
+/// Bisection steps of the segment turn in [`restore_length`]: the first shrink the far end
+/// (t = 1000 to ~1), the rest halve the bracket (the angle is then found within ~1e-4 rad).
+const TURN_BISECTIONS: usize = 20;
 
 /// What [`project_out`] found.
 enum Projection {
