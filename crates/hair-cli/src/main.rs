@@ -31,8 +31,8 @@ struct Cli {
 enum Command {
     /// Build a groom from a preset, print its counts, optionally export one level as OBJ.
     Groom(groom_cmd::GroomArgs),
-    /// Sweep the three skeleton integrators over time step, stiffness, wind and head shake and
-    /// report where each is stable.
+    /// Sweep the four skeleton integrators over time step, stiffness, wind and head shake, report
+    /// where each is stable, and how many substeps each needs at 60 Hz and at what cost.
     Stability(stability_cmd::StabilityArgs),
     /// Run a scene (SCENE.toml or flags) with levels of detail, dynamics and collision, and
     /// write its frames as PNG sequences: shaded, colour-coded by level, or side by side.

@@ -214,7 +214,7 @@ impl SimulationSettings {
             IntegratorKind::SemiImplicitEuler => 16,
             IntegratorKind::PositionBased => 4,
             IntegratorKind::LinearImplicit => 4,
-            IntegratorKind::Xpbd => 4,
+            IntegratorKind::Xpbd => 8,
         };
         SimulationSettings::new(integrator, 1.0 / 60.0, substeps)
     }

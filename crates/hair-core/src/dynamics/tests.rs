@@ -96,7 +96,7 @@ fn free_fall_of_an_unattached_chain() {
 }
 
 /// Times between successive downward zero crossings of `signal` sampled every `dt` [s].
-fn mean_period(signal: &[f32], dt: f32) -> f32 {
+pub(crate) fn mean_period(signal: &[f32], dt: f32) -> f32 {
     let mut crossings = Vec::new();
     for k in 1..signal.len() {
         if signal[k - 1] > 0.0 && signal[k] <= 0.0 {
