@@ -7,6 +7,10 @@
 //! disturbed by other work on a shared machine. The CPU-time groups are Linux only: elsewhere the
 //! bench says so and skips them.
 //!
+//! A third group, `32 nodes one substep`, is the XPBD issue's measure: one substep (1/480 s) of
+//! all paper-curly strands with skeletons of 32 nodes (the groom rebuilt with a finer smoothness
+//! setting), bending and lengths, for XPBD and the other integrators.
+//!
 //! `cargo bench --bench dynamics` (add `-- position-based` for one integrator).
 
 use criterion::measurement::{Measurement, ValueFormatter};
@@ -16,7 +20,7 @@ use hairlod::core::dynamics::{
     DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY,
     Simulation, SimulationSettings, WindField, level_skeletons, strand_skeletons,
 };
-use hairlod::{Level, Scene, SkeletonRest};
+use hairlod::{GroomParams, HairStyle, HeadParams, Level, Scene, SkeletonRest};
 use std::hint::black_box;
 
 /// CPU time [ns] of all threads of this process so far (Linux `schedstat`), if readable.
@@ -156,6 +160,67 @@ fn dynamics(c: &mut Criterion) {
     bench_model(c, "paper-curly 37765 strands", &strands, params);
 }
 
+/// Nodes per skeleton in the `32 nodes one substep` group.
+const NODES_PER_SKELETON: usize = 32;
+
+/// The paper-curly groom with skeletons of [`NODES_PER_SKELETON`] nodes: the smoothness setting
+/// (the longest segment) searched by bisection until the curly chains have that many nodes.
+fn paper_curly_with_32_nodes() -> Scene {
+    let base = GroomParams::paper_curly();
+    let (mut low, mut high) = (1e-3f32, base.style.smoothness);
+    for _ in 0..40 {
+        let smoothness = 0.5 * (low + high);
+        let mut params = base.clone();
+        params.style = HairStyle {
+            smoothness,
+            ..base.style
+        };
+        let scene = Scene::new(&HeadParams::default(), &params).expect("paper-curly groom");
+        let skeletons = level_skeletons(&scene.groom, Level::StrandGroup).expect("skeletons");
+        let nodes = skeletons.nodes(0).len();
+        if nodes == NODES_PER_SKELETON {
+            return scene;
+        }
+        // Finer smoothness, more nodes.
+        if nodes < NODES_PER_SKELETON {
+            high = smoothness;
+        } else {
+            low = smoothness;
+        }
+    }
+    panic!("no smoothness gives {NODES_PER_SKELETON} nodes per skeleton");
+}
+
+/// One substep of 1/480 s on all paper-curly strands at 32 nodes, for every integrator.
+fn one_substep_32_nodes(c: &mut Criterion) {
+    let scene = paper_curly_with_32_nodes();
+    let groom = &scene.groom;
+    let params = DynamicsParams::for_style(&groom.params.style);
+    let strands = strand_skeletons(groom).expect("strands");
+    let mut group = c.benchmark_group("paper-curly 37765 strands 32 nodes one substep");
+    group.sample_size(10);
+    let environment = environment();
+    for integrator in IntegratorKind::ALL {
+        let model = DynamicsModel::new(strands.clone(), params).expect("model");
+        let nodes = model.node_count() as u64;
+        let settings = SimulationSettings::new(integrator, 1.0 / 480.0, 1);
+        let mut simulation = Simulation::new(model, settings).expect("simulation");
+        let mut state = simulation.rest_state(&environment, 0.0);
+        simulation
+            .run(&mut state, &environment, 8)
+            .expect("warm-up substeps");
+        group.throughput(Throughput::Elements(nodes));
+        group.bench_function(BenchmarkId::new("substep", integrator.name()), |b| {
+            b.iter(|| {
+                simulation
+                    .step(black_box(&mut state), &environment)
+                    .expect("a stable substep")
+            })
+        });
+    }
+    group.finish();
+}
+
 fn dynamics_cpu_time(c: &mut Criterion<ProcessCpuTime>) {
     if process_cpu_nanoseconds().is_none() {
         eprintln!("/proc/self/task/*/schedstat is not readable (Linux only); no CPU time measured");
@@ -170,7 +235,7 @@ fn dynamics_cpu_time(c: &mut Criterion<ProcessCpuTime>) {
     bench_model(c, "cpu-time paper-curly 37765 strands", &strands, params);
 }
 
-criterion_group!(benches, dynamics);
+criterion_group!(benches, dynamics, one_substep_32_nodes);
 criterion_group! {
     name = cpu_time;
     config = Criterion::default().with_measurement(ProcessCpuTime);
