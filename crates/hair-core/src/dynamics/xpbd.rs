@@ -72,6 +72,10 @@ const LENGTH_STIFFNESS: f32 = 100.0;
 /// from quadratic).
 const NEWTON_ITERATIONS: usize = 8;
 
+/// A first Newton step that moves no node by more than this fraction of its segment (a turn of
+/// 1e-3 rad) skips the line search.
+const SMALL_STEP: f32 = 1e-3;
+
 /// A Newton step that moves no node by more than this fraction of its segment ends the iteration.
 const NEWTON_TOLERANCE: f32 = 0.03;
 
@@ -231,6 +235,23 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
         let Some(objective) = solved else {
             return false;
         };
+        // A first step that turns no segment by more than SMALL_STEP rad is taken as it is: there
+        // the objective is quadratic to ~1e-6 of the step, so the line search could only confirm
+        // it (it costs a walk of the chain; a substep at ×32 costs 15 % less). At 0.01 rad a
+        // substep at ×8 cost 18 % less too, but the free swing of a curly chain at 100× stiffness
+        // gained three times the energy (1.8 % of m·g·L in 3 s against 0.55 %).
+        let small = iteration == 0
+            && (first..n).all(|i| {
+                let segment = chain.rest_lengths[i]
+                    .max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0));
+                implicit.rhs[i].length() <= SMALL_STEP * segment
+            });
+        if small {
+            for i in first..n {
+                arrays.forces[i] += implicit.rhs[i];
+            }
+            break;
+        }
         // Line search: the whole step where Φ does not rise, else halved; the iterate waits in
         // `work` meanwhile.
         for i in 0..n {
