@@ -466,7 +466,7 @@ impl SceneFile {
         let integrator: IntegratorKind = name.parse().map_err(|_| {
             SceneFileError::new(format!(
                 "dynamics.integrator = {name:?}: expected one of linear-implicit, \
-                 semi-implicit-euler, position-based"
+                 semi-implicit-euler, position-based, xpbd"
             ))
         })?;
         // The recommended substeps are per 1/60 s: keep the substep no longer at other rates.
