@@ -119,18 +119,20 @@ fn environment() -> Environment {
     }
 }
 
+/// Benches one `Simulation::step` of every integrator, with `settings` per integrator, on `rest`.
 fn bench_model<M: Measurement>(
     c: &mut Criterion<M>,
     name: &str,
     rest: &SkeletonRest,
     params: DynamicsParams,
+    settings: impl Fn(IntegratorKind) -> SimulationSettings,
 ) {
     let mut group = c.benchmark_group(name);
     group.sample_size(10);
     let environment = environment();
     for integrator in IntegratorKind::ALL {
         let model = DynamicsModel::new(rest.clone(), params).expect("model");
-        let settings = SimulationSettings::recommended(integrator);
+        let settings = settings(integrator);
         let nodes = model.node_count() as u64;
         let mut simulation = Simulation::new(model, settings).expect("simulation");
         let mut state = simulation.rest_state(&environment, 0.0);
@@ -155,9 +157,21 @@ fn dynamics(c: &mut Criterion) {
     let groom = &scene.groom;
     let params = DynamicsParams::for_style(&groom.params.style);
     let groups = level_skeletons(groom, Level::StrandGroup).expect("strand groups");
-    bench_model(c, "paper-curly 455 strand groups", &groups, params);
+    bench_model(
+        c,
+        "paper-curly 455 strand groups",
+        &groups,
+        params,
+        SimulationSettings::recommended,
+    );
     let strands = strand_skeletons(groom).expect("strands");
-    bench_model(c, "paper-curly 37765 strands", &strands, params);
+    bench_model(
+        c,
+        "paper-curly 37765 strands",
+        &strands,
+        params,
+        SimulationSettings::recommended,
+    );
 }
 
 /// Nodes per skeleton in the `32 nodes one substep` group.
@@ -197,28 +211,13 @@ fn one_substep_32_nodes(c: &mut Criterion) {
     let groom = &scene.groom;
     let params = DynamicsParams::for_style(&groom.params.style);
     let strands = strand_skeletons(groom).expect("strands");
-    let mut group = c.benchmark_group("paper-curly 37765 strands 32 nodes one substep");
-    group.sample_size(10);
-    let environment = environment();
-    for integrator in IntegratorKind::ALL {
-        let model = DynamicsModel::new(strands.clone(), params).expect("model");
-        let nodes = model.node_count() as u64;
-        let settings = SimulationSettings::new(integrator, 1.0 / 480.0, 1);
-        let mut simulation = Simulation::new(model, settings).expect("simulation");
-        let mut state = simulation.rest_state(&environment, 0.0);
-        simulation
-            .run(&mut state, &environment, 8)
-            .expect("warm-up substeps");
-        group.throughput(Throughput::Elements(nodes));
-        group.bench_function(BenchmarkId::new("substep", integrator.name()), |b| {
-            b.iter(|| {
-                simulation
-                    .step(black_box(&mut state), &environment)
-                    .expect("a stable substep")
-            })
-        });
-    }
-    group.finish();
+    bench_model(
+        c,
+        "paper-curly 37765 strands 32 nodes one substep",
+        &strands,
+        params,
+        |integrator| SimulationSettings::new(integrator, 1.0 / 480.0, 1),
+    );
 }
 
 fn dynamics_cpu_time(c: &mut Criterion<ProcessCpuTime>) {
@@ -230,9 +229,21 @@ fn dynamics_cpu_time(c: &mut Criterion<ProcessCpuTime>) {
     let groom = &scene.groom;
     let params = DynamicsParams::for_style(&groom.params.style);
     let groups = level_skeletons(groom, Level::StrandGroup).expect("strand groups");
-    bench_model(c, "cpu-time paper-curly 455 strand groups", &groups, params);
+    bench_model(
+        c,
+        "cpu-time paper-curly 455 strand groups",
+        &groups,
+        params,
+        SimulationSettings::recommended,
+    );
     let strands = strand_skeletons(groom).expect("strands");
-    bench_model(c, "cpu-time paper-curly 37765 strands", &strands, params);
+    bench_model(
+        c,
+        "cpu-time paper-curly 37765 strands",
+        &strands,
+        params,
+        SimulationSettings::recommended,
+    );
 }
 
 criterion_group!(benches, dynamics, one_substep_32_nodes);

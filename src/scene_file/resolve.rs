@@ -464,9 +464,10 @@ impl SceneFile {
         let table = &self.dynamics;
         let name = table.integrator.as_deref().unwrap_or("linear-implicit");
         let integrator: IntegratorKind = name.parse().map_err(|_| {
+            let names: Vec<&str> = IntegratorKind::ALL.iter().map(|kind| kind.name()).collect();
             SceneFileError::new(format!(
-                "dynamics.integrator = {name:?}: expected one of linear-implicit, \
-                 semi-implicit-euler, position-based, xpbd"
+                "dynamics.integrator = {name:?}: expected one of {}",
+                names.join(", ")
             ))
         })?;
         // The recommended substeps are per 1/60 s: keep the substep no longer at other rates.

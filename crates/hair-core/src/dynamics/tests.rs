@@ -96,7 +96,7 @@ fn free_fall_of_an_unattached_chain() {
 }
 
 /// Times between successive downward zero crossings of `signal` sampled every `dt` [s].
-pub(crate) fn mean_period(signal: &[f32], dt: f32) -> f32 {
+fn mean_period(signal: &[f32], dt: f32) -> f32 {
     let mut crossings = Vec::new();
     for k in 1..signal.len() {
         if signal[k - 1] > 0.0 && signal[k] <= 0.0 {
@@ -108,15 +108,14 @@ pub(crate) fn mean_period(signal: &[f32], dt: f32) -> f32 {
     (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f32
 }
 
-#[test]
-fn small_angle_pendulum_period() {
-    // Reference: T = 2π·√(l/g) for a point mass on a massless rod (the lumped mass of a single
-    // segment sits at its tip); at amplitude θa the exact period is longer by θa²/16 = 1.6e-4 for
-    // θa = 0.05. With h = 1e-3 s (h·ω ≈ 1e-2) the integrators' period errors are O((hω)²) ≈ 1e-4
-    // (1e-4 measured): far below the 1% asked. Finer steps are not better in f32: velocities
-    // taken from projected positions carry a rounding noise ε·l/h that grows as h shrinks
-    // (h = 1e-4 s gives 0.8–1.4%).
-    let length = 0.1;
+/// A one-segment pendulum of length `length` [m] swung from θa = 0.05 and run by `integrator` at
+/// steps of `h` [s] (one substep each) for 3.5 periods: the measured mean period [s], the
+/// small-angle period `2π√(l/g)` [s], and the simulation and its final state.
+pub(crate) fn pendulum_period(
+    integrator: IntegratorKind,
+    h: f32,
+    length: f32,
+) -> (f32, f32, Simulation, SimulationState) {
     let down = Frame::from_tangent_and_normal(Vec3::NEG_Y, Vec3::X).unwrap();
     let rest = single_segment(down, length, 0.0, 0.0);
     let params = DynamicsParams {
@@ -126,22 +125,31 @@ fn small_angle_pendulum_period() {
         air_drag_rate: 0.0,
     };
     let expected = std::f32::consts::TAU * (length / G).sqrt();
-    let h = 1e-3;
+    let model = DynamicsModel::new(rest, params).unwrap();
+    let mut simulation = Simulation::new(model, SimulationSettings::new(integrator, h, 1)).unwrap();
+    let environment = calm(Vec3::new(0.0, -G, 0.0));
+    let mut state = simulation.rest_state(&environment, 0.0);
+    let amplitude = 0.05f32;
+    state.node_positions[1] = Vec3::new(amplitude.sin(), -amplitude.cos(), 0.0) * length;
+    let steps = (3.5 * expected / h) as usize;
+    let mut signal = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        simulation.step(&mut state, &environment).unwrap();
+        signal.push(state.node_positions[1].x);
+    }
+    (mean_period(&signal, h), expected, simulation, state)
+}
+
+#[test]
+fn small_angle_pendulum_period() {
+    // Reference: T = 2π·√(l/g) for a point mass on a massless rod (the lumped mass of a single
+    // segment sits at its tip); at amplitude θa the exact period is longer by θa²/16 = 1.6e-4 for
+    // θa = 0.05. With h = 1e-3 s (h·ω ≈ 1e-2) the integrators' period errors are O((hω)²) ≈ 1e-4
+    // (1e-4 measured): far below the 1% asked. Finer steps are not better in f32: velocities
+    // taken from projected positions carry a rounding noise ε·l/h that grows as h shrinks
+    // (h = 1e-4 s gives 0.8–1.4%).
     for integrator in IntegratorKind::ALL {
-        let model = DynamicsModel::new(rest.clone(), params).unwrap();
-        let mut simulation =
-            Simulation::new(model, SimulationSettings::new(integrator, h, 1)).unwrap();
-        let environment = calm(Vec3::new(0.0, -G, 0.0));
-        let mut state = simulation.rest_state(&environment, 0.0);
-        let amplitude = 0.05f32;
-        state.node_positions[1] = Vec3::new(amplitude.sin(), -amplitude.cos(), 0.0) * length;
-        let steps = (3.5 * expected / h) as usize;
-        let mut signal = Vec::with_capacity(steps);
-        for _ in 0..steps {
-            simulation.step(&mut state, &environment).unwrap();
-            signal.push(state.node_positions[1].x);
-        }
-        let period = mean_period(&signal, h);
+        let (period, expected, simulation, state) = pendulum_period(integrator, 1e-3, 0.1);
         assert!(
             (period / expected - 1.0).abs() < 0.01,
             "{integrator}: period {period} s vs {expected} s"

@@ -5,7 +5,7 @@
 use glam::{Vec3, Vec4};
 
 use crate::dynamics::stability::TestChain;
-use crate::dynamics::tests::mean_period;
+use crate::dynamics::tests::pendulum_period;
 use crate::dynamics::*;
 use crate::frame::Frame;
 use crate::skeleton::{ChainAngles, SkeletonRest};
@@ -136,35 +136,9 @@ fn small_angle_pendulum_period() {
     // amplitude θa = 0.05 the exact period is longer by θa²/16 = 1.6e-4. XPBD at the recommended
     // 60 Hz substeps (h = 1/480 s, h·ω = 0.021 with ω = √(g/l)) is implicit Euler with an exact
     // projection: its period error is O((h·ω)²) = 4e-4. Tolerance 0.5%.
-    let length = 0.1;
-    let down = Frame::from_tangent_and_normal(Vec3::NEG_Y, Vec3::X).unwrap();
-    let rest = straight_chain(down, 1, length);
-    let params = DynamicsParams {
-        linear_density: 1e-3,
-        bending_stiffness: 0.0,
-        bending_damping: 0.0,
-        air_drag_rate: 0.0,
-    };
-    let expected = std::f32::consts::TAU * (length / G).sqrt();
-    let settings = SimulationSettings::recommended(IntegratorKind::Xpbd);
-    let model = DynamicsModel::new(rest, params).unwrap();
-    let mut simulation = Simulation::new(model, settings).unwrap();
-    let environment = calm(Vec3::new(0.0, -G, 0.0));
-    let mut state = simulation.rest_state(&environment, 0.0);
-    let amplitude = 0.05f32;
-    state.node_positions[1] = Vec3::new(amplitude.sin(), -amplitude.cos(), 0.0) * length;
     // Sample every substep: one step per substep.
-    let h = settings.substep();
-    simulation
-        .set_settings(SimulationSettings::new(IntegratorKind::Xpbd, h, 1))
-        .unwrap();
-    let steps = (3.5 * expected / h) as usize;
-    let mut signal = Vec::with_capacity(steps);
-    for _ in 0..steps {
-        simulation.step(&mut state, &environment).unwrap();
-        signal.push(state.node_positions[1].x);
-    }
-    let period = mean_period(&signal, h);
+    let h = SimulationSettings::recommended(IntegratorKind::Xpbd).substep();
+    let (period, expected, simulation, state) = pendulum_period(IntegratorKind::Xpbd, h, 0.1);
     println!("pendulum: period {period} s, expected {expected} s");
     assert!(
         (period / expected - 1.0).abs() < 0.005,

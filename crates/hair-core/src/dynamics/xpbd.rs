@@ -53,7 +53,7 @@ use glam::{Mat3, Vec3};
 
 use crate::dynamics::banded::solve_block_pentadiagonal;
 use crate::dynamics::constraints::{follow_the_leader, project_lengths};
-use crate::dynamics::forces::{add_spring_forces, rest_direction, transport, walk_joints};
+use crate::dynamics::forces::{add_spring_forces, bend_angle_and_factor, walk_joints};
 use crate::dynamics::integrators::{
     ChainArrays, ChainConstants, Substep, add_spring_blocks, root_motion,
 };
@@ -240,12 +240,7 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
         // it (it costs a walk of the chain; a substep at ×32 costs 15 % less). At 0.01 rad a
         // substep at ×8 cost 18 % less too, but the free swing of a curly chain at 100× stiffness
         // gained three times the energy (1.8 % of m·g·L in 3 s against 0.55 %).
-        let small = iteration == 0
-            && (first..n).all(|i| {
-                let segment = chain.rest_lengths[i]
-                    .max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0));
-                implicit.rhs[i].length() <= SMALL_STEP * segment
-            });
+        let small = iteration == 0 && turns_within(chain, first, implicit.rhs, 1.0, SMALL_STEP);
         if small {
             for i in first..n {
                 arrays.forces[i] += implicit.rhs[i];
@@ -253,7 +248,8 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
             break;
         }
         // Line search: the whole step where Φ does not rise, else halved; the iterate waits in
-        // `work` meanwhile.
+        // `work` meanwhile, the trial positions x_n + δ in the velocities (the root stays at its
+        // end position there).
         for i in 0..n {
             arrays.work[i] = arrays.forces[i].extend(0.0);
         }
@@ -262,11 +258,11 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
         for _ in 0..=LINE_SEARCH_HALVINGS {
             for i in first..n {
                 arrays.forces[i] = arrays.work[i].truncate() + implicit.rhs[i] * scale;
+                arrays.velocities[i] = arrays.positions[i] + arrays.forces[i];
             }
             let trial = step_energy(
                 chain,
-                arrays.positions,
-                arrays.forces,
+                arrays.velocities,
                 &root_frame,
                 attached,
                 inverse_h_squared,
@@ -294,11 +290,7 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
         // Converged when the step moved no node by more than NEWTON_TOLERANCE of its segment
         // (rotations below ~0.03 rad, where the linearisation's error, of their square, is below
         // 1e-3 of the step).
-        let converged = (first..n).all(|i| {
-            let segment =
-                chain.rest_lengths[i].max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0));
-            (implicit.rhs[i] * scale).length() <= NEWTON_TOLERANCE * segment
-        });
+        let converged = turns_within(chain, first, implicit.rhs, scale, NEWTON_TOLERANCE);
         // A whole step ends the iteration once converged or after a second one (more whole
         // steps on a curly chain can walk it into another twisted minimum of the bending energy:
         // measured on the stability map, motion ratios above 2 at 10× stiffness); a shortened
@@ -365,43 +357,44 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
         .all(|v| v.is_finite())
 }
 
-/// The step's energy [J] of one chain at `start + moved`: the bending energy `Σ ½·k_i·α_i²`, with
+/// The step's energy [J] of one chain at `positions`: the bending energy `Σ ½·k_i·α_i²`, with
 /// the parent frames parallel-transported along it from `root_frame` (the springs' own
 /// definition), and the lengths' `Σ ½·κ_j·(|x_j − x_{j−1}| − l_j)²` (the step's stiff springs).
 fn step_energy(
     chain: &ChainConstants,
-    start: &[Vec3],
-    moved: &[Vec3],
+    positions: &[Vec3],
     root_frame: &Frame,
     attached: bool,
     inverse_h_squared: f32,
 ) -> f32 {
-    let mut frame = *root_frame;
-    let mut parent: Option<Vec3> = None;
     let mut energy = 0.0f32;
-    for i in 1..start.len() {
-        if let Some(parent_direction) = parent {
-            frame = transport(&frame, parent_direction);
-        }
-        let segment = (start[i] + moved[i]) - (start[i - 1] + moved[i - 1]);
-        let length = segment.length();
-        let direction = if length > 1e-12 {
-            segment / length
-        } else {
-            frame.tangent
-        };
+    walk_joints(positions, root_frame, chain.rest_local, |joint| {
+        let i = joint.node;
         let k = chain.stiffness[i];
         if k > 0.0 && (i >= 2 || attached) {
-            let rest = rest_direction(&frame, chain.rest_local[i]);
-            let angle = direction.cross(rest).length().atan2(direction.dot(rest));
+            let (angle, _) = bend_angle_and_factor(joint.direction, joint.rest_direction);
             energy += 0.5 * k * angle * angle;
         }
-        let kappa = length_stiffness(chain, i, inverse_h_squared);
-        let stretch = length - chain.rest_lengths[i];
-        energy += 0.5 * kappa * stretch * stretch;
-        parent = Some(direction);
-    }
+        let stretch = (positions[i] - positions[i - 1]).length() - chain.rest_lengths[i];
+        energy += 0.5 * length_stiffness(chain, i, inverse_h_squared) * stretch * stretch;
+    });
     energy
+}
+
+/// Whether `scale·step` moves no free node (from `first`) by more than `fraction` of the longer
+/// of its two segments: a turn of at most about `fraction` rad.
+fn turns_within(
+    chain: &ChainConstants,
+    first: usize,
+    step: &[Vec3],
+    scale: f32,
+    fraction: f32,
+) -> bool {
+    (first..step.len()).all(|i| {
+        let segment =
+            chain.rest_lengths[i].max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0));
+        (step[i] * scale).length() <= fraction * segment
+    })
 }
 
 /// The spring damping sweep (module docs): `gain` is `h·β` [s²], `root_spin` the root frame's
