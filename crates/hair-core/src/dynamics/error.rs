@@ -100,6 +100,22 @@ pub enum DynamicsError {
         /// Entries required.
         expected: usize,
     },
+    /// Sag-free initialisation found a shape the springs cannot hold under gravity.
+    #[error(
+        "sag-free initialisation: chain {chain} would need its spring at node {node} turned by \
+         {turn:.2} rad (more than {max_turn} rad) to hold its rest shape under gravity: the hair \
+         is too soft for this shape"
+    )]
+    TooSoftToHold {
+        /// The chain.
+        chain: usize,
+        /// The node (within the chain) whose spring cannot hold.
+        node: usize,
+        /// The turn of its natural direction the balance asked for [rad].
+        turn: f32,
+        /// The largest turn allowed [rad].
+        max_turn: f32,
+    },
     /// Building the model failed.
     #[error(transparent)]
     Model(#[from] HairError),

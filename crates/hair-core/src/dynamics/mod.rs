@@ -10,6 +10,7 @@
 //!   [`Simulation::step`] advances a state, in parallel over chains, and returns
 //!   [`DynamicsError::Unstable`] (or halves the substep) when a chain blows up;
 //! - [`level_skeletons`], [`strand_skeletons`]: models of one level of a groom, or of every strand;
+//! - [`make_sag_free`]: natural spring angles that make a rest shape an equilibrium under gravity;
 //! - [`stability`]: the stability sweep behind `hairlod stability`.
 //!
 //! ```
@@ -44,6 +45,7 @@ mod model;
 mod parallel;
 mod params;
 mod position_based_lanes;
+mod sag_free;
 mod simulation;
 pub mod stability;
 mod state;
@@ -53,6 +55,8 @@ mod xpbd;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_sag_free;
 #[cfg(test)]
 mod tests_xpbd;
 
@@ -68,6 +72,9 @@ pub use model::DynamicsModel;
 pub use params::{
     DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind, RootMode,
     SimulationSettings,
+};
+pub use sag_free::{
+    MAX_NATURAL_TURN, SAG_FREE_MAX_ITERATIONS, SAG_FREE_TOLERANCE, SagFreeReport, make_sag_free,
 };
 pub use simulation::{Environment, Simulation, StepReport};
 pub use state::SimulationState;

@@ -21,8 +21,9 @@ pub struct DynamicsModel {
     /// Spring stiffness `k_i = EI / ((l_{i−1} + l_i)/2)` [N·m/rad] of the bend ending at each node;
     /// 0 at roots.
     pub joint_stiffness: Vec<f32>,
-    /// The rest direction of each segment in its parent's frame, as local coordinates (normal,
-    /// binormal, tangent), one per node; the root's entry is unused.
+    /// The direction each segment's spring pulls it towards in its parent's frame (from the
+    /// natural angles, the rest angles unless the groom was made sag-free), as local coordinates
+    /// (normal, binormal, tangent), one per node; the root's entry is unused.
     pub rest_local_directions: Vec<Vec3>,
     /// Squared angular frequency `k_i / (m_i·l_i²)` [1/s²] of each node's spring acting on that node
     /// alone (a scale of the stiffness a step must resolve); 0 at roots.
@@ -56,8 +57,8 @@ impl DynamicsModel {
                     joint_stiffness[i] = k;
                     joint_frequency_squared[i] = k / (node_masses[i] * lengths[i] * lengths[i]);
                     rest_local_directions[i] = rest_local_direction(
-                        rest.rest_polar_angles[i],
-                        rest.rest_azimuth_angles[i],
+                        rest.natural_polar_angles[i],
+                        rest.natural_azimuth_angles[i],
                     );
                 }
             }

@@ -55,17 +55,14 @@ use crate::dynamics::banded::solve_block_pentadiagonal;
 use crate::dynamics::constraints::{follow_the_leader, project_lengths};
 use crate::dynamics::forces::{add_spring_forces, bend_angle_and_factor, walk_joints};
 use crate::dynamics::integrators::{
-    ChainArrays, ChainConstants, Substep, add_spring_blocks, root_motion,
+    ChainArrays, ChainConstants, Substep, add_length_springs, add_spring_blocks, length_stiffness,
+    root_motion,
 };
 use crate::frame::Frame;
 
 /// Newton iterations of the length projection (it converges quadratically and stops when within
 /// [`LENGTH_TOLERANCE`](crate::dynamics::constraints::LENGTH_TOLERANCE)).
 const LENGTH_ITERATIONS: usize = 3;
-
-/// The lengths' stiffness in the bending step, relative to the larger of the inertia `m/h²` and
-/// the bending stiffness `k/l²` at the segment.
-const LENGTH_STIFFNESS: f32 = 100.0;
 
 /// Newton steps per substep at most: a second one only where the first moved a node by more than
 /// [`NEWTON_TOLERANCE`] of its segment (large rotations in one substep, where the objective is far
@@ -78,15 +75,6 @@ const SMALL_STEP: f32 = 1e-3;
 
 /// A Newton step that moves no node by more than this fraction of its segment ends the iteration.
 const NEWTON_TOLERANCE: f32 = 0.03;
-
-/// The lengths' stiffness κ_j [N/m] in the bending step (module docs).
-#[inline]
-fn length_stiffness(chain: &ChainConstants, j: usize, inverse_h_squared: f32) -> f32 {
-    let rest = chain.rest_lengths[j];
-    let next = chain.stiffness.get(j + 1).copied().unwrap_or(0.0);
-    let bending = chain.stiffness[j].max(next) / (rest * rest);
-    LENGTH_STIFFNESS * (chain.masses[j] * inverse_h_squared).max(bending)
-}
 
 /// The relative rounding of `Φ` (sums of a few dozen f32 terms) below which the line search
 /// does not tell a rise from noise.
@@ -179,29 +167,18 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
                     add_spring_blocks(joint, k, implicit);
                 }
             });
-            // The lengths, in the same step, as stiff springs ½·κ_j·(|x_j − x_{j−1}| − l_j)² with
-            // κ_j = LENGTH_STIFFNESS·max(m_j/h², k_j/l_j², k_{j+1}/l_j²): so that the step bends the
-            // chain instead of stretching it (the exact projection below then has little to do).
-            // Left out, the step and the projection undo each other on curly chains at h·ω ≳ 1.
-            for j in 1..n {
-                let segment = here[j] - here[j - 1];
-                let length = segment.length();
-                if length <= 1e-12 {
-                    continue;
-                }
-                let u = segment / length;
-                let kappa = length_stiffness(chain, j, inverse_h_squared);
-                let stretch = length - chain.rest_lengths[j];
-                energy += 0.5 * kappa * stretch * stretch;
-                let force = u * (kappa * stretch);
-                implicit.rhs[j] -= force;
-                implicit.rhs[j - 1] += force;
-                // Gauss-Newton block κ·u·uᵀ on (j, j) and (j−1, j−1), −κ·u·uᵀ on (j, j−1).
-                let block = Mat3::from_cols(u * u.x, u * u.y, u * u.z) * kappa;
-                implicit.diagonal[j] += block;
-                implicit.diagonal[j - 1] += block;
-                implicit.first[j] -= block;
-            }
+            // The lengths, in the same step, as stiff springs: so that the step bends the chain
+            // instead of stretching it (the exact projection below then has little to do). Left
+            // out, the step and the projection undo each other on curly chains at h·ω ≳ 1.
+            energy += add_length_springs(
+                chain,
+                here,
+                inverse_h_squared,
+                1.0,
+                Some(implicit.rhs),
+                implicit.diagonal,
+                implicit.first,
+            );
             let objective = energy + inertia(arrays.forces, arrays.corrections);
             if regularization > 0.0 {
                 let largest = implicit.diagonal[first..n]

@@ -24,6 +24,14 @@ pub struct SkeletonRest {
     pub rest_polar_angles: Vec<f32>,
     /// Rest azimuth φ0 of each node [rad], one per node; 0 at roots.
     pub rest_azimuth_angles: Vec<f32>,
+    /// Natural polar angle of each node's angular spring [rad], one per node; 0 at roots: the
+    /// direction the spring pulls its segment towards. Equal to the rest angle unless sag-free
+    /// initialisation ([`crate::dynamics::sag_free`]) turned it so that the rest shape is a static
+    /// equilibrium under gravity.
+    pub natural_polar_angles: Vec<f32>,
+    /// Natural azimuth of each node's angular spring [rad], one per node; 0 at roots (see
+    /// [`SkeletonRest::natural_polar_angles`]).
+    pub natural_azimuth_angles: Vec<f32>,
     /// Root position of each chain in head space [m], one per chain.
     pub root_positions: Vec<Vec3>,
     /// Root frame of each chain in head space, one per chain (tangent: the growth direction; normal:
@@ -38,6 +46,8 @@ impl Default for SkeletonRest {
             segment_rest_lengths: Vec::new(),
             rest_polar_angles: Vec::new(),
             rest_azimuth_angles: Vec::new(),
+            natural_polar_angles: Vec::new(),
+            natural_azimuth_angles: Vec::new(),
             root_positions: Vec::new(),
             root_frames: Vec::new(),
         }
@@ -65,20 +75,66 @@ impl SkeletonRest {
         self.nodes(chain).len()
     }
 
-    /// Appends a copy of chain `chain` of `source` (root, root frame, segment lengths and rest
-    /// angles) and returns its index here.
+    /// Appends a copy of chain `chain` of `source` (root, root frame, segment lengths, rest and
+    /// natural angles) and returns its index here.
     pub fn push_chain_from(&mut self, source: &SkeletonRest, chain: usize) -> Result<usize> {
         let nodes = source.nodes(chain);
         let angles = ChainAngles {
             segment_lengths: source.segment_rest_lengths[nodes.clone()].to_vec(),
             polar_angles: source.rest_polar_angles[nodes.clone()].to_vec(),
-            azimuth_angles: source.rest_azimuth_angles[nodes].to_vec(),
+            azimuth_angles: source.rest_azimuth_angles[nodes.clone()].to_vec(),
         };
-        self.push_chain(
+        let index = self.push_chain(
             source.root_positions[chain],
             source.root_frames[chain],
             &angles,
-        )
+        )?;
+        let start = self.offsets[index] as usize;
+        let count = nodes.len();
+        self.natural_polar_angles[start..start + count]
+            .copy_from_slice(&source.natural_polar_angles[nodes.clone()]);
+        self.natural_azimuth_angles[start..start + count]
+            .copy_from_slice(&source.natural_azimuth_angles[nodes]);
+        Ok(index)
+    }
+
+    /// Replaces the rest angles of chain `chain` (its shape at rest) and, separately, its springs'
+    /// natural angles, one entry per node of the chain [rad] (roots' entries are ignored and stored
+    /// as 0). Fails, changing nothing, on a size mismatch or a non-finite angle.
+    pub fn set_chain_angles(
+        &mut self,
+        chain: usize,
+        rest: (&[f32], &[f32]),
+        natural: (&[f32], &[f32]),
+    ) -> Result<()> {
+        let nodes = self.nodes(chain);
+        for (what, values) in [
+            ("rest polar angles", rest.0),
+            ("rest azimuth angles", rest.1),
+            ("natural polar angles", natural.0),
+            ("natural azimuth angles", natural.1),
+        ] {
+            if values.len() != nodes.len() {
+                return Err(HairError::SizeMismatch {
+                    what,
+                    actual: values.len(),
+                    expected: nodes.len(),
+                });
+            }
+            if let Some(bad) = values.iter().skip(1).find(|v| !v.is_finite()) {
+                return Err(HairError::invalid(what, bad, "finite angles [rad]"));
+            }
+        }
+        for (target, values) in [
+            (&mut self.rest_polar_angles, rest.0),
+            (&mut self.rest_azimuth_angles, rest.1),
+            (&mut self.natural_polar_angles, natural.0),
+            (&mut self.natural_azimuth_angles, natural.1),
+        ] {
+            target[nodes.clone()].copy_from_slice(values);
+            target[nodes.start] = 0.0;
+        }
+        Ok(())
     }
 
     /// Appends a chain and returns its index. `angles` has one entry per node, at least 2 nodes,
@@ -140,6 +196,13 @@ impl SkeletonRest {
         self.rest_polar_angles
             .extend_from_slice(&angles.polar_angles[1..]);
         self.rest_azimuth_angles
+            .extend_from_slice(&angles.azimuth_angles[1..]);
+        // Springs pull towards the rest shape until sag-free initialisation says otherwise.
+        self.natural_polar_angles.push(0.0);
+        self.natural_azimuth_angles.push(0.0);
+        self.natural_polar_angles
+            .extend_from_slice(&angles.polar_angles[1..]);
+        self.natural_azimuth_angles
             .extend_from_slice(&angles.azimuth_angles[1..]);
         self.root_positions.push(root_position);
         self.root_frames.push(root_frame);
