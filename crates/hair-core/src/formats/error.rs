@@ -42,8 +42,8 @@ impl fmt::Display for Location {
 pub struct FormatError {
     /// The file (its path as given), or [`FormatError::IN_MEMORY`].
     pub file: String,
-    /// What is wrong, and where.
-    pub kind: FormatErrorKind,
+    /// What is wrong, and where (boxed: a `Result` stays small).
+    pub kind: Box<FormatErrorKind>,
 }
 
 impl FormatError {
@@ -54,7 +54,7 @@ impl FormatError {
     pub fn in_memory(kind: FormatErrorKind) -> Self {
         FormatError {
             file: Self::IN_MEMORY.to_owned(),
-            kind,
+            kind: Box::new(kind),
         }
     }
 

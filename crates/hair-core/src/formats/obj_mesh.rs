@@ -31,6 +31,9 @@ pub fn read_obj_mesh_file(
 fn read(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, FormatErrorKind> {
     options.axes.validate()?;
     let axes = &options.axes;
+    // The update fills the fields behind tobj's `merging` and `reordering` features, should another
+    // crate of the workspace enable them.
+    #[allow(clippy::needless_update)]
     let load = tobj::LoadOptions {
         single_index: true,
         triangulate: true,

@@ -132,12 +132,16 @@ fn read(data: &[u8], options: &ImportOptions) -> Result<Curves, FormatErrorKind>
         start,
         needed,
     )?;
-    // Checked above: the vertices lie inside the file, so their count fits in memory.
+    // Checked above: the vertices lie inside the file, so their count fits in memory. With no
+    // strands, `vertices_per_strand` is unchecked: it sizes nothing.
     let positions = bytes.slice(start, needed, String::new)?;
+    let mut builder = CurvesBuilder::new(options, vertex_count as usize, false, false);
+    if strand_count == 0 {
+        return builder.finish();
+    }
     let stride = layout.stride() as usize;
     let strand_bytes = vertices_per_strand as usize * stride;
-    let mut builder = CurvesBuilder::new(options, vertex_count as usize, false, false);
-    let mut points = Vec::with_capacity(vertices_per_strand as usize);
+    let mut points = Vec::new();
     for (strand, chunk) in positions.chunks_exact(strand_bytes).enumerate() {
         points.clear();
         vec3s(chunk, stride, &mut points);

@@ -313,7 +313,7 @@ fn a_bad_scale_is_refused_by_every_reader() {
         ..Default::default()
     });
     let error = read_tfx(&tfx4_bytes(&two_strands()), &options).unwrap_err();
-    assert!(matches!(error.kind, FormatErrorKind::InvalidOption { .. }));
+    assert!(matches!(*error.kind, FormatErrorKind::InvalidOption { .. }));
     assert_eq!(
         error.to_string(),
         "<memory>: invalid import option scale_to_metres = -1 (allowed: a finite number > 0 \

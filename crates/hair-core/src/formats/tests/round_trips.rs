@@ -14,28 +14,30 @@ use crate::formats::{
 };
 use crate::obj::ObjWriter;
 
-/// The bits of every value of `curves`, to compare bit for bit (`-0.0 != 0.0`).
-fn bits(
-    curves: &Curves,
-) -> (
-    Vec<[u32; 3]>,
-    Vec<u32>,
-    Option<Vec<u32>>,
-    Option<Vec<[u32; 3]>>,
-) {
+/// The bits of every value of some curves (`-0.0 != 0.0`, unlike `==` on floats).
+#[derive(Debug, PartialEq)]
+struct Bits {
+    points: Vec<[u32; 3]>,
+    offsets: Vec<u32>,
+    widths: Option<Vec<u32>>,
+    colors: Option<Vec<[u32; 3]>>,
+}
+
+/// The bits of every value of `curves`, to compare bit for bit.
+fn bits(curves: &Curves) -> Bits {
     let vec_bits = |v: &Vec3| v.to_array().map(f32::to_bits);
-    (
-        curves.points.iter().map(vec_bits).collect(),
-        curves.offsets.clone(),
-        curves
+    Bits {
+        points: curves.points.iter().map(vec_bits).collect(),
+        offsets: curves.offsets.clone(),
+        widths: curves
             .widths
             .as_ref()
             .map(|w| w.iter().map(|x| x.to_bits()).collect()),
-        curves
+        colors: curves
             .colors
             .as_ref()
             .map(|c| c.iter().map(vec_bits).collect()),
-    )
+    }
 }
 
 #[test]
