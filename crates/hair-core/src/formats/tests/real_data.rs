@@ -66,13 +66,15 @@ fn assert_plausible_extent(curves: &Curves) -> Vec3 {
 
 #[test]
 fn the_mohawk_has_2228_strands_of_32_vertices() {
-    let start = Instant::now();
-    let curves = read_tfx_file(data_file("ratboy_mohawk.tfx"), &ImportOptions::strict()).unwrap();
-    let elapsed = start.elapsed();
-    eprintln!(
-        "ratboy_mohawk.tfx read in {:.2} ms",
-        elapsed.as_secs_f64() * 1e3
-    );
+    // The best of five reads, file reading included.
+    let mut best = f64::INFINITY;
+    let mut curves = Curves::default();
+    for _ in 0..5 {
+        let start = Instant::now();
+        curves = read_tfx_file(data_file("ratboy_mohawk.tfx"), &ImportOptions::strict()).unwrap();
+        best = best.min(start.elapsed().as_secs_f64());
+    }
+    eprintln!("ratboy_mohawk.tfx read in {:.2} ms", best * 1e3);
     assert_uniform(&curves, 2228, 32);
     let size = assert_plausible_extent(&curves);
     eprintln!("mohawk bounds {:?}, size {size}", curves.bounds().unwrap());
