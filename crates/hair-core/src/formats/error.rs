@@ -26,7 +26,7 @@ impl fmt::Display for Location {
         match self {
             Location::Byte(offset) => write!(f, "byte {offset}"),
             Location::Line(line) => write!(f, "line {line}"),
-            Location::Unknown => f.write_str("an unknown place"),
+            Location::Unknown => f.write_str("an unknown line"),
         }
     }
 }

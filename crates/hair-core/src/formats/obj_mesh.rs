@@ -10,6 +10,7 @@ use glam::Vec3;
 use super::curves::vector_text;
 use super::error::{FormatError, FormatErrorKind, Location};
 use super::options::ImportOptions;
+use super::text::lines;
 use super::{finish_mesh, read_file};
 use crate::mesh::TriangleMesh;
 
@@ -28,8 +29,46 @@ pub fn read_obj_mesh_file(
     read_file(path.as_ref(), |bytes| read(bytes, options))
 }
 
+/// Checks the `v` records before `tobj` reads them, to name the line of a non-finite one (`tobj`
+/// reads `nan` and `inf` as numbers, and renumbers vertices). Malformed records are left to
+/// `tobj`.
+fn check_vertices(bytes: &[u8], options: &ImportOptions) -> Result<(), FormatErrorKind> {
+    let mut vertex = 0usize;
+    for line in lines(bytes) {
+        let Ok((line, text)) = line else {
+            continue;
+        };
+        let mut tokens = text.split_whitespace();
+        if tokens.next() != Some("v") {
+            continue;
+        }
+        vertex += 1;
+        let mut xyz = [0.0f32; 3];
+        for (slot, token) in xyz.iter_mut().zip(tokens) {
+            *slot = token.parse().unwrap_or(0.0);
+        }
+        let p = Vec3::from_array(xyz);
+        let scaled = options.axes.point(p);
+        if !scaled.is_finite() {
+            let value = if p.is_finite() {
+                format!("{} (after scaling to metres)", vector_text(scaled))
+            } else {
+                vector_text(p)
+            };
+            return Err(FormatErrorKind::NonFinite {
+                element: format!("OBJ vertex {vertex}"),
+                what: "position",
+                value,
+                location: Location::Line(line),
+            });
+        }
+    }
+    Ok(())
+}
+
 fn read(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, FormatErrorKind> {
     options.axes.validate()?;
+    check_vertices(bytes, options)?;
     let axes = &options.axes;
     // The update fills the fields behind tobj's `merging` and `reordering` features, should another
     // crate of the workspace enable them.
@@ -155,6 +194,16 @@ mod tests {
         assert!(mesh.normals.iter().all(|n| *n == Vec3::Z));
         let error = read_obj_mesh(b"v 0 0 0\nv 1 0 0\nl 1 2\n", &Default::default()).unwrap_err();
         assert_eq!(error.to_string(), "<memory>: the mesh has no triangles");
+    }
+
+    #[test]
+    fn a_nan_vertex_names_its_line() {
+        let text = b"v 0 0 0\nv 1 0 0\n# comment\nv 0 nan 0\nf 1 2 3\n";
+        let error = read_obj_mesh(text, &Default::default()).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "<memory>: OBJ vertex 3 at line 4: position [0, NaN, 0] is not finite"
+        );
     }
 
     #[test]

@@ -182,7 +182,7 @@ fn non_finite_coordinates_name_curve_point_and_byte() {
         message(read_tfx(&tfx3_bytes(&strands), &ImportOptions::default())),
         "<memory>: curve 1, point 2 at byte 368: position [0.1, -inf, 0] is not finite"
     );
-    let mut curves = sample_curves();
+    let curves = sample_curves();
     let mut hair = write_hair_bytes(&curves).unwrap();
     // Point 4 of the file (curve 1, point 2): after the header and 3 segment counts; its z.
     let at = 128 + 6 + 4 * 12 + 8;
@@ -191,15 +191,9 @@ fn non_finite_coordinates_name_curve_point_and_byte() {
         message(read_hair(&hair, &ImportOptions::default())),
         "<memory>: curve 1, point 2 at byte 182: position [0.01, -0.04, inf] is not finite"
     );
-    // Widths and colours too, at their own arrays' bytes.
-    curves.widths.as_mut().unwrap()[6] = f32::NAN;
-    let hair = write_hair_bytes(&Curves {
-        widths: None,
-        ..curves.clone()
-    })
-    .unwrap();
-    assert!(read_hair(&hair, &ImportOptions::default()).is_ok());
-    let mut hair = write_hair_bytes(&sample_curves()).unwrap();
+    // Widths and colours too, at their own arrays' bytes: width 6 of the file (curve 2, point 1)
+    // after the header, 3 segment counts and 7 points.
+    let mut hair = write_hair_bytes(&curves).unwrap();
     let at = 128 + 6 + 7 * 12 + 6 * 4;
     hair[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
     assert_eq!(
@@ -211,6 +205,14 @@ fn non_finite_coordinates_name_curve_point_and_byte() {
         message(read_hair(&hair, &ImportOptions::default())),
         "<memory>: curve 2, point 1 at byte 242: width -1 is invalid (allowed: a width >= 0)"
     );
+    // Colour 5 (curve 2, point 0): after the 7 widths; its green.
+    let mut hair = write_hair_bytes(&curves).unwrap();
+    let at = 128 + 6 + 7 * 12 + 7 * 4 + 5 * 12 + 4;
+    hair[at..at + 4].copy_from_slice(&f32::INFINITY.to_le_bytes());
+    assert_eq!(
+        message(read_hair(&hair, &ImportOptions::default())),
+        "<memory>: curve 2, point 0 at byte 306: colour [0.5, inf, 0.3] is not finite"
+    );
     let mut data = usc_bytes(&strands_with_empty_roots());
     data[24..28].copy_from_slice(&f32::NAN.to_le_bytes());
     assert_eq!(
@@ -218,8 +220,6 @@ fn non_finite_coordinates_name_curve_point_and_byte() {
         "<memory>: curve 1, point 0 at byte 24: position [NaN, 1.7, 0] is not finite"
     );
 }
-
-use crate::formats::Curves;
 
 /// A TressFX 4 groom of three strands: one good, one with a repeated point, one good.
 fn tfx_with_a_zero_length_segment() -> Vec<u8> {
