@@ -61,7 +61,10 @@ impl Layout {
 }
 
 /// Reads a TressFX `.tfx` groom (4.x or 3.x) from its bytes. Coordinates are taken as metres
-/// (TressFX's samples are) before `options.axes`. Errors name the byte offset; the data is called
+/// before `options.axes`; TressFX has no unit field, and AMD's samples differ: the 4.x mohawk
+/// (`ratboy_mohawk.tfx`) is in metres, the 3.x ponytail and `testhair1.tfx` are in centimetres
+/// (read them with [`ImportAxes::scale_to_metres`](super::ImportAxes::scale_to_metres) = 0.01).
+/// `vertices_per_strand` need not be a power of two. Errors name the byte offset; the data is called
 /// [`FormatError::IN_MEMORY`].
 pub fn read_tfx(bytes: &[u8], options: &ImportOptions) -> Result<Curves, FormatError> {
     read(bytes, options).map_err(FormatError::in_memory)
