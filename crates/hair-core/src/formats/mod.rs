@@ -1,0 +1,168 @@
+//! Groom and body files in and out: TressFX `.tfx` (4.x and 3.x) and `.tfxmesh`, cyHair `.hair`
+//! (read and written), USC-HairSalon `.data`, and OBJ polylines and triangle meshes.
+//!
+//! File formats are adapters at the edge: the readers produce plain polylines ([`Curves`]: points
+//! per curve, optional widths and colours) and meshes ([`TriangleMesh`]) in metres, +Y up, after
+//! the file's axes and units are converted ([`ImportAxes`]). Everything after that is the same code
+//! as for procedural grooms.
+//!
+//! Every reader is a pure function of the file's bytes (`read_tfx(&bytes, &options)`) with a
+//! `read_*_file(path, ..)` wrapper; [`read_curves_file`] and [`read_mesh_file`] pick the reader by
+//! the file's extension. Readers check every count against the file's length before allocating,
+//! never panic, and return either everything or a [`FormatError`] that names the file, the
+//! element and the byte offset or line. Degenerate curves (fewer than two points, a zero-length
+//! segment) are skipped and listed in [`Curves::skipped`], or refused with
+//! [`ImportOptions::strict`]; a file without a usable curve is always an error.
+
+mod binary;
+mod curves;
+mod cyhair;
+mod error;
+mod obj_curves;
+mod obj_mesh;
+mod options;
+mod text;
+mod tfx;
+mod tfxmesh;
+mod usc;
+
+#[cfg(test)]
+mod tests;
+
+use std::path::Path;
+
+pub use curves::{Curves, SkipReason, SkippedCurve};
+pub use cyhair::{
+    HAIR_HEADER_LEN, read_hair, read_hair_file, write_hair, write_hair_bytes, write_hair_to,
+};
+pub use error::{FormatError, FormatErrorKind, Location};
+pub use obj_curves::{read_obj_curves, read_obj_curves_file};
+pub use obj_mesh::{read_obj_mesh, read_obj_mesh_file};
+pub use options::{ImportAxes, ImportOptions, UpAxis};
+pub use tfx::{TFX3_HEADER_LEN, TFX4_HEADER_LEN, read_tfx, read_tfx_file};
+pub use tfxmesh::{read_tfxmesh, read_tfxmesh_file};
+pub use usc::{read_usc_data, read_usc_data_file};
+
+use crate::mesh::TriangleMesh;
+
+/// A groom (curves) file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CurveFormat {
+    /// TressFX `.tfx`, 4.x or 3.x.
+    Tfx,
+    /// cyHair `.hair`.
+    CyHair,
+    /// USC-HairSalon `.data`.
+    UscData,
+    /// Wavefront OBJ polylines (`l` records), `.obj`.
+    ObjCurves,
+}
+
+/// The curve file extensions [`CurveFormat::from_path`] knows.
+pub const CURVE_EXTENSIONS: &str = ".tfx, .hair, .data, .obj";
+/// The mesh file extensions [`read_mesh_file`] knows.
+pub const MESH_EXTENSIONS: &str = ".tfxmesh, .obj";
+
+/// The lower-case extension of `path` (empty when none).
+fn extension(path: &Path) -> String {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default()
+}
+
+impl CurveFormat {
+    /// The format named by the extension of `path` (case-insensitive).
+    pub fn from_path(path: &Path) -> Result<Self, FormatError> {
+        match extension(path).as_str() {
+            "tfx" => Ok(CurveFormat::Tfx),
+            "hair" => Ok(CurveFormat::CyHair),
+            "data" => Ok(CurveFormat::UscData),
+            "obj" => Ok(CurveFormat::ObjCurves),
+            other => Err(FormatError::from(FormatErrorKind::UnknownExtension {
+                extension: other.to_owned(),
+                known: CURVE_EXTENSIONS,
+            })
+            .in_file(path)),
+        }
+    }
+}
+
+/// Reads curves in `format` from the file's bytes (see the format's own reader).
+pub fn read_curves(
+    bytes: &[u8],
+    format: CurveFormat,
+    options: &ImportOptions,
+) -> Result<Curves, FormatError> {
+    match format {
+        CurveFormat::Tfx => read_tfx(bytes, options),
+        CurveFormat::CyHair => read_hair(bytes, options),
+        CurveFormat::UscData => read_usc_data(bytes, options),
+        CurveFormat::ObjCurves => read_obj_curves(bytes, options),
+    }
+}
+
+/// Reads a groom file, choosing the reader by extension: `.tfx` (TressFX 4.x or 3.x), `.hair`
+/// (cyHair), `.data` (USC-HairSalon), `.obj` (polylines). Errors name the file.
+pub fn read_curves_file(
+    path: impl AsRef<Path>,
+    options: &ImportOptions,
+) -> Result<Curves, FormatError> {
+    let path = path.as_ref();
+    match CurveFormat::from_path(path)? {
+        CurveFormat::Tfx => read_tfx_file(path, options),
+        CurveFormat::CyHair => read_hair_file(path, options),
+        CurveFormat::UscData => read_usc_data_file(path, options),
+        CurveFormat::ObjCurves => read_obj_curves_file(path, options),
+    }
+}
+
+/// Reads a body mesh file, choosing the reader by extension: `.tfxmesh` (TressFX collision mesh)
+/// or `.obj` (triangulated). The mesh passes [`TriangleMesh::validate`], has at least one triangle
+/// and has unit vertex normals. Errors name the file.
+pub fn read_mesh_file(
+    path: impl AsRef<Path>,
+    options: &ImportOptions,
+) -> Result<TriangleMesh, FormatError> {
+    let path = path.as_ref();
+    match extension(path).as_str() {
+        "tfxmesh" => read_tfxmesh_file(path, options),
+        "obj" => read_obj_mesh_file(path, options),
+        other => Err(FormatError::from(FormatErrorKind::UnknownExtension {
+            extension: other.to_owned(),
+            known: MESH_EXTENSIONS,
+        })
+        .in_file(path)),
+    }
+}
+
+/// Reads the file at `path` whole and parses it; every error names the file.
+fn read_file<T>(
+    path: &Path,
+    parse: impl FnOnce(&[u8]) -> Result<T, FormatErrorKind>,
+) -> Result<T, FormatError> {
+    let bytes = std::fs::read(path).map_err(|error| {
+        FormatError::from(FormatErrorKind::Io {
+            message: error.to_string(),
+        })
+        .in_file(path)
+    })?;
+    parse(&bytes).map_err(|kind| FormatError::from(kind).in_file(path))
+}
+
+/// Checks a mesh a reader built, then gives it unit normals: the file's where it has them (made
+/// unit length), computed from the triangles where it has none or where one is zero.
+fn finish_mesh(mut mesh: TriangleMesh) -> Result<TriangleMesh, FormatErrorKind> {
+    mesh.validate().map_err(FormatErrorKind::Mesh)?;
+    if mesh.triangles.is_empty() {
+        return Err(FormatErrorKind::NoTriangles);
+    }
+    let mut recompute = mesh.normals.is_empty();
+    for normal in &mut mesh.normals {
+        *normal = normal.normalize_or_zero();
+        recompute |= *normal == glam::Vec3::ZERO;
+    }
+    if recompute {
+        mesh.compute_vertex_normals();
+    }
+    Ok(mesh)
+}

@@ -1,0 +1,16 @@
+//! Tests of the readers as a whole: every error case with its message, the real TressFX files in
+//! `shared/data`, round trips through the writers, and fuzz-style tests under plain `cargo test`.
+
+mod errors;
+mod fuzz;
+mod real_data;
+mod round_trips;
+
+use std::path::PathBuf;
+
+/// A fresh directory for this test's files (removed by the caller).
+pub(crate) fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hairlod-formats-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
