@@ -25,6 +25,7 @@ pub mod benchmark;
 pub mod metrics;
 pub mod pipeline;
 pub mod popping;
+pub mod rest_pose;
 pub mod run;
 pub mod scene_file;
 pub mod shot;
@@ -33,6 +34,7 @@ pub use hair_collide as collide;
 pub use hair_core as core;
 pub use hair_render as render;
 pub use pipeline::{Checkpoint, LodMode, Pipeline, PipelineError, PipelineSettings, PipelineState};
+pub use rest_pose::{HangSettings, RestPose, hang_groom};
 pub use scene_file::SceneFile;
 pub use shot::Shot;
 

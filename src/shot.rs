@@ -12,6 +12,7 @@ use hair_core::{Camera, GroomParams, HeadParams, Scene};
 use serde::Serialize;
 
 use crate::pipeline::{Checkpoint, LodMode, Pipeline, PipelineSettings, Result};
+use crate::rest_pose::{HangReport, HangSettings, RestPose, hang_groom};
 
 /// How the camera moves over a shot.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -152,6 +153,8 @@ pub struct Shot {
     pub height: u32,
     /// Seconds of settling at full detail under gravity before frame 0 [s].
     pub settle_seconds: f32,
+    /// The shape the groom starts in ([`Shot::build_scene`] hangs it, or not).
+    pub rest_pose: RestPose,
     /// What to write.
     pub outputs: Outputs,
     /// The paper's table (1 or 2) whose figures `bench` prints beside its own, if any.
@@ -178,9 +181,28 @@ impl Shot {
         }
     }
 
-    /// Builds the scene: the procedural head and the groom on it.
+    /// Builds the scene: the procedural head and the groom on it, hung on the head under this
+    /// shot's gravity (with collision as the shot has it) when [`Shot::rest_pose`] is
+    /// [`RestPose::Hanging`] (see [`hang_groom`]).
     pub fn build_scene(&self) -> Result<Scene> {
-        Ok(Scene::new(&self.head, &self.groom)?)
+        Ok(self.build_scene_with_report()?.0)
+    }
+
+    /// [`Shot::build_scene`], and what hanging the groom did (`None` for a grown groom).
+    pub fn build_scene_with_report(&self) -> Result<(Scene, Option<HangReport>)> {
+        let mut scene = Scene::new(&self.head, &self.groom)?;
+        let report = match self.rest_pose {
+            RestPose::Grown => None,
+            RestPose::Hanging => Some(hang_groom(
+                &mut scene,
+                &HangSettings {
+                    collision: self.settings.collision,
+                    gravity: self.environment.gravity,
+                    ..HangSettings::default()
+                },
+            )?),
+        };
+        Ok((scene, report))
     }
 
     /// A pipeline on `scene` (built from this shot) with `settings`, settled for

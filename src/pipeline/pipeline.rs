@@ -83,10 +83,22 @@ impl Pipeline {
     /// the hair fall into place at full detail, and the first frame hands each section down to
     /// the level it is given), or at the fixed level.
     pub fn new(scene: Scene, environment: Environment, settings: PipelineSettings) -> Result<Self> {
+        let params = DynamicsParams::for_style(&scene.groom.params.style);
+        Pipeline::with_material(scene, environment, settings, params)
+    }
+
+    /// [`Pipeline::new`] with the skeletons' material given instead of the groom style's
+    /// ([`DynamicsParams::for_style`]): mass, stiffness, damping and drag.
+    pub fn with_material(
+        scene: Scene,
+        environment: Environment,
+        settings: PipelineSettings,
+        params: DynamicsParams,
+    ) -> Result<Self> {
         settings.dynamics.validate()?;
+        params.validate()?;
         let groom = &scene.groom;
         let sections = groom.section_count();
-        let params = DynamicsParams::for_style(&groom.params.style);
         let (selector, start_level) = match settings.lod {
             LodMode::Auto(lod) => (
                 Some(LodSelector::new(groom, &scene.head.occluder_boxes(), lod)?),
@@ -167,8 +179,9 @@ impl Pipeline {
         Ok(pipeline)
     }
 
-    /// The fingerprint of this run's model: the groom (parameters and skeleton rest data), the
-    /// head mesh, the environment and the settings, hashed (FNV-1a, 64 bits) to 16 hex digits.
+    /// The fingerprint of this run's model: the groom (parameters and skeleton rest data:
+    /// lengths, rest and natural angles, roots), the head mesh, the environment and the
+    /// settings, hashed (FNV-1a, 64 bits) to 16 hex digits.
     /// A checkpoint resumes only where the fingerprint is the same.
     pub fn fingerprint(&self) -> String {
         let mut hash = Fnv1a::new();
@@ -182,6 +195,10 @@ impl Pipeline {
         );
         let rest = &groom.skeletons;
         hash.write_f32s(rest.segment_rest_lengths.iter().copied());
+        hash.write_f32s(rest.rest_polar_angles.iter().copied());
+        hash.write_f32s(rest.rest_azimuth_angles.iter().copied());
+        hash.write_f32s(rest.natural_polar_angles.iter().copied());
+        hash.write_f32s(rest.natural_azimuth_angles.iter().copied());
         hash.write_f32s(rest.root_positions.iter().flat_map(|p| p.to_array()));
         hash.write_f32s(
             self.scene

@@ -110,6 +110,10 @@ pub struct GroomTable {
     pub smoothness: Option<f32>,
     /// Random seed of strand placement and shades.
     pub seed: Option<u64>,
+    /// The shape the groom starts in: `hanging` (default: fallen onto the body and made an
+    /// equilibrium there, see [`hang_groom`](crate::rest_pose::hang_groom)) or `grown` (the
+    /// generated shape, which falls at first).
+    pub rest_pose: Option<String>,
 }
 
 /// `[body]`.
@@ -231,7 +235,8 @@ pub struct DynamicsTable {
     pub substeps: Option<u32>,
     /// Hair–head collision on (default true).
     pub collision: Option<bool>,
-    /// Settling at full detail under gravity before frame 0 [s], 0..=60 (default 1).
+    /// Settling at full detail under gravity before frame 0 [s], 0..=60 (default 0 for a
+    /// hanging groom, which is at rest already, and 1 for a grown one).
     pub settle_seconds: Option<f32>,
 }
 

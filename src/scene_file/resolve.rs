@@ -10,6 +10,7 @@ use hair_core::{GroomParams, HeadParams, Level, RigidTransform};
 
 use super::{SCENE_FILE_VERSION, SceneFile, SceneFileError};
 use crate::pipeline::{LodMode, PipelineSettings};
+use crate::rest_pose::RestPose;
 use crate::shot::{CameraKeyframe, CameraMotion, CameraPath, Outputs, Shot};
 
 type Result<T> = std::result::Result<T, SceneFileError>;
@@ -147,9 +148,13 @@ impl SceneFile {
                 })
             }
         };
+        let rest_pose = self.rest_pose()?;
         let settle_seconds = within(
             "dynamics.settle_seconds",
-            self.dynamics.settle_seconds.unwrap_or(1.0),
+            self.dynamics.settle_seconds.unwrap_or(match rest_pose {
+                RestPose::Hanging => 0.0,
+                RestPose::Grown => 1.0,
+            }),
             0.0,
             60.0,
             "seconds in 0..=60",
@@ -189,9 +194,16 @@ impl SceneFile {
             width,
             height,
             settle_seconds,
+            rest_pose,
             outputs,
             paper_table: self.bench.paper_table,
         })
+    }
+
+    fn rest_pose(&self) -> Result<RestPose> {
+        let name = self.groom.rest_pose.as_deref().unwrap_or("hanging");
+        one_of("groom.rest_pose", name, &RestPose::NAMES)?;
+        Ok(RestPose::from_name(name).unwrap_or_default())
     }
 
     fn groom_params(&self) -> Result<GroomParams> {

@@ -74,7 +74,8 @@ pub use params::{
     SimulationSettings,
 };
 pub use sag_free::{
-    MAX_NATURAL_TURN, SAG_FREE_MAX_ITERATIONS, SAG_FREE_TOLERANCE, SagFreeReport, make_sag_free,
+    MAX_NATURAL_TURN, SAG_FREE_MAX_ITERATIONS, SAG_FREE_TOLERANCE, SagFreeReport, TurnLimit,
+    make_sag_free,
 };
 pub use simulation::{Environment, Simulation, StepReport};
 pub use state::SimulationState;

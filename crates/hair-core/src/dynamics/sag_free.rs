@@ -20,19 +20,29 @@
 //! `r_i` by `−M_i⊥ / k_i` more, until every `|M_i⊥|` is below [`SAG_FREE_TOLERANCE`] of the
 //! chain's gravity moment.
 //!
-//! **Limits.** The hair keeps its stiffness, so a shape that needs a spring bent by more than
-//! [`MAX_NATURAL_TURN`] to hold it (a long soft strand held out horizontally) is refused with the
-//! chain and node named. Contacts carry nothing in the equilibrium found: a shape resting on the
-//! body stays where it is because its springs hold it, with zero contact force. The equilibrium is
-//! that of the forces, so every integrator whose fixed point is `F(x) = 0` keeps it (semi-implicit,
-//! linear-implicit and XPBD); the position-based integrator's constraint projection has its own
-//! fixed points. Roots must be attached ([`RootMode::Attached`](super::RootMode)), and gravity and
-//! the head pose are those given: a head turned away from that pose sags again, as real hair does.
+//! **Limits.** The hair keeps its stiffness. A spring turned by `α` from its segment resists a
+//! further bend with stiffness `k`, but a swing of the segment around its natural direction only
+//! with `k·α·cot α`, which falls to zero at a quarter turn: past it the balance is unstable and
+//! the hair rolls over. So a shape that needs a spring turned by more than [`MAX_NATURAL_TURN`]
+//! (a long soft strand held out horizontally) is refused with the chain and node named
+//! ([`TurnLimit::Refuse`]), or, for a shape that rests on a body, the spring turns that far and
+//! the body carries the rest of the load ([`TurnLimit::Clamp`]; the shape then sinks onto the body
+//! until it does, which `hairlod::hang_groom` lets happen before it takes the shape).
+//!
+//! **Contacts.** The constant contact forces a collision stage puts on a shape resting on a body
+//! (friction, which opposes the weight's slide along the body) enter as loads; without them the
+//! springs and the friction would both hold the weight, and push the hair up the body. The search
+//! starts from the springs' current natural directions (the balance is unique where no spring is
+//! clamped; where one is, the others keep what they had). The equilibrium is that of the forces,
+//! so every integrator whose fixed point is `F(x) = 0` keeps it (semi-implicit, linear-implicit
+//! and XPBD); the position-based integrator's constraint projection has its own fixed points.
+//! Roots must be attached ([`RootMode::Attached`](super::RootMode)), and gravity and the head pose
+//! are those given: a head turned away from that pose sags again, as real hair does.
 
 use glam::{Quat, Vec3, Vec4};
 
 use crate::dynamics::error::DynamicsError;
-use crate::dynamics::forces::{add_spring_forces, transport};
+use crate::dynamics::forces::{add_spring_forces, rest_direction, transport};
 use crate::dynamics::model::DynamicsModel;
 use crate::dynamics::params::DynamicsParams;
 use crate::frame::Frame;
@@ -47,8 +57,22 @@ pub const SAG_FREE_TOLERANCE: f32 = 1e-4;
 pub const SAG_FREE_MAX_ITERATIONS: usize = 60;
 
 /// The largest turn [rad] of a spring's natural direction from its segment that sag-free
-/// initialisation accepts: beyond it the hair is too soft to hold the shape.
-pub const MAX_NATURAL_TURN: f32 = 2.5;
+/// initialisation gives: beyond it the hair is too soft to hold the shape by itself.
+pub const MAX_NATURAL_TURN: f32 = 1.5;
+
+/// What [`make_sag_free`] does where a spring would have to turn by more than
+/// [`MAX_NATURAL_TURN`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TurnLimit {
+    /// Fail with [`DynamicsError::TooSoftToHold`]: for shapes in free air, which nothing else
+    /// holds.
+    Refuse,
+    /// Turn it by [`MAX_NATURAL_TURN`] and leave the rest of the load to contact: for shapes that
+    /// rest on the body, which carries what the springs cannot (counted in
+    /// [`SagFreeReport::clamped_joints`]).
+    Clamp,
+}
 
 /// What [`make_sag_free`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
@@ -61,20 +85,42 @@ pub struct SagFreeReport {
     pub mean_turn: f32,
     /// The most iterations a chain needed.
     pub max_iterations: usize,
-    /// The largest remaining unbalanced moment, as a fraction of its chain's gravity moment.
+    /// The largest remaining unbalanced moment at a joint that is not clamped, as a fraction of
+    /// its chain's gravity moment.
     pub max_residual: f32,
+    /// Joints turned by [`MAX_NATURAL_TURN`] only ([`TurnLimit::Clamp`]), whose remaining load
+    /// rests on contact.
+    pub clamped_joints: usize,
 }
 
 /// Rewrites the natural angles of every chain of `rest` so that its rest shape, with the head at
-/// `head`, is a static equilibrium of the springs of `params` under `gravity` [m/s²] (see the
-/// module docs). The rest angles, lengths and roots are kept. Fails, changing nothing, when a chain
-/// cannot be balanced.
+/// `head`, is a static equilibrium of the springs of `params` under `gravity` [m/s²] and the
+/// constant `contact_forces` [N] a body puts on the shape at rest (one per node, world frame;
+/// empty for none), see the module docs. The search starts from the current natural angles. The
+/// rest angles, lengths and roots are kept. Where a spring would have to turn by more than
+/// [`MAX_NATURAL_TURN`], `limit` says whether to fail (changing nothing) or to clamp.
 pub fn make_sag_free(
     rest: &mut SkeletonRest,
     params: &DynamicsParams,
     head: &RigidTransform,
     gravity: Vec3,
+    contact_forces: &[Vec3],
+    limit: TurnLimit,
 ) -> Result<SagFreeReport, DynamicsError> {
+    if !contact_forces.is_empty() && contact_forces.len() != rest.node_count() {
+        return Err(DynamicsError::StateMismatch {
+            what: "contact forces",
+            actual: contact_forces.len(),
+            expected: rest.node_count(),
+        });
+    }
+    if let Some(bad) = contact_forces.iter().position(|force| !force.is_finite()) {
+        return Err(DynamicsError::invalid(
+            "contact force",
+            format!("{} at node {bad}", contact_forces[bad]),
+            "finite forces [N]",
+        ));
+    }
     let model = DynamicsModel::new(rest.clone(), *params)?;
     let positions = rest.rest_positions(head);
     let mut natural_polar = rest.natural_polar_angles.clone();
@@ -91,6 +137,9 @@ pub fn make_sag_free(
             &model.node_masses[nodes.clone()],
             &model.joint_stiffness[nodes.clone()],
             gravity,
+            contact_forces.get(nodes.clone()).unwrap_or(&[]),
+            &model.rest_local_directions[nodes.clone()],
+            limit,
         )
         .map_err(|(node, turn)| DynamicsError::TooSoftToHold {
             chain,
@@ -113,6 +162,7 @@ pub fn make_sag_free(
         report.max_turn = report.max_turn.max(balanced.max_turn);
         report.max_iterations = report.max_iterations.max(balanced.iterations);
         report.max_residual = report.max_residual.max(balanced.residual);
+        report.clamped_joints += balanced.clamped;
         turn_sum += balanced.turn_sum as f64;
         joints += nodes.len() - 1;
     }
@@ -135,6 +185,7 @@ struct Balanced {
     residual: f32,
     max_turn: f32,
     turn_sum: f32,
+    clamped: usize,
 }
 
 /// Finds the natural directions that balance one chain at `positions` (world, root first); on
@@ -145,6 +196,9 @@ fn balance_chain(
     masses: &[f32],
     stiffness: &[f32],
     gravity: Vec3,
+    loads: &[Vec3],
+    natural_local: &[Vec3],
+    limit: TurnLimit,
 ) -> Result<Balanced, (usize, f32)> {
     let n = positions.len();
     // Segment directions and the parent frame of every joint, transported along the shape.
@@ -161,6 +215,7 @@ fn balance_chain(
     }
     // Rotation vectors ρ_i (⊥ d_i) taking each segment to its spring's natural direction.
     let mut turns = vec![Vec3::ZERO; n];
+    let mut clamped = vec![false; n];
     let mut local = vec![Vec3::Z; n];
     let to_local = |frame: &Frame, world: Vec3| {
         Vec3::new(
@@ -169,15 +224,27 @@ fn balance_chain(
             frame.tangent.dot(world),
         )
     };
+    // Start from the springs' current natural directions.
     for i in 1..n {
-        local[i] = to_local(&parent_frames[i], directions[i]);
+        local[i] = natural_local[i];
+        let natural = rest_direction(&parent_frames[i], natural_local[i]);
+        let d = directions[i];
+        let axis = d.cross(natural);
+        let sin = axis.length();
+        if sin > 1e-12 {
+            turns[i] = axis / sin * sin.atan2(d.dot(natural));
+        }
     }
     let zero = vec![Vec3::ZERO; n];
     let mut work = vec![Vec4::ZERO; n];
     let mut forces = vec![Vec3::ZERO; n];
     let mut moments = vec![Vec3::ZERO; n];
-    // The gravity moments alone set the scale of the tolerance.
-    let weights: Vec<Vec3> = masses.iter().map(|&m| gravity * m).collect();
+    // The loads' moments alone set the scale of the tolerance.
+    let weights: Vec<Vec3> = masses
+        .iter()
+        .enumerate()
+        .map(|(i, &m)| gravity * m + loads.get(i).copied().unwrap_or(Vec3::ZERO))
+        .collect();
     cut_moments(positions, &weights, &mut moments);
     let scale = moments.iter().map(|m| m.length()).fold(0.0f32, f32::max);
     let tolerance = SAG_FREE_TOLERANCE * scale;
@@ -205,7 +272,9 @@ fn balance_chain(
         for i in 1..n {
             let d = directions[i];
             let across = moments[i] - d * d.dot(moments[i]);
-            residual = residual.max(across.length());
+            if !clamped[i] {
+                residual = residual.max(across.length());
+            }
             moments[i] = across;
         }
         if residual <= tolerance || iterations == SAG_FREE_MAX_ITERATIONS {
@@ -219,9 +288,18 @@ fn balance_chain(
             let d = directions[i];
             let mut turn = turns[i] - moments[i] / stiffness[i];
             turn -= d * d.dot(turn);
-            let angle = turn.length();
+            let mut angle = turn.length();
             if angle > MAX_NATURAL_TURN {
-                return Err((i, angle));
+                match limit {
+                    TurnLimit::Refuse => return Err((i, angle)),
+                    TurnLimit::Clamp => {
+                        turn *= MAX_NATURAL_TURN / angle;
+                        angle = MAX_NATURAL_TURN;
+                        clamped[i] = true;
+                    }
+                }
+            } else {
+                clamped[i] = false;
             }
             turns[i] = turn;
             let natural = if angle > 0.0 {
@@ -240,6 +318,7 @@ fn balance_chain(
         residual: if scale > 0.0 { residual / scale } else { 0.0 },
         max_turn,
         turn_sum,
+        clamped: clamped.iter().filter(|&&c| c).count(),
     })
 }
 

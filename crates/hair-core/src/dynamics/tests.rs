@@ -446,7 +446,10 @@ fn one_failing_chain_among_lane_batches_rolls_the_whole_state_back() {
     let style = HairStyle::curly(50.0, 0.01, 0.02);
     let rest = ring_of_chains(&style, 0.25, 20);
     let bad_node = rest.offsets[13] as usize + 5;
-    for integrator in [IntegratorKind::PositionBased, IntegratorKind::LinearImplicit] {
+    for integrator in [
+        IntegratorKind::PositionBased,
+        IntegratorKind::LinearImplicit,
+    ] {
         let model = DynamicsModel::new(rest.clone(), DynamicsParams::for_style(&style)).unwrap();
         let mut simulation =
             Simulation::new(model, SimulationSettings::recommended(integrator)).unwrap();
@@ -571,4 +574,3 @@ fn lane_parallel_step_matches_the_one_chain_step() {
         "lane and one-chain steps differ by {difference} m"
     );
 }
-

@@ -50,6 +50,8 @@ fn a_planar_cantilever_turns_each_spring_by_its_cut_moment() {
         &params,
         &RigidTransform::IDENTITY,
         STANDARD_GRAVITY,
+        &[],
+        TurnLimit::Refuse,
     )
     .unwrap();
     let model = DynamicsModel::new(rest.clone(), params).unwrap();
@@ -117,6 +119,8 @@ fn sag_free_curls_stay_at_rest_and_plain_ones_fall() {
         &params,
         &RigidTransform::IDENTITY,
         STANDARD_GRAVITY,
+        &[],
+        TurnLimit::Refuse,
     )
     .unwrap();
     // The twist of transport along the 3-D curls couples the joints: a few iterations.
@@ -127,8 +131,16 @@ fn sag_free_curls_stay_at_rest_and_plain_ones_fall() {
     // With it, what is left for the linear-implicit integrator is the SAG_FREE_TOLERANCE
     // residual: a moment of 1e-4·M bends each spring by 1e-4 of its compensation turn (≤ 0.33 rad
     // here), moving a 0.2 m chain by well under 0.1 mm.
-    let (max, mean) = drift(balanced.clone(), params, IntegratorKind::LinearImplicit, 2.0);
-    assert!(max < 1e-4, "linear-implicit: largest drift {max} m, mean {mean} m");
+    let (max, mean) = drift(
+        balanced.clone(),
+        params,
+        IntegratorKind::LinearImplicit,
+        2.0,
+    );
+    assert!(
+        max < 1e-4,
+        "linear-implicit: largest drift {max} m, mean {mean} m"
+    );
     // XPBD meets the lengths through springs 100× stiffer than the inertia m/h² and a projection
     // after the step, so its fixed point lies about 1/100 of the load's effect away from the
     // equilibrium of the forces: a few percent of the uncompensated fall.
@@ -151,6 +163,8 @@ fn a_shape_too_heavy_for_its_springs_is_refused_by_name() {
         &params,
         &RigidTransform::IDENTITY,
         STANDARD_GRAVITY,
+        &[],
+        TurnLimit::Refuse,
     )
     .unwrap_err();
     let message = error.to_string();

@@ -1,0 +1,306 @@
+//! Grooms that are hairstyles at rest: every level starts in a static equilibrium under gravity
+//! and collision, in the combed, hanging shape the hair takes on the body, instead of the shape it
+//! was grown in (which sticks out from the scalp and falls for the first quarter second).
+//!
+//! [`hang_groom`] does it in two stages, the same for every groom source:
+//! 1. **The hanging shape.** Each level is simulated on its own (every section at that level)
+//!    with the head still in the groom's pose, under gravity, with collision against the body, in
+//!    calm air, through the frame pipeline's [`Pipeline::settle`]. The skeletons' shapes after
+//!    [`HangSettings::seconds`] become their rest shapes (rest angles measured in the transported
+//!    frames, lengths and roots kept).
+//! 2. **Sag-free springs.** [`make_sag_free`] turns the springs' natural directions, from where
+//!    they were, just enough that this shape is a static equilibrium of the same springs (the
+//!    stiffness is the style's, unchanged), gravity and the body's contacts at rest: the friction
+//!    the collision stage puts on resting nodes, and the support of the body under any node that
+//!    is pushed into it. The settled shape was nearly an equilibrium already; this makes it one
+//!    exactly, where the fall had not quite finished.
+//!
+//! The hair then moves as the settled groom would (the same shape, the same stiffness), without
+//! the fall: a still head simulated from t = 0 stays where it is drawn.
+//!
+//! ```no_run
+//! use hairlod::rest_pose::{HangSettings, hang_groom};
+//! use hairlod::Scene;
+//!
+//! let mut scene = Scene::preset("curly")?;
+//! let report = hang_groom(&mut scene, &HangSettings::default())?;
+//! println!("the hair moved {:.1} mm on average into its hanging shape", report.mean_move * 1e3);
+//! # Ok::<(), hairlod::PipelineError>(())
+//! ```
+
+use std::time::Instant;
+
+use glam::Vec3;
+use hair_core::dynamics::{
+    DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY, SagFreeReport,
+    SimulationSettings, TurnLimit, WindField, make_sag_free,
+};
+use hair_core::skeleton::measure_chain;
+use hair_core::{Level, PerLevel, RigidTransform, Scene, SkeletonRest};
+use serde::{Deserialize, Serialize};
+
+use crate::pipeline::{LodMode, Pipeline, PipelineSettings, Result};
+
+/// The shape a groom is drawn in at rest and starts every run from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RestPose {
+    /// Hanging on the body under gravity, and an equilibrium there ([`hang_groom`]).
+    #[default]
+    Hanging,
+    /// The shape the groom was grown in, its springs at rest: not an equilibrium under gravity
+    /// (the hair falls at first; a run settles it before its first frame).
+    Grown,
+}
+
+impl RestPose {
+    /// The names used in scene files and on the command line.
+    pub const NAMES: [&'static str; 2] = ["hanging", "grown"];
+
+    /// The name of this pose.
+    pub fn name(self) -> &'static str {
+        match self {
+            RestPose::Hanging => "hanging",
+            RestPose::Grown => "grown",
+        }
+    }
+
+    /// The pose named `name` (one of [`RestPose::NAMES`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "hanging" => Some(RestPose::Hanging),
+            "grown" => Some(RestPose::Grown),
+            _ => None,
+        }
+    }
+}
+
+/// How [`hang_groom`] finds the hanging shape.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HangSettings {
+    /// Seconds of simulation for the hair to fall into place [s].
+    pub seconds: f32,
+    /// The integrator and step of that simulation.
+    pub dynamics: SimulationSettings,
+    /// Collision with the body while falling (off: the hair hangs through the head).
+    pub collision: bool,
+    /// Gravity [m/s²], also the gravity the equilibrium is made for.
+    pub gravity: Vec3,
+    /// Air drag rate γ [1/s] while falling: near critical damping of the hair's slow swings, so
+    /// that it comes to rest in the time given. Drag vanishes at rest, so it does not move the
+    /// equilibrium; the runs after use the style's drag.
+    pub drag_rate: f32,
+}
+
+impl Default for HangSettings {
+    /// Two seconds of the default integrator at its recommended step, collision on, standard
+    /// gravity, drag 6/s.
+    fn default() -> Self {
+        HangSettings {
+            seconds: 2.0,
+            dynamics: SimulationSettings::recommended(IntegratorKind::DEFAULT),
+            collision: true,
+            gravity: STANDARD_GRAVITY,
+            drag_rate: 6.0,
+        }
+    }
+}
+
+/// What [`hang_groom`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct HangReport {
+    /// Seconds of simulation the hair fell for [s].
+    pub seconds: f32,
+    /// Mean distance of a skeleton node from its grown shape to its hanging shape [m], over every
+    /// level.
+    pub mean_move: f32,
+    /// The largest such distance [m].
+    pub max_move: f32,
+    /// The sag-free springs of each level (of its last round).
+    pub sag_free: PerLevel<SagFreeReport>,
+    /// Rounds of falling and balancing each level took (more than one where a spring was clamped
+    /// and the shape had to sink onto the body), at most [`MAX_ROUNDS`].
+    pub rounds: PerLevel<usize>,
+    /// Wall-clock time of the whole [`hang_groom`] [s].
+    pub wall_seconds: f64,
+}
+
+/// Makes the rest shape of every level of `scene`'s groom its hanging shape on the body, and a
+/// static equilibrium there (see the module docs). The groom's head space is the world during the
+/// fall: the head stands still in its rest pose. Fails, leaving `scene` as it was, when a level's
+/// simulation fails or a shape cannot be held by its springs.
+pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangReport> {
+    let started = Instant::now();
+    let head = RigidTransform::IDENTITY;
+    let environment = Environment {
+        head: HeadMotion::Still(head),
+        wind: WindField::Calm,
+        gravity: settings.gravity,
+    };
+    let grown = scene.groom.skeletons.rest_positions(&head);
+    let params = DynamicsParams::for_style(&scene.groom.params.style);
+    let mut skeletons = scene.groom.skeletons.clone();
+    let mut sag_free = PerLevel::from_fn(|_| SagFreeReport::default());
+    let mut rounds = PerLevel::from_fn(|_| 0);
+    for level in Level::ALL {
+        // Fall, take the shape, balance it; where a spring could not hold its part alone (it was
+        // clamped), the shape sinks onto the body with the new springs and is taken again.
+        for round in 1..=MAX_ROUNDS {
+            rounds[level] = round;
+            settle_level(scene, &mut skeletons, level, &environment, settings)?;
+            let contact_forces = if settings.collision {
+                resting_contact_forces(scene, &skeletons, level, &environment, settings)?
+            } else {
+                Vec::new()
+            };
+            sag_free[level] = balance_level(
+                scene,
+                &mut skeletons,
+                level,
+                &params,
+                settings,
+                &contact_forces,
+            )?;
+            if sag_free[level].clamped_joints == 0 {
+                break;
+            }
+        }
+    }
+    let hanging = skeletons.rest_positions(&head);
+    let moves: Vec<f32> = grown
+        .iter()
+        .zip(&hanging)
+        .map(|(a, b)| a.distance(*b))
+        .collect();
+    let max_move = moves.iter().copied().fold(0.0f32, f32::max);
+    let mean_move = moves.iter().sum::<f32>() / moves.len().max(1) as f32;
+    scene.groom.skeletons = skeletons;
+    Ok(HangReport {
+        seconds: settings.seconds,
+        mean_move,
+        max_move,
+        sag_free,
+        rounds,
+        wall_seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Rounds of falling and balancing per level at most.
+pub const MAX_ROUNDS: usize = 3;
+
+/// The settings of a pipeline that runs every section at `level`.
+fn level_settings(level: Level, settings: &HangSettings, collision: bool) -> PipelineSettings {
+    PipelineSettings {
+        lod: LodMode::Fixed(level),
+        dynamics: settings.dynamics,
+        collision,
+    }
+}
+
+/// A copy of `scene` whose groom has `skeletons` as its rest model.
+fn with_skeletons(scene: &Scene, skeletons: &SkeletonRest) -> Scene {
+    let mut copy = scene.clone();
+    copy.groom.skeletons = skeletons.clone();
+    copy
+}
+
+/// Lets `level`'s skeletons fall from their rest shapes for `settings.seconds` and makes the
+/// shapes they reach their rest shapes (measured in the transported frames; the springs keep
+/// pulling where they did).
+fn settle_level(
+    scene: &Scene,
+    skeletons: &mut SkeletonRest,
+    level: Level,
+    environment: &Environment,
+    settings: &HangSettings,
+) -> Result<()> {
+    let head = RigidTransform::IDENTITY;
+    let mut params = DynamicsParams::for_style(&scene.groom.params.style);
+    params.air_drag_rate = settings.drag_rate;
+    let mut pipeline = Pipeline::with_material(
+        with_skeletons(scene, skeletons),
+        environment.clone(),
+        level_settings(level, settings, settings.collision),
+        params,
+    )?;
+    pipeline.settle(settings.seconds)?;
+    let block = pipeline.block(level);
+    let positions = &block.state.node_positions;
+    let mut start = 0;
+    for &chain in &block.chains {
+        let nodes = skeletons.nodes(chain);
+        let shape = &positions[start..start + nodes.len()];
+        start += nodes.len();
+        let angles = measure_chain(&skeletons.world_root_frame(chain, &head), shape)?;
+        let natural = (
+            skeletons.natural_polar_angles[nodes.clone()].to_vec(),
+            skeletons.natural_azimuth_angles[nodes].to_vec(),
+        );
+        skeletons.set_chain_angles(
+            chain,
+            (&angles.polar_angles, &angles.azimuth_angles),
+            (&natural.0, &natural.1),
+        )?;
+    }
+    Ok(())
+}
+
+/// Makes the rest shapes of `level`'s skeletons an equilibrium under gravity and
+/// `contact_forces` (one per node of the level, or empty), clamping springs that cannot hold.
+fn balance_level(
+    scene: &Scene,
+    skeletons: &mut SkeletonRest,
+    level: Level,
+    params: &DynamicsParams,
+    settings: &HangSettings,
+    contact_forces: &[Vec3],
+) -> Result<SagFreeReport> {
+    let mut level_rest = SkeletonRest::default();
+    for chain in scene.groom.level_chains(level) {
+        level_rest.push_chain_from(skeletons, chain)?;
+    }
+    let report = make_sag_free(
+        &mut level_rest,
+        params,
+        &RigidTransform::IDENTITY,
+        settings.gravity,
+        contact_forces,
+        TurnLimit::Clamp,
+    )?;
+    for (local, chain) in scene.groom.level_chains(level).enumerate() {
+        let nodes = level_rest.nodes(local);
+        skeletons.set_chain_angles(
+            chain,
+            (
+                &level_rest.rest_polar_angles[nodes.clone()],
+                &level_rest.rest_azimuth_angles[nodes.clone()],
+            ),
+            (
+                &level_rest.natural_polar_angles[nodes.clone()],
+                &level_rest.natural_azimuth_angles[nodes],
+            ),
+        )?;
+    }
+    Ok(report)
+}
+
+/// The contact forces [N] on `level`'s nodes (in the groom's chain order) in the first step of a
+/// run from rest with `skeletons` as the groom's rest model: a run from rest meets the same.
+fn resting_contact_forces(
+    scene: &Scene,
+    skeletons: &SkeletonRest,
+    level: Level,
+    environment: &Environment,
+    settings: &HangSettings,
+) -> Result<Vec<Vec3>> {
+    let mut pipeline = Pipeline::new(
+        with_skeletons(scene, skeletons),
+        environment.clone(),
+        level_settings(level, settings, true),
+    )?;
+    pipeline.settle(settings.dynamics.time_step)?;
+    let block = pipeline.block(level);
+    // A fixed level lays its sections out in the groom's chain order.
+    debug_assert!(block.chains.windows(2).all(|pair| pair[0] < pair[1]));
+    Ok(block.state.collision_forces.clone())
+}
