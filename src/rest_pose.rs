@@ -35,6 +35,7 @@ use hair_core::dynamics::{
     DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY, SagFreeReport,
     SimulationSettings, TurnLimit, WindField, make_sag_free,
 };
+use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::skeleton::measure_chain;
 use hair_core::{Level, PerLevel, RigidTransform, Scene, SkeletonRest};
 use serde::{Deserialize, Serialize};
@@ -142,12 +143,18 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
     let mut skeletons = scene.groom.skeletons.clone();
     let mut sag_free = PerLevel::from_fn(|_| SagFreeReport::default());
     let mut rounds = PerLevel::from_fn(|_| 0);
-    for level in Level::ALL {
-        // Fall, take the shape, balance it; where a spring could not hold its part alone (it was
-        // clamped), the shape sinks onto the body with the new springs and is taken again.
+    // Strand groups fall; the coarser levels take the shapes a hand-over from them gives (§4.2),
+    // so that a section switching level at rest arrives at the rest shape of its new level. Each
+    // level is then balanced; where a spring could not hold its part alone (it was clamped), the
+    // level sinks onto the body with the new springs and its shape is taken again.
+    for level in [Level::StrandGroup, Level::Cluster, Level::Patch] {
         for round in 1..=MAX_ROUNDS {
             rounds[level] = round;
-            settle_level(scene, &mut skeletons, level, &environment, settings)?;
+            if level == Level::StrandGroup || round > 1 {
+                settle_level(scene, &mut skeletons, level, &environment, settings)?;
+            } else {
+                hand_down_shapes(scene, &mut skeletons, level)?;
+            }
             let contact_forces = if settings.collision {
                 resting_contact_forces(scene, &skeletons, level, &environment, settings)?
             } else {
@@ -214,7 +221,6 @@ fn settle_level(
     environment: &Environment,
     settings: &HangSettings,
 ) -> Result<()> {
-    let head = RigidTransform::IDENTITY;
     let mut params = DynamicsParams::for_style(&scene.groom.params.style);
     params.air_drag_rate = settings.drag_rate;
     let mut pipeline = Pipeline::with_material(
@@ -225,9 +231,56 @@ fn settle_level(
     )?;
     pipeline.settle(settings.seconds)?;
     let block = pipeline.block(level);
-    let positions = &block.state.node_positions;
+    set_rest_shapes(skeletons, &block.chains, &block.state.node_positions)
+}
+
+/// Gives `level`'s skeletons, section by section, the shapes that handing the strand groups'
+/// rest shapes over to `level` gives ([`hand_over`], as the pipeline does when a section
+/// switches level).
+fn hand_down_shapes(scene: &Scene, skeletons: &mut SkeletonRest, level: Level) -> Result<()> {
+    let head = RigidTransform::IDENTITY;
+    let groom = with_skeletons(scene, skeletons).groom;
+    let fine = skeletons.rest_positions(&head);
+    let mut positions = Vec::new();
+    let mut chains = Vec::new();
+    for section in 0..groom.section_count() {
+        let from = groom.section_chains(section, Level::StrandGroup);
+        let nodes = skeletons.offsets[from.start] as usize..skeletons.offsets[from.end] as usize;
+        let still = vec![Vec3::ZERO; nodes.len()];
+        let to = groom.section_chains(section, level);
+        let count = skeletons.offsets[to.end] as usize - skeletons.offsets[to.start] as usize;
+        let mut shape = vec![Vec3::ZERO; count];
+        let mut velocities = vec![Vec3::ZERO; count];
+        hand_over(
+            &groom,
+            section,
+            Level::StrandGroup,
+            SectionStateRef {
+                positions: &fine[nodes],
+                velocities: &still,
+            },
+            level,
+            &mut shape,
+            &mut velocities,
+            &head,
+        )?;
+        positions.extend_from_slice(&shape);
+        chains.extend(to);
+    }
+    set_rest_shapes(skeletons, &chains, &positions)
+}
+
+/// Makes `positions` (the nodes of `chains` one after the other, head at rest) the rest shapes of
+/// those chains: rest angles measured in the transported frames; lengths, roots and the springs'
+/// natural angles kept.
+fn set_rest_shapes(
+    skeletons: &mut SkeletonRest,
+    chains: &[usize],
+    positions: &[Vec3],
+) -> Result<()> {
+    let head = RigidTransform::IDENTITY;
     let mut start = 0;
-    for &chain in &block.chains {
+    for &chain in chains {
         let nodes = skeletons.nodes(chain);
         let shape = &positions[start..start + nodes.len()];
         start += nodes.len();

@@ -8,7 +8,9 @@ use std::sync::OnceLock;
 use glam::Vec3;
 use hairlod::core::PRESET_NAMES;
 use hairlod::core::dynamics::{Environment, HeadMotion, strand_skeletons};
-use hairlod::pipeline::{LodMode, Pipeline, PipelineSettings};
+use hairlod::metrics::{luma, ssim};
+use hairlod::pipeline::{LodMode, Pipeline, PipelineRenderer, PipelineSettings};
+use hairlod::render::{RendererOptions, ShadingMode};
 use hairlod::{Camera, HangSettings, Level, RigidTransform, Scene, hang_groom};
 
 /// Every preset, hung once for all the tests of this file.
@@ -180,5 +182,39 @@ fn hanging_grooms_move_as_the_settled_grown_ones_do() {
             (0.8..=1.2).contains(&ratio),
             "{preset}: tips move {ratio}× as much as the settled grown groom's"
         );
+    }
+}
+
+#[test]
+fn a_still_picture_is_what_a_still_head_shows_after_two_seconds() {
+    // The rest shape drawn without simulation against the same groom after 2 s of a still head,
+    // at every level (strands, clusters, patches), rendered shaded from behind and from the front.
+    let (_, scene) = &hung()[0];
+    let options = RendererOptions::from_env().unwrap();
+    for level in Level::ALL {
+        let settings = PipelineSettings {
+            lod: LodMode::Fixed(level),
+            ..PipelineSettings::default()
+        };
+        let mut pipeline = Pipeline::new(scene.clone(), Environment::default(), settings).unwrap();
+        let mut renderer = PipelineRenderer::new(&options, pipeline.scene()).unwrap();
+        let cameras = [0.5f32, std::f32::consts::PI]
+            .map(|azimuth| Camera::orbit(Vec3::ZERO, 0.8, azimuth, 0.15, 35f32.to_radians()));
+        let mut render = |pipeline: &mut Pipeline, camera: &Camera| {
+            let (image, _) = renderer
+                .render(pipeline, camera, 320, 180, ShadingMode::Shaded)
+                .unwrap();
+            luma(&image)
+        };
+        let at_rest = cameras.map(|camera| render(&mut pipeline, &camera));
+        for _ in 0..120 {
+            pipeline.advance(&Camera::default()).unwrap();
+        }
+        for (camera, still) in cameras.iter().zip(&at_rest) {
+            let moved = render(&mut pipeline, camera);
+            let similarity = ssim(still, &moved);
+            eprintln!("paper-curly {}: SSIM {similarity:.4}", level.name());
+            assert!(similarity >= 0.98, "{}: SSIM {similarity}", level.name());
+        }
     }
 }
