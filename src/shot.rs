@@ -123,6 +123,8 @@ pub struct Outputs {
     pub side_by_side: bool,
     /// A contact sheet of every frame, scaled down.
     pub contact_sheet: bool,
+    /// Every strand of every frame as a cyHair `.hair` file ([`Pipeline::strand_curves`]).
+    pub hair: bool,
 }
 
 /// A whole run: what to build, how it is driven and seen, and what comes out.

@@ -83,8 +83,9 @@ pub fn paper_modes(lod: LodSettings) -> [LodMode; 4] {
     ]
 }
 
-/// How long the hair settles under gravity before the first frame [s] in the paper's scenes (see
-/// [`Pipeline::settle`](crate::Pipeline::settle)).
+/// How long a *grown* groom (see [`RestPose::Grown`](crate::RestPose::Grown)) settles under
+/// gravity before the first frame [s] (see [`Pipeline::settle`](crate::Pipeline::settle)). The
+/// paper's scenes hang their groom at rest instead and settle for 0 s.
 pub const SETTLE_TIME: f32 = 1.0;
 
 /// Runs `settings` on `shot` over all its frames (through the frame loop, [`run_shot`]),

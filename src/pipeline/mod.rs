@@ -22,6 +22,7 @@ mod pipeline;
 mod report;
 mod settings;
 mod state;
+mod strands_out;
 
 pub use block::LevelBlock;
 pub use checkpoint::{CHECKPOINT_FORMAT, CHECKPOINT_VERSION, Checkpoint};

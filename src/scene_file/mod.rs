@@ -264,6 +264,8 @@ pub struct OutputTable {
     pub side_by_side: Option<bool>,
     /// A contact sheet of every frame, scaled down.
     pub contact_sheet: Option<bool>,
+    /// Every strand of every frame as a cyHair `.hair` file, `hair/frame_00000.hair`, …
+    pub hair: Option<bool>,
     /// Write the run's JSON report (per-frame stage times and levels) to this file, relative to
     /// the output folder.
     pub json: Option<String>,

@@ -62,6 +62,10 @@ pub struct RenderArgs {
     /// Also write contact_sheet.png with every frame scaled down.
     #[arg(long)]
     contact_sheet: bool,
+    /// Also write every strand of every frame as a cyHair file, hair/frame_00000.hair, … (the
+    /// simulated strands, for Blender, Houdini or any cyHair reader) [scene: output.hair].
+    #[arg(long)]
+    hair: bool,
     /// Shade 1-pixel strand lines per fragment instead of at their curve points (about 1.8× the
     /// strand render time on a CPU rasterizer; see docs/render.md).
     #[arg(long)]
@@ -120,12 +124,19 @@ impl RenderArgs {
         if self.contact_sheet {
             file.output.contact_sheet = Some(true);
         }
+        if self.hair {
+            file.output.hair = Some(true);
+        }
         // Flags are checked like the file's own values.
         file.resolve()
             .context("the scene with the command-line flags")?;
         Ok(file)
     }
 }
+
+/// Points per skeleton segment along each exported strand (`--hair`): the B-spline at its
+/// skeleton's resolution, enough to follow a curl's turn.
+const HAIR_SAMPLES_PER_SEGMENT: usize = 2;
 
 /// Runs `hairlod render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
@@ -160,6 +171,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .json
         .clone()
         .or_else(|| file.json_output().map(|name| args.out.join(name)));
+    let hair_folder = args.out.join("hair");
+    if shot.outputs.hair {
+        std::fs::create_dir_all(&hair_folder)
+            .with_context(|| format!("cannot create output folder {}", hair_folder.display()))?;
+    }
     if let Some(dir) = &args.checkpoint {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create checkpoint folder {}", dir.display()))?;
@@ -215,6 +231,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             for (image, folder) in frame.images.iter().zip(&folders) {
                 let path = output::frame_path(folder, index, shot.frames as u64);
                 output::write_png_atomic(image, &path)?;
+            }
+            if shot.outputs.hair {
+                let curves = frame.pipeline.strand_curves(HAIR_SAMPLES_PER_SEGMENT)?;
+                let path = output::frame_path(&hair_folder, index, shot.frames as u64)
+                    .with_extension("hair");
+                hairlod::core::formats::write_hair(&path, &curves).map_err(|error| {
+                    hairlod::HairError::Io {
+                        action: "writing",
+                        path: path.display().to_string(),
+                        message: error.to_string(),
+                    }
+                })?;
             }
             if shot.outputs.contact_sheet
                 && let Some(image) = frame.images.first()

@@ -242,3 +242,44 @@ fn bad_scenes_and_flags_name_the_problem() {
         "{error}"
     );
 }
+
+#[test]
+fn every_frame_writes_every_strand_as_a_cyhair_file() {
+    // Automatic levels with a shaking head: sections at clusters or patches are handed over to
+    // strand groups for the export, so every frame has every strand of the groom.
+    let dir = folder("hair");
+    let scene = scene(&dir, "shake");
+    let out = dir.join("out");
+    hairlod(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--hair",
+    ]);
+    let file = hairlod::SceneFile::read(&scene).unwrap();
+    let built = file.resolve().unwrap().build_scene().unwrap();
+    let strands = built.groom.strands.strand_count();
+    let nodes = built.groom.skeletons.chain_node_count(0);
+    let mut frames = Vec::new();
+    for k in 0..4 {
+        let path = out.join("hair").join(format!("frame_{k:05}.hair"));
+        let curves = hairlod::core::formats::read_hair_file(&path, &Default::default())
+            .unwrap_or_else(|error| panic!("{}: {error}", path.display()));
+        assert_eq!(curves.curve_count(), strands, "frame {k}");
+        // Two points per skeleton segment along the B-spline, root and tip included.
+        for curve in 0..curves.curve_count() {
+            assert_eq!(curves.range(curve).len(), 2 * (nodes - 1) + 1);
+        }
+        assert!(curves.points.iter().all(|p| p.is_finite()));
+        frames.push(curves);
+    }
+    // The head shakes, so the strands move between frames.
+    let moved = frames[0]
+        .points
+        .iter()
+        .zip(&frames[3].points)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0f32, f32::max);
+    assert!(moved > 1e-3, "the strands moved {moved} m");
+}
