@@ -175,7 +175,7 @@ impl TriangleMesh {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     #[test]
@@ -193,7 +193,8 @@ mod tests {
         assert_eq!(mesh.triangle_normal(3), Vec3::ONE.normalize());
     }
 
-    fn tetrahedron() -> TriangleMesh {
+    /// A closed tetrahedron with outward windings and vertex normals (shared with other tests).
+    pub(crate) fn tetrahedron() -> TriangleMesh {
         let mut mesh = TriangleMesh {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
             normals: Vec::new(),

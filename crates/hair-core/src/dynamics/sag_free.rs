@@ -132,13 +132,15 @@ pub fn make_sag_free(
         let nodes = rest.nodes(chain);
         let root_frame = rest.world_root_frame(chain, head);
         let balanced = balance_chain(
-            &positions[nodes.clone()],
-            &root_frame,
-            &model.node_masses[nodes.clone()],
-            &model.joint_stiffness[nodes.clone()],
+            ChainInputs {
+                positions: &positions[nodes.clone()],
+                root_frame: &root_frame,
+                masses: &model.node_masses[nodes.clone()],
+                stiffness: &model.joint_stiffness[nodes.clone()],
+                loads: contact_forces.get(nodes.clone()).unwrap_or(&[]),
+                natural_local: &model.rest_local_directions[nodes.clone()],
+            },
             gravity,
-            contact_forces.get(nodes.clone()).unwrap_or(&[]),
-            &model.rest_local_directions[nodes.clone()],
             limit,
         )
         .map_err(|(node, turn)| DynamicsError::TooSoftToHold {
@@ -188,18 +190,37 @@ struct Balanced {
     clamped: usize,
 }
 
-/// Finds the natural directions that balance one chain at `positions` (world, root first); on
-/// failure returns the node and the turn it would need.
+/// One chain's data for [`balance_chain`], each slice one entry per node.
+struct ChainInputs<'a> {
+    /// Node positions [m], world, root first.
+    positions: &'a [Vec3],
+    /// The root frame, world.
+    root_frame: &'a Frame,
+    /// Node masses [kg].
+    masses: &'a [f32],
+    /// Joint stiffnesses [N·m/rad].
+    stiffness: &'a [f32],
+    /// Constant loads besides gravity [N] (or empty).
+    loads: &'a [Vec3],
+    /// The springs' current natural directions in their parent frames (local coordinates).
+    natural_local: &'a [Vec3],
+}
+
+/// Finds the natural directions that balance one chain; on failure returns the node and the
+/// turn it would need.
 fn balance_chain(
-    positions: &[Vec3],
-    root_frame: &Frame,
-    masses: &[f32],
-    stiffness: &[f32],
+    chain: ChainInputs<'_>,
     gravity: Vec3,
-    loads: &[Vec3],
-    natural_local: &[Vec3],
     limit: TurnLimit,
 ) -> Result<Balanced, (usize, f32)> {
+    let ChainInputs {
+        positions,
+        root_frame,
+        masses,
+        stiffness,
+        loads,
+        natural_local,
+    } = chain;
     let n = positions.len();
     // Segment directions and the parent frame of every joint, transported along the shape.
     let mut directions = vec![Vec3::ZERO; n];

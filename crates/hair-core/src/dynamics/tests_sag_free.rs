@@ -4,25 +4,17 @@
 
 use glam::Vec3;
 
+use crate::dynamics::tests_xpbd::{horizontal, straight_chain};
 use crate::dynamics::*;
 use crate::frame::Frame;
-use crate::skeleton::{ChainAngles, SkeletonRest};
+use crate::skeleton::SkeletonRest;
 use crate::style::HairStyle;
 use crate::transform::RigidTransform;
 
+/// A straight horizontal chain of `segments` segments of `length` [m] along +X, its root frame's
+/// normal up.
 fn horizontal_chain(segments: usize, length: f32) -> SkeletonRest {
-    let mut rest = SkeletonRest::default();
-    let nodes = segments + 1;
-    let angles = ChainAngles {
-        segment_lengths: (0..nodes)
-            .map(|i| if i == 0 { 0.0 } else { length })
-            .collect(),
-        polar_angles: vec![0.0; nodes],
-        azimuth_angles: vec![0.0; nodes],
-    };
-    let frame = Frame::from_tangent_and_normal(Vec3::X, Vec3::Y).unwrap();
-    rest.push_chain(Vec3::ZERO, frame, &angles).unwrap();
-    rest
+    straight_chain(horizontal(), segments, length)
 }
 
 /// Curly chains growing out sideways from a ring, like hair from the sides of a head.
@@ -70,12 +62,11 @@ fn a_planar_cantilever_turns_each_spring_by_its_cut_moment() {
         .collect();
     // Convergence stops at SAG_FREE_TOLERANCE of the largest moment; f32 rounding adds ~1e-6 rad.
     let bound = SAG_FREE_TOLERANCE * expected[1] + 1e-5;
-    for i in 1..n {
+    for (i, &want) in expected.iter().enumerate().skip(1) {
         assert!(
-            (rest.natural_polar_angles[i] - expected[i]).abs() < bound,
-            "joint {i}: {} rad, expected {} rad",
+            (rest.natural_polar_angles[i] - want).abs() < bound,
+            "joint {i}: {} rad, expected {want} rad",
             rest.natural_polar_angles[i],
-            expected[i]
         );
         // Turned up: towards the root frame's normal (+Y), azimuth 0.
         assert!(rest.natural_azimuth_angles[i].abs() < 1e-4, "joint {i}");

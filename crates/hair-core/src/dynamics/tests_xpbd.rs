@@ -15,7 +15,7 @@ const G: f32 = 9.81;
 
 /// A straight chain of `segments` segments of `length` [m] from the origin along `frame`'s
 /// tangent.
-fn straight_chain(frame: Frame, segments: usize, length: f32) -> SkeletonRest {
+pub(crate) fn straight_chain(frame: Frame, segments: usize, length: f32) -> SkeletonRest {
     let mut rest = SkeletonRest::default();
     let nodes = segments + 1;
     let angles = ChainAngles {
@@ -29,7 +29,8 @@ fn straight_chain(frame: Frame, segments: usize, length: f32) -> SkeletonRest {
     rest
 }
 
-fn horizontal() -> Frame {
+/// The frame along +X with its normal up (+Y).
+pub(crate) fn horizontal() -> Frame {
     Frame::from_tangent_and_normal(Vec3::X, Vec3::Y).unwrap()
 }
 

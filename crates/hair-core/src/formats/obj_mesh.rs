@@ -140,17 +140,8 @@ fn read(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, FormatErr
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::tests::tetrahedron;
     use crate::obj::ObjWriter;
-
-    fn tetrahedron() -> TriangleMesh {
-        let mut mesh = TriangleMesh {
-            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
-            normals: Vec::new(),
-            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        };
-        mesh.compute_vertex_normals();
-        mesh
-    }
 
     #[test]
     fn a_written_mesh_reads_back() {
