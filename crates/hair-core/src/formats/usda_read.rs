@@ -15,7 +15,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::curves::{Curves, CurvesBuilder, Field};
+use super::curves::{Curves, CurvesBuilder, Field, vector_text};
 use super::error::{FormatError, FormatErrorKind, Location};
 use super::options::{ImportAxes, ImportOptions};
 use super::read_file;
@@ -99,11 +99,14 @@ fn read(
         }
     })?;
     let layer = parse_layer(text, time)?;
-    let stage = ImportAxes {
-        scale_to_metres: layer.meters_per_unit as f32,
+    // Scaled in f64, so that centimetres become the nearest metres (10 cm is 0.1 m exactly).
+    let meters_per_unit = layer.meters_per_unit;
+    let up = ImportAxes {
         up: layer.up,
-        mirror_x: false,
+        ..ImportAxes::default()
     };
+    let point = |p: Vec3| up.point((p.as_dvec3() * meters_per_unit).as_vec3());
+    let length = |w: f32| (f64::from(w) * meters_per_unit) as f32;
     let prims = layer
         .prims
         .into_iter()
@@ -114,11 +117,34 @@ fn read(
     let colors = prims.iter().all(|p| p.colors.is_some());
     let mut builder = CurvesBuilder::new(options, capacity, widths, colors);
     let (mut points, mut curve_widths) = (Vec::new(), Vec::new());
+    let mut curve = 0usize;
     for prim in &prims {
         let mut start = 0usize;
         for &count in &prim.counts {
             let range = start..start + count;
             start = range.end;
+            // The file's values in messages, not the converted ones.
+            let raw = prim.points.values.get(range.clone()).unwrap_or_default();
+            if let Some(j) = raw.iter().position(|p| !p.is_finite()) {
+                return Err(FormatErrorKind::NonFinite {
+                    element: format!("curve {curve}, point {j}"),
+                    what: "position",
+                    value: vector_text(raw[j]),
+                    location: Location::Line(prim.points.line(range.start + j, 1)),
+                });
+            }
+            if let Some(w) = &prim.widths {
+                let raw = w.values.get(range.clone()).unwrap_or_default();
+                if let Some(j) = raw.iter().position(|w| !w.is_finite()) {
+                    return Err(FormatErrorKind::NonFinite {
+                        element: format!("curve {curve}, point {j}"),
+                        what: "width",
+                        value: raw[j].to_string(),
+                        location: Location::Line(w.line(range.start + j, 1)),
+                    });
+                }
+            }
+            curve += 1;
             points.clear();
             curve_widths.clear();
             // In range: the counts add up to the points, and widths and colours were expanded
@@ -127,11 +153,11 @@ fn read(
             points.extend(
                 slice(&prim.points.values)
                     .into_iter()
-                    .map(|p| stage.point(p)),
+                    .map(point),
             );
             if widths && let Some(w) = &prim.widths {
                 let w = w.values.get(range.clone()).unwrap_or_default();
-                curve_widths.extend(w.iter().map(|&w| stage.length(w)));
+                curve_widths.extend(w.iter().map(|&w| length(w)));
             }
             let curve_colors = match &prim.colors {
                 Some(c) if colors => slice(&c.values),

@@ -5,6 +5,7 @@ mod errors;
 mod fuzz;
 mod real_data;
 mod round_trips;
+mod usda;
 
 use std::path::PathBuf;
 
