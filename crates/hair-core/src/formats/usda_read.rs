@@ -150,11 +150,7 @@ fn read(
             // In range: the counts add up to the points, and widths and colours were expanded
             // to one per point.
             let slice = |values: &[Vec3]| values.get(range.clone()).unwrap_or_default().to_vec();
-            points.extend(
-                slice(&prim.points.values)
-                    .into_iter()
-                    .map(point),
-            );
+            points.extend(slice(&prim.points.values).into_iter().map(point));
             if widths && let Some(w) = &prim.widths {
                 let w = w.values.get(range.clone()).unwrap_or_default();
                 curve_widths.extend(w.iter().map(|&w| length(w)));

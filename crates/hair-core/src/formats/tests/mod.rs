@@ -1,5 +1,6 @@
 //! Tests of the readers as a whole: every error case with its message, the real TressFX files in
-//! `shared/data`, round trips through the writers, and fuzz-style tests under plain `cargo test`.
+//! `shared/data`, round trips through the writers, USD text `BasisCurves` (`usda.rs`), and
+//! fuzz-style tests under plain `cargo test`.
 
 mod errors;
 mod fuzz;

@@ -14,9 +14,8 @@ use super::round_trips::bits;
 use super::scratch_dir;
 use crate::formats::cyhair::tests::sample_curves;
 use crate::formats::{
-    Curves, ImportAxes, ImportOptions, UsdCurvesWriter, read_curves_file, read_tfx_file,
-    read_usda, read_usda_at, read_usda_file, read_usda_file_at, write_usda_curves,
-    write_usda_curves_string,
+    Curves, ImportAxes, ImportOptions, UsdCurvesWriter, read_curves_file, read_tfx_file, read_usda,
+    read_usda_at, read_usda_file, read_usda_file_at, write_usda_curves, write_usda_curves_string,
 };
 
 /// Sample curves with values that are hard to write as text: -0, tiny, huge, many digits.
@@ -41,7 +40,7 @@ fn frames() -> Vec<Vec<Vec3>> {
         .collect()
 }
 
-fn animated_writer() -> UsdCurvesWriter {
+pub(crate) fn animated_writer() -> UsdCurvesWriter {
     let curves = hard_curves();
     let mut writer = UsdCurvesWriter::new(
         &curves.offsets,
@@ -137,7 +136,7 @@ fn every_frame_reads_back_at_its_time_code() {
 /// A file in the style Pixar's tools write: Z up, centimetres, curves under an Xform beside a
 /// mesh, with relationships, variant sets, dictionaries, a `class`, and primvars of every
 /// interpolation.
-const PIXAR_STYLE: &str = r#"#usda 1.0
+pub(crate) const PIXAR_STYLE: &str = r#"#usda 1.0
 (
     customLayerData = {
         string creator = "hand"
@@ -517,7 +516,10 @@ fn usd_check_read() {
         let offsets: Vec<u32> = serde_json::from_value(case["offsets"].clone()).unwrap();
         assert_eq!(read.offsets, offsets, "{what}");
         let widths: Option<Vec<u32>> = serde_json::from_value(case["widths"].clone()).unwrap();
-        let read_widths = read.widths.as_ref().map(|w| w.iter().map(|x| x.to_bits()).collect());
+        let read_widths = read
+            .widths
+            .as_ref()
+            .map(|w| w.iter().map(|x| x.to_bits()).collect());
         assert_eq!(read_widths, widths, "{what}");
         println!(
             "{what}: {} curves, {} points equal",
