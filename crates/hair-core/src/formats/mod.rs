@@ -1,5 +1,6 @@
 //! Groom and body files in and out: TressFX `.tfx` (4.x and 3.x) and `.tfxmesh`, cyHair `.hair`
-//! (read and written), USC-HairSalon `.data`, and OBJ polylines and triangle meshes.
+//! (read and written), USD text `.usda` `BasisCurves` (read, and written with time samples),
+//! USC-HairSalon `.data`, and OBJ polylines and triangle meshes.
 //!
 //! File formats are adapters at the edge: the readers produce plain polylines ([`Curves`]: points
 //! per curve, optional widths and colours) and meshes ([`TriangleMesh`]) in metres, +Y up, after
@@ -25,6 +26,10 @@ mod text;
 mod tfx;
 mod tfxmesh;
 mod usc;
+mod usda_lex;
+mod usda_parse;
+mod usda_read;
+mod usda_write;
 
 #[cfg(test)]
 mod tests;
@@ -42,6 +47,8 @@ pub use options::{ImportAxes, ImportOptions, UpAxis};
 pub use tfx::{TFX3_HEADER_LEN, TFX4_HEADER_LEN, read_tfx, read_tfx_file};
 pub use tfxmesh::{read_tfxmesh, read_tfxmesh_file};
 pub use usc::{read_usc_data, read_usc_data_file};
+pub use usda_read::{read_usda, read_usda_at, read_usda_file, read_usda_file_at};
+pub use usda_write::{UsdCurvesWriter, write_usda_curves, write_usda_curves_string};
 
 use crate::mesh::TriangleMesh;
 
@@ -56,10 +63,12 @@ pub enum CurveFormat {
     UscData,
     /// Wavefront OBJ polylines (`l` records), `.obj`.
     ObjCurves,
+    /// USD text `BasisCurves`, `.usda` (or `.usd` holding text).
+    UsdText,
 }
 
 /// The curve file extensions [`CurveFormat::from_path`] knows.
-pub const CURVE_EXTENSIONS: &str = ".tfx, .hair, .data, .obj";
+pub const CURVE_EXTENSIONS: &str = ".tfx, .hair, .data, .obj, .usda, .usd";
 /// The mesh file extensions [`read_mesh_file`] knows.
 pub const MESH_EXTENSIONS: &str = ".tfxmesh, .obj";
 
@@ -78,6 +87,7 @@ impl CurveFormat {
             "hair" => Ok(CurveFormat::CyHair),
             "data" => Ok(CurveFormat::UscData),
             "obj" => Ok(CurveFormat::ObjCurves),
+            "usda" | "usd" => Ok(CurveFormat::UsdText),
             other => Err(FormatError::from(FormatErrorKind::UnknownExtension {
                 extension: other.to_owned(),
                 known: CURVE_EXTENSIONS,
@@ -98,11 +108,14 @@ pub fn read_curves(
         CurveFormat::CyHair => read_hair(bytes, options),
         CurveFormat::UscData => read_usc_data(bytes, options),
         CurveFormat::ObjCurves => read_obj_curves(bytes, options),
+        CurveFormat::UsdText => read_usda(bytes, options),
     }
 }
 
 /// Reads a groom file, choosing the reader by extension: `.tfx` (TressFX 4.x or 3.x), `.hair`
-/// (cyHair), `.data` (USC-HairSalon), `.obj` (polylines). Errors name the file.
+/// (cyHair), `.data` (USC-HairSalon), `.obj` (polylines), `.usda` or `.usd` (USD text
+/// `BasisCurves` at the default time; a binary `.usd` is refused with advice). Errors name the
+/// file.
 pub fn read_curves_file(
     path: impl AsRef<Path>,
     options: &ImportOptions,
@@ -113,6 +126,7 @@ pub fn read_curves_file(
         CurveFormat::CyHair => read_hair_file(path, options),
         CurveFormat::UscData => read_usc_data_file(path, options),
         CurveFormat::ObjCurves => read_obj_curves_file(path, options),
+        CurveFormat::UsdText => read_usda_file(path, options),
     }
 }
 

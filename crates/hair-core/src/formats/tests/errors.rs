@@ -326,7 +326,7 @@ fn unknown_extensions_and_missing_files_name_the_file() {
     let error = read_curves_file("groom.abc", &ImportOptions::default()).unwrap_err();
     assert_eq!(
         error.to_string(),
-        "groom.abc: unknown file extension `abc` (known: .tfx, .hair, .data, .obj)"
+        "groom.abc: unknown file extension `abc` (known: .tfx, .hair, .data, .obj, .usda, .usd)"
     );
     let error = read_mesh_file("body.stl", &ImportOptions::default()).unwrap_err();
     assert_eq!(

@@ -15,7 +15,7 @@ use crate::formats::tfxmesh::tests::TETRAHEDRON;
 use crate::formats::usc::tests::{strands_with_empty_roots, usc_bytes};
 use crate::formats::{
     Curves, FormatError, ImportOptions, read_hair, read_obj_curves, read_obj_mesh, read_tfx,
-    read_tfxmesh, read_usc_data, write_hair_bytes,
+    read_tfxmesh, read_usc_data, read_usda, read_usda_at, write_hair_bytes,
 };
 use crate::mesh::TriangleMesh;
 
@@ -101,6 +101,25 @@ fn targets() -> Vec<Target> {
             count_fields: &[],
             // `l 1 2 1 2 ...` names a vertex in two bytes.
             min_point_bytes: 2,
+        },
+        Target {
+            name: "USD text, animated",
+            read: |b, o| checked_curves(read_usda_at(b, 1.5, o)),
+            seed: super::usda::animated_writer()
+                .to_usda_string()
+                .unwrap()
+                .into_bytes(),
+            count_fields: &[],
+            // `(0,0,0)` with its comma.
+            min_point_bytes: 6,
+        },
+        Target {
+            name: "USD text, Pixar style",
+            read: |b, o| checked_curves(read_usda(b, o)),
+            seed: super::usda::PIXAR_STYLE.as_bytes().to_vec(),
+            count_fields: &[],
+            // A constant width expands to every point, but each point is `(0,0,0)`.
+            min_point_bytes: 6,
         },
         Target {
             name: ".tfxmesh",
@@ -295,4 +314,120 @@ fn huge_header_counts_are_errors_not_allocations() {
             }
         }
     }
+}
+
+/// Tokens of USD text, to build random files that get past the lexer.
+const USDA_TOKENS: &[&str] = &[
+    "def",
+    "over",
+    "class",
+    "BasisCurves",
+    "Xform",
+    "\"c\"",
+    "{",
+    "}",
+    "(",
+    ")",
+    "[",
+    "]",
+    "=",
+    ",",
+    ":",
+    ";",
+    "uniform",
+    "token",
+    "type",
+    "\"linear\"",
+    "\"cubic\"",
+    "int[]",
+    "curveVertexCounts",
+    "curveVertexCounts.timeSamples",
+    "point3f[]",
+    "points",
+    "points.timeSamples",
+    "float[]",
+    "widths",
+    "primvars:widths:indices",
+    "color3f[]",
+    "primvars:displayColor",
+    "interpolation",
+    "\"uniform\"",
+    "\"constant\"",
+    "\"vertex\"",
+    "upAxis",
+    "\"Z\"",
+    "metersPerUnit",
+    "0.01",
+    "0",
+    "1",
+    "2",
+    "3",
+    "-1",
+    "1e30",
+    "nan",
+    "-inf",
+    "None",
+    "(0, 0, 0)",
+    "(1, 2, 3)",
+    "[2]",
+    "[(0, 0, 0), (0, 1, 0)]",
+    "rel",
+    "</a>",
+    "@a.usda@",
+    "variantSet",
+    "reorder",
+    "\n",
+    "# comment\n",
+    "\"\"\"doc\"\"\"",
+];
+
+#[test]
+fn usda_token_soup_never_panics() {
+    let strategy = (
+        vec(0..USDA_TOKENS.len(), 0..120),
+        proptest::option::of(-2.0f64..5.0),
+    );
+    let (runs, read) = (Cell::new(0), Cell::new(0));
+    runner(MUTATED_CASES)
+        .run(&strategy, |(tokens, time)| {
+            let mut text = String::from("#usda 1.0\n");
+            // Half the cases start with a valid prim head, to reach the attributes.
+            if tokens.len() % 2 == 0 {
+                text.push_str("def BasisCurves \"h\" {\n");
+            }
+            for &t in &tokens {
+                text.push_str(USDA_TOKENS[t]);
+                text.push(' ');
+            }
+            for options in [ImportOptions::default(), ImportOptions::strict()] {
+                let result = match time {
+                    Some(t) => read_usda_at(text.as_bytes(), t, &options),
+                    None => read_usda(text.as_bytes(), &options),
+                };
+                match checked_curves(result) {
+                    Ok(points) => {
+                        assert!(points * 6 <= text.len());
+                        read.set(read.get() + 1);
+                    }
+                    Err(error) => assert!(error.to_string().starts_with("<memory>: "), "{error}"),
+                }
+            }
+            runs.set(runs.get() + 1);
+            Ok(())
+        })
+        .unwrap();
+    assert_eq!(runs.get(), MUTATED_CASES);
+}
+
+#[test]
+fn deeply_nested_usda_prims_are_an_error_not_a_stack_overflow() {
+    let text = format!("#usda 1.0\n{}", "def Xform \"x\" {\n".repeat(100_000));
+    let error = read_usda(text.as_bytes(), &ImportOptions::default()).unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "<memory>: line 202: prims nested deeper than 200 levels"
+    );
+    let text = format!("#usda 1.0\n(\n a = {}", "[".repeat(100_000));
+    let error = read_usda(text.as_bytes(), &ImportOptions::default()).unwrap_err();
+    assert!(error.to_string().contains("truncated"), "{error}");
 }

@@ -1,10 +1,12 @@
 //! Tests of the readers as a whole: every error case with its message, the real TressFX files in
-//! `shared/data`, round trips through the writers, and fuzz-style tests under plain `cargo test`.
+//! `shared/data`, round trips through the writers, USD text `BasisCurves` (`usda.rs`), and
+//! fuzz-style tests under plain `cargo test`.
 
 mod errors;
 mod fuzz;
 mod real_data;
 mod round_trips;
+mod usda;
 
 use std::path::PathBuf;
 

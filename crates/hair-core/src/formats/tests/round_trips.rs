@@ -16,7 +16,7 @@ use crate::obj::ObjWriter;
 
 /// The bits of every value of some curves (`-0.0 != 0.0`, unlike `==` on floats).
 #[derive(Debug, PartialEq)]
-struct Bits {
+pub(crate) struct Bits {
     points: Vec<[u32; 3]>,
     offsets: Vec<u32>,
     widths: Option<Vec<u32>>,
@@ -24,7 +24,7 @@ struct Bits {
 }
 
 /// The bits of every value of `curves`, to compare bit for bit.
-fn bits(curves: &Curves) -> Bits {
+pub(crate) fn bits(curves: &Curves) -> Bits {
     let vec_bits = |v: &Vec3| v.to_array().map(f32::to_bits);
     Bits {
         points: curves.points.iter().map(vec_bits).collect(),
