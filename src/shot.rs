@@ -125,6 +125,8 @@ pub struct Outputs {
     pub contact_sheet: bool,
     /// Every strand of every frame as a cyHair `.hair` file ([`Pipeline::strand_curves`]).
     pub hair: bool,
+    /// Every strand of the run as one USD BasisCurves prim with a time sample per frame.
+    pub usd: bool,
 }
 
 /// A whole run: what to build, how it is driven and seen, and what comes out.

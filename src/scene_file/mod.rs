@@ -266,6 +266,9 @@ pub struct OutputTable {
     pub contact_sheet: Option<bool>,
     /// Every strand of every frame as a cyHair `.hair` file, `hair/frame_00000.hair`, …
     pub hair: Option<bool>,
+    /// Every strand of the run as one USD BasisCurves prim with a time sample per frame,
+    /// `hair.usda`.
+    pub usd: Option<bool>,
     /// Write the run's JSON report (per-frame stage times and levels) to this file, relative to
     /// the output folder.
     pub json: Option<String>,

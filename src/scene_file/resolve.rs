@@ -168,6 +168,7 @@ impl SceneFile {
             side_by_side,
             contact_sheet: output.contact_sheet.unwrap_or(false),
             hair: output.hair.unwrap_or(false),
+            usd: output.usd.unwrap_or(false),
         };
         if let Some(json) = &output.json
             && json.trim().is_empty()

@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::Args;
+use hairlod::core::formats::UsdCurvesWriter;
 use hairlod::pipeline::{Checkpoint, FrameReport, PipelineRenderer, StageTimes};
 use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
@@ -66,6 +67,12 @@ pub struct RenderArgs {
     /// simulated strands, for Blender, Houdini or any cyHair reader) [scene: output.hair].
     #[arg(long)]
     hair: bool,
+    /// Also write every strand of the run as hair.usda: one USD BasisCurves prim with a time
+    /// sample per frame (time code = frame − the run's first frame; usdview, Houdini, Blender's
+    /// USD importer) [scene: output.usd]. Kept in memory until the end (12 bytes per point and
+    /// frame).
+    #[arg(long)]
+    usd: bool,
     /// Shade 1-pixel strand lines per fragment instead of at their curve points (about 1.8× the
     /// strand render time on a CPU rasterizer; see docs/render.md).
     #[arg(long)]
@@ -127,6 +134,9 @@ impl RenderArgs {
         if self.hair {
             file.output.hair = Some(true);
         }
+        if self.usd {
+            file.output.usd = Some(true);
+        }
         // Flags are checked like the file's own values.
         file.resolve()
             .context("the scene with the command-line flags")?;
@@ -137,6 +147,15 @@ impl RenderArgs {
 /// Points per skeleton segment along each exported strand (`--hair`): the B-spline at its
 /// skeleton's resolution, enough to follow a curl's turn.
 const HAIR_SAMPLES_PER_SEGMENT: usize = 2;
+
+/// The error of writing an export file.
+fn writing(path: &Path, error: std::io::Error) -> hairlod::HairError {
+    hairlod::HairError::Io {
+        action: "writing",
+        path: path.display().to_string(),
+        message: error.to_string(),
+    }
+}
 
 /// Runs `hairlod render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
@@ -219,6 +238,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut write_time = Duration::ZERO;
+    let mut usd: Option<UsdCurvesWriter> = None;
     let mut thumbnails = Vec::new();
     let result = run_shot(
         &shot,
@@ -232,17 +252,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 let path = output::frame_path(folder, index, shot.frames as u64);
                 output::write_png_atomic(image, &path)?;
             }
-            if shot.outputs.hair {
+            if shot.outputs.hair || shot.outputs.usd {
                 let curves = frame.pipeline.strand_curves(HAIR_SAMPLES_PER_SEGMENT)?;
-                let path = output::frame_path(&hair_folder, index, shot.frames as u64)
-                    .with_extension("hair");
-                hairlod::core::formats::write_hair(&path, &curves).map_err(|error| {
-                    hairlod::HairError::Io {
-                        action: "writing",
-                        path: path.display().to_string(),
-                        message: error.to_string(),
+                if shot.outputs.hair {
+                    let path = output::frame_path(&hair_folder, index, shot.frames as u64)
+                        .with_extension("hair");
+                    hairlod::core::formats::write_hair(&path, &curves)
+                        .map_err(|error| writing(&path, error))?;
+                }
+                if shot.outputs.usd {
+                    let usd_path = args.out.join("hair.usda");
+                    match &mut usd {
+                        Some(writer) => writer.push_frame(&curves.points),
+                        None => UsdCurvesWriter::from_curves(&curves)
+                            .and_then(|writer| {
+                                writer.with_time_codes_per_second(f64::from(shot.fps))
+                            })
+                            .map(|writer| usd = Some(writer)),
                     }
-                })?;
+                    .map_err(|error| writing(&usd_path, error))?;
+                }
             }
             if shot.outputs.contact_sheet
                 && let Some(image) = frame.images.first()
@@ -267,6 +296,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let path = args.out.join("contact_sheet.png");
         output::write_png_atomic(&sheet, &path)?;
         eprintln!("wrote {}", path.display());
+    }
+    if let Some(writer) = &usd {
+        let path = args.out.join("hair.usda");
+        writer.write(&path).map_err(|error| writing(&path, error))?;
+        eprintln!(
+            "wrote {} ({} strands, {} frames)",
+            path.display(),
+            counts.strands,
+            writer.frame_count()
+        );
     }
     if let Some(dir) = &args.checkpoint {
         let path = dir.join(format!("checkpoint_{:05}.json", frames.end));

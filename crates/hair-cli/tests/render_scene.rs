@@ -244,7 +244,7 @@ fn bad_scenes_and_flags_name_the_problem() {
 }
 
 #[test]
-fn every_frame_writes_every_strand_as_a_cyhair_file() {
+fn every_frame_writes_every_strand_as_cyhair_and_usd() {
     // Automatic levels with a shaking head: sections at clusters or patches are handed over to
     // strand groups for the export, so every frame has every strand of the groom.
     let dir = folder("hair");
@@ -256,6 +256,7 @@ fn every_frame_writes_every_strand_as_a_cyhair_file() {
         "--out",
         out.to_str().unwrap(),
         "--hair",
+        "--usd",
     ]);
     let file = hairlod::SceneFile::read(&scene).unwrap();
     let built = file.resolve().unwrap().build_scene().unwrap();
@@ -273,6 +274,14 @@ fn every_frame_writes_every_strand_as_a_cyhair_file() {
         }
         assert!(curves.points.iter().all(|p| p.is_finite()));
         frames.push(curves);
+    }
+    // The USD file holds the same strands, a time sample per frame (time code = frame).
+    let usd = out.join("hair.usda");
+    for (k, hair) in frames.iter().enumerate() {
+        let curves = hairlod::core::formats::read_usda_file_at(&usd, k as f64, &Default::default())
+            .unwrap_or_else(|error| panic!("{}: {error}", usd.display()));
+        assert_eq!(curves.offsets, hair.offsets, "frame {k}");
+        assert_eq!(curves.points, hair.points, "frame {k}");
     }
     // The head shakes, so the strands move between frames.
     let moved = frames[0]
