@@ -7,11 +7,13 @@
 //! - [`bvh`]: [`HairBvh`], a top-down hierarchy over the segment volumes of many chains,
 //!   refitted from new positions each step.
 //! - [`body`]: [`CollisionBody`], a rigid mesh with its triangle hierarchy.
+//! - [`attach`]: [`attach_roots`], roots attached to a body's closest triangle (barycentric).
 //! - [`query`]: [`query_body`] and its brute-force reference [`query_body_brute_force`].
 //! - [`sight`]: [`LineOfSight`], whether a body hides a point from an eye.
 //!
 //! Units are metres; vectors are `glam::Vec3` (the same type parry3d 0.31 uses).
 
+pub mod attach;
 pub mod body;
 pub mod bvh;
 mod clearance;
@@ -30,6 +32,7 @@ pub mod solver;
 pub mod surface;
 pub mod volume;
 
+pub use attach::{AttachmentReport, RootAttachment, attach_roots};
 pub use body::CollisionBody;
 pub use bvh::{ChainVolume, HairBvh, aabb_padding};
 pub use error::{CollideError, Result};
