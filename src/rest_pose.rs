@@ -3,17 +3,20 @@
 //! was grown in (which sticks out from the scalp and falls for the first quarter second).
 //!
 //! [`hang_groom`] does it in two stages, the same for every groom source:
-//! 1. **The hanging shape.** Each level is simulated on its own (every section at that level)
-//!    with the head still in the groom's pose, under gravity, with collision against the body, in
-//!    calm air, through the frame pipeline's [`Pipeline::settle`]. The skeletons' shapes after
+//! 1. **The hanging shape.** The strand groups (every section at that level) fall with the head
+//!    still in the groom's pose, under gravity, with collision against the body, in calm air,
+//!    through the frame pipeline's [`Pipeline::settle`]. Their shapes after
 //!    [`HangSettings::seconds`] become their rest shapes (rest angles measured in the transported
-//!    frames, lengths and roots kept).
-//! 2. **Sag-free springs.** [`make_sag_free`] turns the springs' natural directions, from where
-//!    they were, just enough that this shape is a static equilibrium of the same springs (the
-//!    stiffness is the style's, unchanged), gravity and the body's contacts at rest: the friction
-//!    the collision stage puts on resting nodes, and the support of the body under any node that
-//!    is pushed into it. The settled shape was nearly an equilibrium already; this makes it one
-//!    exactly, where the fall had not quite finished.
+//!    frames, lengths and roots kept). Clusters and patches take the shapes a hand-over from the
+//!    strand groups gives ([`hand_over`], §4.2), so that a section switching level at rest
+//!    arrives at the rest shape of its new level.
+//! 2. **Sag-free springs.** [`make_sag_free`] turns the springs' natural directions just enough
+//!    that each level's shape is a static equilibrium of the same springs (the stiffness is the
+//!    style's, unchanged), gravity and the friction the collision stage puts on resting nodes (as
+//!    measured in a first step from rest). Where a spring would have to turn past
+//!    [`MAX_NATURAL_TURN`](hair_core::dynamics::MAX_NATURAL_TURN) it is clamped, the body has to
+//!    carry the rest, and the level falls again onto it with the new springs (at most
+//!    [`MAX_ROUNDS`] rounds).
 //!
 //! The hair then moves as the settled groom would (the same shape, the same stiffness), without
 //! the fall: a still head simulated from t = 0 stays where it is drawn.
