@@ -539,6 +539,11 @@ mod tests {
             ("[frames]\nsize = \"big\"", "frames.size", "WIDTHxHEIGHT"),
             ("[groom]\npreset = \"afro\"", "groom.preset", "paper-curly"),
             ("[groom]\nhair_length = -0.2", "groom.hair_length", "> 0"),
+            (
+                "[groom]\nrest_pose = \"floating\"",
+                "groom.rest_pose",
+                "hanging",
+            ),
             ("[lod]\nmode = \"voxels\"", "lod.mode", "auto"),
             ("[lod]\nbudget_ms = 0.0", "lod.budget_ms", "> 0"),
             (
@@ -566,6 +571,25 @@ mod tests {
                 "{text:?}: {error}"
             );
         }
+    }
+
+    #[test]
+    fn a_hanging_groom_needs_no_settling_and_a_grown_one_settles_a_second() {
+        // The default: hanging, settled 0 s (it starts at rest); grown: 1 s unless told.
+        let shot = SceneFile::parse("").unwrap().resolve().unwrap();
+        assert_eq!(
+            (shot.rest_pose, shot.settle_seconds),
+            (RestPose::Hanging, 0.0)
+        );
+        let grown = "[groom]\nrest_pose = \"grown\"";
+        let shot = SceneFile::parse(grown).unwrap().resolve().unwrap();
+        assert_eq!(
+            (shot.rest_pose, shot.settle_seconds),
+            (RestPose::Grown, 1.0)
+        );
+        let told = format!("{grown}\n[dynamics]\nsettle_seconds = 0.25");
+        let shot = SceneFile::parse(&told).unwrap().resolve().unwrap();
+        assert_eq!(shot.settle_seconds, 0.25);
     }
 
     #[test]
