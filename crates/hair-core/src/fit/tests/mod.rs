@@ -1,0 +1,1 @@
+//! Tests of the fit: synthetic grooms with known answers, and the TressFX samples.
