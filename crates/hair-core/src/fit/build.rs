@@ -53,7 +53,7 @@ struct SectionFit {
 /// nodes they need.
 fn plan_section(prepared: &Prepared, members: Vec<u32>, settings: &FitSettings) -> SectionPlan {
     let frame = section_frame(prepared, &members);
-    let groups = split_groups(prepared, &members, &frame);
+    let groups = split_groups(prepared, &members, &frame, settings);
     let mut elements: Vec<Vec<u32>> = Vec::with_capacity(ELEMENTS);
     elements.push(members);
     for cluster in 0..3 {
@@ -156,9 +156,10 @@ fn fit_section(
 ///    capacity-limited reassignment so no section exceeds `(N/S)·(1 + slack)` strands). Sections
 ///    of fewer than 5 strands are merged into the nearest section (by root centroid), smallest
 ///    first, and counted in [`FitReport::merged_sections`].
-/// 3. Strand groups: each section's strands sorted along the principal direction of their
-///    features (oriented along the section's binormal) and cut into 5 runs of equal size
-///    (within one). Clusters: groups {0, 1}, {2}, {3, 4} ([`CLUSTER_OF_GROUP`]). Patch: all.
+/// 3. Strand groups: each section's strands cut into 5 groups of equal size (within one) by
+///    balanced k-means on the same features, numbered along the section's binormal (or, with
+///    [`GroupSplit::Slabs`](super::GroupSplit::Slabs), cut into runs along the features'
+///    principal direction). Clusters: groups {0, 1}, {2}, {3, 4} ([`CLUSTER_OF_GROUP`]). Patch: all.
 /// 4. Skeletons: each element's representative (mean, medoid or the better of the two by drawn
 ///    error), resampled at equal arc-length steps to the section's node count (the largest its
 ///    elements need by [`Smoothness`](super::Smoothness); or the groom's, with

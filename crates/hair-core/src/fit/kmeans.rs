@@ -81,7 +81,7 @@ fn seed_centres(features: &[Feature], k: usize, rng: &mut SplitMix64) -> Vec<Fea
     let trials = 2 + (k as f64).ln().floor() as usize;
     while centres.len() < k {
         let total = ordered_sum(&nearest_d2);
-        if !(total > 0.0) {
+        if total.is_nan() || total <= 0.0 {
             // Fewer distinct points than centres: the rest repeat the first.
             centres.push(features[first]);
             continue;
@@ -128,10 +128,12 @@ fn update_centres(features: &[Feature], labels: &[u32], centres: &mut [Feature])
     }
 }
 
-/// Assigns every point to a centre so that no centre gets more than `capacity` points: all
-/// (point, candidate centre) pairs sorted by distance (then point, then centre) are taken
-/// greedily while the centre has room; a point whose candidates all filled goes to the nearest
-/// centre with room. When every centre's nearest points fit, this is the nearest assignment.
+/// Assigns every point to a centre so that no centre gets more than `capacity` points, plus one
+/// where that is needed to place everyone: all (point, candidate centre) pairs sorted by distance
+/// (then point, then centre) are taken greedily while the centre has room; a point left over goes
+/// to the nearest centre with fewer than `max(capacity, ⌊n/k⌋ + 1)` points. With
+/// `capacity = ⌊n/k⌋` the sizes are within one of each other; when every centre's nearest points
+/// fit, this is the nearest assignment.
 fn assign_with_capacity(features: &[Feature], centres: &[Feature], capacity: usize) -> Vec<u32> {
     let k = centres.len();
     let candidates = BALANCE_CANDIDATES.min(k);
@@ -159,26 +161,27 @@ fn assign_with_capacity(features: &[Feature], centres: &[Feature], capacity: usi
             sizes[centre] += 1;
         }
     }
+    // `k · limit ≥ n`, so a centre with room always exists.
+    let limit = capacity.max(features.len() / k + 1);
     for (point, label) in labels.iter_mut().enumerate() {
         if *label == u32::MAX {
-            let mut best = (usize::MAX, f32::INFINITY);
+            let mut best = (0, f32::INFINITY);
             for (c, centre) in centres.iter().enumerate() {
                 let d = distance_squared(&features[point], centre);
-                if sizes[c] < capacity && d < best.1 {
+                if sizes[c] < limit && d < best.1 {
                     best = (c, d);
                 }
             }
-            // `capacity · k ≥ n`, so a centre with room exists; the fallback is never taken.
-            let c = if best.0 == usize::MAX { 0 } else { best.0 };
-            *label = c as u32;
-            sizes[c] += 1;
+            *label = best.0 as u32;
+            sizes[best.0] += 1;
         }
     }
     labels
 }
 
 /// Clusters `features` into `k` clusters (`1 ≤ k ≤ n`) of at most
-/// `⌈(n / k) · (1 + slack)⌉` points each; returns each point's cluster. Deterministic for a
+/// `max(⌊(n / k) · (1 + slack)⌋, ⌊n / k⌋ + 1)` points each (with `slack = 0`, sizes within one
+/// of each other); returns each point's cluster. Deterministic for a
 /// given seed, whatever the thread count.
 pub(crate) fn balanced_kmeans(features: &[Feature], k: usize, slack: f32, seed: u64) -> Vec<u32> {
     let n = features.len();
@@ -200,8 +203,8 @@ pub(crate) fn balanced_kmeans(features: &[Feature], k: usize, slack: f32, seed: 
         labels = next;
         update_centres(features, &labels, &mut centres);
     }
-    let even = n.div_ceil(k);
-    let capacity = ((n as f64 / k as f64) * (1.0 + f64::from(slack))).ceil() as usize;
+    let even = n / k;
+    let capacity = ((n as f64 / k as f64) * (1.0 + f64::from(slack))).floor() as usize;
     let capacity = capacity.max(even);
     for _ in 0..BALANCE_ROUNDS {
         let next = assign_with_capacity(features, &centres, capacity);

@@ -30,4 +30,6 @@ pub use build::fit_hierarchy;
 pub use hierarchy::{CLUSTER_OF_GROUP, FittedHierarchy, FittedSection};
 pub use report::{ErrorStats, FitReport, LevelErrors};
 pub use resample::{curve_length, node_count_for, resample_curve, resample_into, total_turning};
-pub use settings::{FitSettings, NodeCountScope, Representative, SectionCount, Smoothness};
+pub use settings::{
+    FitSettings, GroupSplit, NodeCountScope, Representative, SectionCount, Smoothness,
+};

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::kmeans::{FEATURE_COUNT, Feature, balanced_kmeans};
 use super::pca::principal_direction;
 use super::resample::{at_fraction, resample_into};
-use super::settings::FitSettings;
+use super::settings::{FitSettings, GroupSplit};
 use crate::error::{HairError, Result};
 use crate::formats::Curves;
 use crate::frame::Frame;
@@ -194,11 +194,53 @@ pub(crate) fn section_frame(prepared: &Prepared, members: &[u32]) -> Frame {
     Frame::from_tangent_and_normal(tangent, across.cross(tangent)).unwrap_or_default()
 }
 
+/// Cuts a section into 5 strand groups as `settings.group_split` says.
+pub(crate) fn split_groups(
+    prepared: &Prepared,
+    members: &[u32],
+    frame: &Frame,
+    settings: &FitSettings,
+) -> [Vec<u32>; 5] {
+    match settings.group_split {
+        GroupSplit::Slabs => split_slabs(prepared, members, frame),
+        GroupSplit::KMeans => split_kmeans(prepared, members, frame, settings.seed),
+    }
+}
+
+/// Cuts a section into 5 strand groups of alike strands: balanced k-means with sizes within one
+/// (seeded from `seed` and the section's first strand), the groups numbered by their root
+/// centroids' position along the binormal.
+fn split_kmeans(prepared: &Prepared, members: &[u32], frame: &Frame, seed: u64) -> [Vec<u32>; 5] {
+    let features: Vec<Feature> = members
+        .iter()
+        .map(|&i| prepared.features[i as usize])
+        .collect();
+    let seed = seed ^ u64::from(members[0]).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    let labels = balanced_kmeans(&features, GROUPS, 0.0, seed);
+    let mut groups: Vec<Vec<u32>> = vec![Vec::new(); GROUPS];
+    for (&strand, &label) in members.iter().zip(&labels) {
+        groups[label as usize].push(strand);
+    }
+    let mut keyed: Vec<(f32, Vec<u32>)> = groups
+        .into_iter()
+        .map(|group| {
+            let key = root_centroid(prepared, &group).dot(frame.binormal);
+            (key, group)
+        })
+        .collect();
+    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.first().cmp(&b.1.first())));
+    let mut out: [Vec<u32>; 5] = Default::default();
+    for (slot, (_, group)) in out.iter_mut().zip(keyed) {
+        *slot = group;
+    }
+    out
+}
+
 /// Cuts a section into 5 strand groups across its width: the strands sorted by their features'
 /// projection on the features' principal direction (root and weighted shape; oriented along the
 /// section's binormal), then cut into 5 runs of `⌊m/5⌋` or `⌈m/5⌉` strands. Group 0 lies on the
 /// binormal's negative side, as child 0 of a procedural section.
-pub(crate) fn split_groups(prepared: &Prepared, members: &[u32], frame: &Frame) -> [Vec<u32>; 5] {
+pub(crate) fn split_slabs(prepared: &Prepared, members: &[u32], frame: &Frame) -> [Vec<u32>; 5] {
     let features: Vec<Feature> = members
         .iter()
         .map(|&i| prepared.features[i as usize])

@@ -169,9 +169,9 @@ mod tests {
         // 20 strands with errors 1..=20 mm: mean 10.5, p95 = the 19th value.
         let stats = ErrorStats::from_strands((1..=20).map(|i| (i as f32 * 1e-3, i as f32 * 2e-3)));
         assert!((stats.mean - 10.5e-3).abs() < 1e-7);
-        assert_eq!(stats.p95, 19e-3);
-        assert_eq!(stats.max, 20e-3);
-        assert_eq!(stats.worst_point, 40e-3);
+        assert_eq!(stats.p95, 19.0 * 1e-3);
+        assert_eq!(stats.max, 20.0 * 1e-3);
+        assert_eq!(stats.worst_point, 20.0 * 2e-3);
         assert_eq!(ErrorStats::from_strands([]), ErrorStats::default());
     }
 }

@@ -25,6 +25,19 @@ pub enum Representative {
     Best,
 }
 
+/// How a section's strands are cut into its 5 strand groups (both give sizes within one strand
+/// of each other, numbered across the section along its binormal).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GroupSplit {
+    /// Balanced k-means (5 clusters, sizes within one) on the strands' features, the groups then
+    /// numbered by their root centroids along the section's binormal: groups of alike strands,
+    /// side by side.
+    KMeans,
+    /// Runs of the strands sorted along the principal direction of their features: strict slabs
+    /// across the section.
+    Slabs,
+}
+
 /// Whether the skeletons of different sections may have different node counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NodeCountScope {
@@ -105,6 +118,8 @@ pub struct FitSettings {
     /// Points each strand is resampled to (at equal arc-length steps) for clustering and for
     /// measuring errors, `4..=4096`.
     pub samples_per_strand: usize,
+    /// How sections are cut into strand groups.
+    pub group_split: GroupSplit,
     /// The node count rule.
     pub smoothness: Smoothness,
     /// Node counts per section or for the whole groom.
@@ -117,13 +132,14 @@ pub struct FitSettings {
 
 impl Default for FitSettings {
     /// About 50 strands per section, shape weight 0.5, 25 % slack, 32 samples per strand, the
-    /// default smoothness, node counts per section, the best of mean and medoid, seed 1.
+    /// k-means strand groups, the default smoothness, node counts per section, the best of mean and medoid, seed 1.
     fn default() -> Self {
         FitSettings {
             sections: SectionCount::StrandsPerSection(50),
             shape_weight: 0.5,
             section_size_slack: 0.25,
             samples_per_strand: 32,
+            group_split: GroupSplit::KMeans,
             smoothness: Smoothness::default(),
             node_counts: NodeCountScope::PerSection,
             representative: Representative::Best,
