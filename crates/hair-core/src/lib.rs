@@ -11,6 +11,7 @@ pub mod camera;
 pub mod dynamics;
 pub mod error;
 pub mod export;
+pub mod fit;
 pub mod formats;
 pub mod frame;
 pub mod groom;
