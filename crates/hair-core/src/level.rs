@@ -23,6 +23,26 @@ impl Level {
     /// All levels, coarsest first.
     pub const ALL: [Level; 3] = [Level::Patch, Level::Cluster, Level::StrandGroup];
 
+    /// The chains of every skeleton at this level in the level-major layout of `sections`
+    /// sections (all patches, then all clusters, then all strand groups, each level
+    /// section-major): `0..S`, `S..4S` or `4S..9S`.
+    pub fn chains(self, sections: usize) -> std::ops::Range<usize> {
+        let s = sections;
+        match self {
+            Level::Patch => 0..s,
+            Level::Cluster => s..4 * s,
+            Level::StrandGroup => 4 * s..9 * s,
+        }
+    }
+
+    /// The chains of section `section` at this level in the same layout (1, 3 or 5 consecutive
+    /// chains).
+    pub fn section_chains(self, sections: usize, section: usize) -> std::ops::Range<usize> {
+        let per = self.skeletons_per_section();
+        let start = self.chains(sections).start + per * section;
+        start..start + per
+    }
+
     /// Skeletons a section has at this level: 1, 3 or 5.
     pub fn skeletons_per_section(self) -> usize {
         match self {

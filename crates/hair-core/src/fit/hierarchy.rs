@@ -101,19 +101,12 @@ impl FittedHierarchy {
 
     /// The chains of every skeleton at `level`.
     pub fn level_chains(&self, level: Level) -> Range<usize> {
-        let s = self.section_count();
-        match level {
-            Level::Patch => 0..s,
-            Level::Cluster => s..4 * s,
-            Level::StrandGroup => 4 * s..9 * s,
-        }
+        level.chains(self.section_count())
     }
 
     /// The chains of section `section` at `level` (1, 3 or 5 consecutive chains).
     pub fn section_chains(&self, section: usize, level: Level) -> Range<usize> {
-        let per = level.skeletons_per_section();
-        let start = self.level_chains(level).start + per * section;
-        start..start + per
+        level.section_chains(self.section_count(), section)
     }
 
     /// The curves of strand group `group` (`0..5S`).

@@ -32,7 +32,7 @@ mod usda_read;
 mod usda_write;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use std::path::Path;
 

@@ -77,19 +77,12 @@ impl Groom {
 
     /// The chains of every skeleton at `level`.
     pub fn level_chains(&self, level: Level) -> Range<usize> {
-        let s = self.section_count();
-        match level {
-            Level::Patch => 0..s,
-            Level::Cluster => s..4 * s,
-            Level::StrandGroup => 4 * s..9 * s,
-        }
+        level.chains(self.section_count())
     }
 
     /// The chains of section `section` at `level` (1, 3 or 5 consecutive chains).
     pub fn section_chains(&self, section: usize, level: Level) -> Range<usize> {
-        let per = level.skeletons_per_section();
-        let start = self.level_chains(level).start + per * section;
-        start..start + per
+        level.section_chains(self.section_count(), section)
     }
 
     /// The centre chain of section `section` at `level` (it shares the section's root exactly).

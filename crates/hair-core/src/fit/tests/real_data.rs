@@ -5,26 +5,9 @@ use std::time::Instant;
 
 use super::assert_well_formed;
 use crate::fit::{FitSettings, FittedHierarchy, fit_hierarchy};
-use crate::formats::{Curves, ImportAxes, ImportOptions, read_curves_file};
+use crate::formats::tests::real_data::{centimetres, data_file};
+use crate::formats::{Curves, ImportOptions, read_curves_file};
 use crate::level::Level;
-
-/// A file of the shared data directory (`shared/data/tressfx/...`, beside the project).
-fn data_file(name: &str) -> std::path::PathBuf {
-    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/tressfx")
-        .join(name)
-}
-
-/// The TressFX 3 samples (the ponytail parts) are in centimetres.
-fn centimetres() -> ImportOptions {
-    ImportOptions {
-        axes: ImportAxes {
-            scale_to_metres: 0.01,
-            ..ImportAxes::default()
-        },
-        strict: true,
-    }
-}
 
 /// Fits `curves` with the default settings, printing the report and the time; checks what every
 /// real fit must show.

@@ -4,7 +4,7 @@
 
 mod errors;
 mod fuzz;
-mod real_data;
+pub(crate) mod real_data;
 mod round_trips;
 mod usda;
 

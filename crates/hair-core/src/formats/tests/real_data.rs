@@ -12,7 +12,7 @@ use crate::formats::{
 
 /// The TressFX 3 samples (ponytail, testhair1) are in centimetres: strands 5 to 92 units long on a
 /// head whose roots span 43 units.
-fn centimetres() -> ImportOptions {
+pub(crate) fn centimetres() -> ImportOptions {
     ImportOptions {
         axes: ImportAxes {
             scale_to_metres: 0.01,
