@@ -34,6 +34,29 @@ pub struct GroomArgs {
     /// start) or grown (the generated shape).
     #[arg(long, value_enum, default_value = "hanging")]
     rest_pose: RestPoseArg,
+    /// A groom file to fit the paper's hierarchy to instead of a preset (.tfx, .hair, .data,
+    /// .obj, .usda): prints the fitted counts and each level's fit error (the fit is not yet a
+    /// groom that runs; see docs/grooms.md).
+    #[arg(long, value_name = "FILE")]
+    file: Option<PathBuf>,
+    /// With --file: metres per file unit (0.01 for centimetres).
+    #[arg(long, value_name = "M", default_value_t = 1.0)]
+    scale: f32,
+    /// With --file: the file's up axis.
+    #[arg(long, value_enum, default_value = "y")]
+    up: UpArg,
+    /// With --file: sections to fit [default: one per 50 strands].
+    #[arg(long, value_name = "N")]
+    fit_sections: Option<usize>,
+}
+
+/// `--up`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum UpArg {
+    /// Y up (Maya, Houdini, TressFX).
+    Y,
+    /// Z up (Blender); turned to Y up.
+    Z,
 }
 
 /// `--rest-pose`.
@@ -57,6 +80,9 @@ struct GroomReport<'a> {
 
 /// Runs `hairlod groom`.
 pub fn run(args: &GroomArgs) -> Result<()> {
+    if let Some(file) = &args.file {
+        return fit_file(args, file);
+    }
     let level: Level = args.level.parse()?;
     let mut scene = args.scene.build()?;
     let counts = scene.groom.counts();
@@ -129,4 +155,58 @@ fn print_table(report: &GroomReport) {
     );
     println!("  strands         {:>8}", c.strands);
     println!("  skeleton nodes  {:>8}   (all levels)", c.skeleton_nodes);
+}
+
+/// `hairlod groom --file F`: reads the curves, fits the hierarchy, prints counts and errors.
+fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
+    use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
+    use hairlod::core::formats::{ImportAxes, ImportOptions, UpAxis, read_curves_file};
+    let options = ImportOptions {
+        axes: ImportAxes {
+            scale_to_metres: args.scale,
+            up: match args.up {
+                UpArg::Y => UpAxis::Y,
+                UpArg::Z => UpAxis::Z,
+            },
+            ..ImportAxes::default()
+        },
+        ..ImportOptions::default()
+    };
+    let started = std::time::Instant::now();
+    let curves = read_curves_file(file, &options)?;
+    let read_seconds = started.elapsed().as_secs_f64();
+    let mut settings = FitSettings::default();
+    if let Some(sections) = args.fit_sections {
+        settings.sections = SectionCount::Fixed(sections);
+    }
+    let started = std::time::Instant::now();
+    let fit = fit_hierarchy(&curves, &settings)
+        .with_context(|| format!("could not fit {}", file.display()))?;
+    let fit_seconds = started.elapsed().as_secs_f64();
+    if !curves.skipped.is_empty() {
+        eprintln!(
+            "skipped {} degenerate curves of {} (the first: curve {}, {:?})",
+            curves.skipped.len(),
+            file.display(),
+            curves.skipped[0].index,
+            curves.skipped[0].reason
+        );
+    }
+    if args.json {
+        let json = serde_json::json!({
+            "file": file.display().to_string(),
+            "read_seconds": read_seconds,
+            "fit_seconds": fit_seconds,
+            "skipped_curves": curves.skipped.len(),
+            "fit": fit.report,
+        });
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    } else {
+        println!(
+            "{}: read in {read_seconds:.3} s, fitted in {fit_seconds:.3} s",
+            file.display()
+        );
+        println!("{}", fit.report);
+    }
+    Ok(())
 }

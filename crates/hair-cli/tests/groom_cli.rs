@@ -70,3 +70,37 @@ fn export_writes_an_obj_with_one_polyline_per_strand() {
     assert_eq!(text.lines().filter(|l| l.starts_with("l ")).count(), 120);
     std::fs::remove_dir_all(&directory).unwrap();
 }
+
+#[test]
+fn a_groom_file_is_fitted_and_its_errors_printed() {
+    // The Ratboy mohawk from ../shared/data: 2,228 strands, fitted level by level; each finer
+    // level stands closer to the strands it stands for (a strand group is part of its cluster,
+    // which is part of its patch, and each fits its own representative).
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/tressfx/ratboy_mohawk.tfx"
+    );
+    let output = hairlod(&["groom", "--file", file, "--json"]);
+    assert!(output.status.success(), "{output:?}");
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let fit = &report["fit"];
+    assert_eq!(fit["strands"], 2228);
+    let mean = |level: &str| fit["errors"][level]["drawn"]["mean"].as_f64().unwrap();
+    let (patch, cluster, group) = (mean("patch"), mean("cluster"), mean("strand_group"));
+    assert!(
+        group.is_finite() && group < cluster && cluster < patch,
+        "{fit}"
+    );
+    // A missing file and an unknown extension are named.
+    for (path, expected) in [
+        ("/no/such/groom.tfx", "/no/such/groom.tfx"),
+        ("groom.xyz", "unknown file extension"),
+    ] {
+        let output = hairlod(&["groom", "--file", path]);
+        let error = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            !output.status.success() && error.contains(expected),
+            "{error}"
+        );
+    }
+}

@@ -9,7 +9,7 @@ use crate::per_level::PerLevel;
 /// Statistics of one error over the strands [m]. A strand's error is the mean, over its
 /// `samples_per_strand` points at equal fractions of its length, of the distance between the
 /// strand and its model at the same fraction.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct ErrorStats {
     /// Mean of the strands' errors [m].
     pub mean: f32,
@@ -56,7 +56,7 @@ impl ErrorStats {
 
 /// The errors of one level, each strand measured against the skeleton of the element (patch,
 /// cluster or strand group) it belongs to at that level.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct LevelErrors {
     /// The model as drawn today: the strand is its element's skeleton plus one constant root
     /// offset in the node frames' (normal, binormal) plane, `node_i + x·normal_i + y·binormal_i`,
@@ -73,7 +73,7 @@ pub struct LevelErrors {
 }
 
 /// What [`fit_hierarchy`](super::fit_hierarchy) made and how well it fits.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
 pub struct FitReport {
     /// Strands fitted (the curves' count).
     pub strands: usize,
