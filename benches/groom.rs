@@ -1,5 +1,7 @@
-//! Criterion benches of the model: building the paper-curly groom, and evaluating every strand's
-//! NURBS points once (37,765 strands).
+//! Criterion benches of the model: building the paper-curly groom, evaluating every strand's NURBS
+//! points once (37,765 strands), and importing those strands from a cyHair file and fitting the
+//! paper's hierarchy to them (the real-groom issue's import-speed measure; the fit is not yet
+//! built into a groom).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use hairlod::core::representation::geometry::{evaluate_strands, strand_sampler};
@@ -46,5 +48,41 @@ fn evaluate_all_strands(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, build_groom, evaluate_all_strands);
+fn import_and_fit(c: &mut Criterion) {
+    use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
+    use hairlod::core::formats::{Curves, read_hair_file, write_hair};
+    use hairlod::core::representation::geometry::strand_polylines;
+    let scene = Scene::preset("paper-curly").expect("paper-curly");
+    let skeletons = &scene.groom.skeletons;
+    let head = RigidTransform::IDENTITY;
+    let positions = skeletons.rest_positions(&head);
+    let mut frames = vec![Frame::default(); positions.len()];
+    skeletons.node_frames_into(&head, &positions, &mut frames);
+    let lines = strand_polylines(&scene.groom, &positions, &frames, 1).expect("strands");
+    let strands = Curves {
+        points: lines.points,
+        offsets: lines.offsets,
+        ..Curves::default()
+    };
+    let path = std::env::temp_dir().join("hairlod-bench-paper-curly.hair");
+    write_hair(&path, &strands).expect("a writable temporary file");
+    let settings = FitSettings {
+        sections: SectionCount::Fixed(91),
+        ..FitSettings::default()
+    };
+    let mut group = c.benchmark_group("import 37765-strand paper-curly .hair");
+    group.sample_size(10);
+    group.bench_function("read", |b| {
+        b.iter(|| read_hair_file(black_box(&path), &Default::default()).expect("readable"))
+    });
+    group.bench_function("read + fit the hierarchy (91 sections)", |b| {
+        b.iter(|| {
+            let curves = read_hair_file(black_box(&path), &Default::default()).expect("readable");
+            fit_hierarchy(&curves, &settings).expect("a fit")
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, build_groom, evaluate_all_strands, import_and_fit);
 criterion_main!(benches);
