@@ -36,11 +36,11 @@ use std::time::Instant;
 use glam::Vec3;
 use hair_core::dynamics::{
     DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY, SagFreeReport,
-    SimulationSettings, TurnLimit, WindField, make_sag_free,
+    SimulationSettings, TurnLimit, WindField, level_skeletons, make_sag_free,
 };
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::skeleton::measure_chain;
-use hair_core::{Level, PerLevel, RigidTransform, Scene, SkeletonRest};
+use hair_core::{Groom, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
 use serde::{Deserialize, Serialize};
 
 use crate::pipeline::{LodMode, Pipeline, PipelineSettings, Result};
@@ -143,7 +143,8 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
     };
     let grown = scene.groom.skeletons.rest_positions(&head);
     let params = DynamicsParams::for_style(&scene.groom.params.style);
-    let mut skeletons = scene.groom.skeletons.clone();
+    // The scene as it is being hung; `scene` takes it only when every level succeeded.
+    let mut hung = scene.clone();
     let mut sag_free = PerLevel::from_fn(|_| SagFreeReport::default());
     let mut rounds = PerLevel::from_fn(|_| 0);
     // Strand groups fall; the coarser levels take the shapes a hand-over from them gives (§4.2),
@@ -154,29 +155,23 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
         for round in 1..=MAX_ROUNDS {
             rounds[level] = round;
             if level == Level::StrandGroup || round > 1 {
-                settle_level(scene, &mut skeletons, level, &environment, settings)?;
+                settle_level(&mut hung, level, &environment, settings)?;
             } else {
-                hand_down_shapes(scene, &mut skeletons, level)?;
+                hand_down_shapes(&mut hung.groom, level)?;
             }
             let contact_forces = if settings.collision {
-                resting_contact_forces(scene, &skeletons, level, &environment, settings)?
+                resting_contact_forces(&hung, level, &environment, settings)?
             } else {
                 Vec::new()
             };
-            sag_free[level] = balance_level(
-                scene,
-                &mut skeletons,
-                level,
-                &params,
-                settings,
-                &contact_forces,
-            )?;
+            sag_free[level] =
+                balance_level(&mut hung.groom, level, &params, settings, &contact_forces)?;
             if sag_free[level].clamped_joints == 0 {
                 break;
             }
         }
     }
-    let hanging = skeletons.rest_positions(&head);
+    let hanging = hung.groom.skeletons.rest_positions(&head);
     let moves: Vec<f32> = grown
         .iter()
         .zip(&hanging)
@@ -184,7 +179,7 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
         .collect();
     let max_move = moves.iter().copied().fold(0.0f32, f32::max);
     let mean_move = moves.iter().sum::<f32>() / moves.len().max(1) as f32;
-    scene.groom.skeletons = skeletons;
+    *scene = hung;
     Ok(HangReport {
         seconds: settings.seconds,
         mean_move,
@@ -207,19 +202,11 @@ fn level_settings(level: Level, settings: &HangSettings, collision: bool) -> Pip
     }
 }
 
-/// A copy of `scene` whose groom has `skeletons` as its rest model.
-fn with_skeletons(scene: &Scene, skeletons: &SkeletonRest) -> Scene {
-    let mut copy = scene.clone();
-    copy.groom.skeletons = skeletons.clone();
-    copy
-}
-
 /// Lets `level`'s skeletons fall from their rest shapes for `settings.seconds` and makes the
 /// shapes they reach their rest shapes (measured in the transported frames; the springs keep
 /// pulling where they did).
 fn settle_level(
-    scene: &Scene,
-    skeletons: &mut SkeletonRest,
+    scene: &mut Scene,
     level: Level,
     environment: &Environment,
     settings: &HangSettings,
@@ -227,35 +214,40 @@ fn settle_level(
     let mut params = DynamicsParams::for_style(&scene.groom.params.style);
     params.air_drag_rate = settings.drag_rate;
     let mut pipeline = Pipeline::with_material(
-        with_skeletons(scene, skeletons),
+        scene.clone(),
         environment.clone(),
         level_settings(level, settings, settings.collision),
         params,
     )?;
     pipeline.settle(settings.seconds)?;
     let block = pipeline.block(level);
-    set_rest_shapes(skeletons, &block.chains, &block.state.node_positions)
+    set_rest_shapes(
+        &mut scene.groom.skeletons,
+        &block.chains,
+        &block.state.node_positions,
+    )
 }
 
 /// Gives `level`'s skeletons, section by section, the shapes that handing the strand groups'
 /// rest shapes over to `level` gives ([`hand_over`], as the pipeline does when a section
 /// switches level).
-fn hand_down_shapes(scene: &Scene, skeletons: &mut SkeletonRest, level: Level) -> Result<()> {
+fn hand_down_shapes(groom: &mut Groom, level: Level) -> Result<()> {
     let head = RigidTransform::IDENTITY;
-    let groom = with_skeletons(scene, skeletons).groom;
+    let skeletons = &groom.skeletons;
     let fine = skeletons.rest_positions(&head);
     let mut positions = Vec::new();
     let mut chains = Vec::new();
+    let (mut shape, mut still, mut velocities) = (Vec::new(), Vec::new(), Vec::new());
     for section in 0..groom.section_count() {
         let from = groom.section_chains(section, Level::StrandGroup);
         let nodes = skeletons.offsets[from.start] as usize..skeletons.offsets[from.end] as usize;
-        let still = vec![Vec3::ZERO; nodes.len()];
+        still.resize(nodes.len(), Vec3::ZERO);
         let to = groom.section_chains(section, level);
         let count = skeletons.offsets[to.end] as usize - skeletons.offsets[to.start] as usize;
-        let mut shape = vec![Vec3::ZERO; count];
-        let mut velocities = vec![Vec3::ZERO; count];
+        shape.resize(count, Vec3::ZERO);
+        velocities.resize(count, Vec3::ZERO);
         hand_over(
-            &groom,
+            groom,
             section,
             Level::StrandGroup,
             SectionStateRef {
@@ -270,7 +262,7 @@ fn hand_down_shapes(scene: &Scene, skeletons: &mut SkeletonRest, level: Level) -
         positions.extend_from_slice(&shape);
         chains.extend(to);
     }
-    set_rest_shapes(skeletons, &chains, &positions)
+    set_rest_shapes(&mut groom.skeletons, &chains, &positions)
 }
 
 /// Makes `positions` (the nodes of `chains` one after the other, head at rest) the rest shapes of
@@ -284,19 +276,11 @@ fn set_rest_shapes(
     let head = RigidTransform::IDENTITY;
     let mut start = 0;
     for &chain in chains {
-        let nodes = skeletons.nodes(chain);
-        let shape = &positions[start..start + nodes.len()];
-        start += nodes.len();
+        let count = skeletons.chain_node_count(chain);
+        let shape = &positions[start..start + count];
+        start += count;
         let angles = measure_chain(&skeletons.world_root_frame(chain, &head), shape)?;
-        let natural = (
-            skeletons.natural_polar_angles[nodes.clone()].to_vec(),
-            skeletons.natural_azimuth_angles[nodes].to_vec(),
-        );
-        skeletons.set_chain_angles(
-            chain,
-            (&angles.polar_angles, &angles.azimuth_angles),
-            (&natural.0, &natural.1),
-        )?;
+        skeletons.set_rest_angles(chain, &angles.polar_angles, &angles.azimuth_angles)?;
     }
     Ok(())
 }
@@ -304,17 +288,13 @@ fn set_rest_shapes(
 /// Makes the rest shapes of `level`'s skeletons an equilibrium under gravity and
 /// `contact_forces` (one per node of the level, or empty), clamping springs that cannot hold.
 fn balance_level(
-    scene: &Scene,
-    skeletons: &mut SkeletonRest,
+    groom: &mut Groom,
     level: Level,
     params: &DynamicsParams,
     settings: &HangSettings,
     contact_forces: &[Vec3],
 ) -> Result<SagFreeReport> {
-    let mut level_rest = SkeletonRest::default();
-    for chain in scene.groom.level_chains(level) {
-        level_rest.push_chain_from(skeletons, chain)?;
-    }
+    let mut level_rest = level_skeletons(groom, level)?;
     let report = make_sag_free(
         &mut level_rest,
         params,
@@ -323,34 +303,27 @@ fn balance_level(
         contact_forces,
         TurnLimit::Clamp,
     )?;
-    for (local, chain) in scene.groom.level_chains(level).enumerate() {
+    for (local, chain) in groom.level_chains(level).enumerate() {
         let nodes = level_rest.nodes(local);
-        skeletons.set_chain_angles(
+        groom.skeletons.set_natural_angles(
             chain,
-            (
-                &level_rest.rest_polar_angles[nodes.clone()],
-                &level_rest.rest_azimuth_angles[nodes.clone()],
-            ),
-            (
-                &level_rest.natural_polar_angles[nodes.clone()],
-                &level_rest.natural_azimuth_angles[nodes],
-            ),
+            &level_rest.natural_polar_angles[nodes.clone()],
+            &level_rest.natural_azimuth_angles[nodes],
         )?;
     }
     Ok(report)
 }
 
 /// The contact forces [N] on `level`'s nodes (in the groom's chain order) in the first step of a
-/// run from rest with `skeletons` as the groom's rest model: a run from rest meets the same.
+/// run of `scene` from rest: a run from rest meets the same.
 fn resting_contact_forces(
     scene: &Scene,
-    skeletons: &SkeletonRest,
     level: Level,
     environment: &Environment,
     settings: &HangSettings,
 ) -> Result<Vec<Vec3>> {
     let mut pipeline = Pipeline::new(
-        with_skeletons(scene, skeletons),
+        scene.clone(),
         environment.clone(),
         level_settings(level, settings, true),
     )?;

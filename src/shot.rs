@@ -12,7 +12,7 @@ use hair_core::{Camera, GroomParams, HeadParams, Scene};
 use serde::Serialize;
 
 use crate::pipeline::{Checkpoint, LodMode, Pipeline, PipelineSettings, Result};
-use crate::rest_pose::{HangReport, HangSettings, RestPose, hang_groom};
+use crate::rest_pose::{HangSettings, RestPose, hang_groom};
 
 /// How the camera moves over a shot.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -189,24 +189,18 @@ impl Shot {
     /// shot's gravity (with collision as the shot has it) when [`Shot::rest_pose`] is
     /// [`RestPose::Hanging`] (see [`hang_groom`]).
     pub fn build_scene(&self) -> Result<Scene> {
-        Ok(self.build_scene_with_report()?.0)
-    }
-
-    /// [`Shot::build_scene`], and what hanging the groom did (`None` for a grown groom).
-    pub fn build_scene_with_report(&self) -> Result<(Scene, Option<HangReport>)> {
         let mut scene = Scene::new(&self.head, &self.groom)?;
-        let report = match self.rest_pose {
-            RestPose::Grown => None,
-            RestPose::Hanging => Some(hang_groom(
+        if self.rest_pose == RestPose::Hanging {
+            hang_groom(
                 &mut scene,
                 &HangSettings {
                     collision: self.settings.collision,
                     gravity: self.environment.gravity,
                     ..HangSettings::default()
                 },
-            )?),
-        };
-        Ok((scene, report))
+            )?;
+        }
+        Ok(scene)
     }
 
     /// A pipeline on `scene` (built from this shot) with `settings`, settled for

@@ -22,22 +22,23 @@ impl Pipeline {
         let head = self.head_pose();
         let mut positions = vec![Vec3::ZERO; skeletons.node_count()];
         let mut frames = vec![Frame::default(); skeletons.node_count()];
-        for section in 0..groom.section_count() {
+        let mut velocities = Vec::new();
+        for (section, &level) in self.section_levels().iter().enumerate() {
             let chains = groom.section_chains(section, Level::StrandGroup);
             let nodes =
                 skeletons.offsets[chains.start] as usize..skeletons.offsets[chains.end] as usize;
-            let (level, block) = Level::ALL
-                .into_iter()
-                .map(|level| (level, self.block(level)))
-                .find(|(_, block)| block.slot(section).is_some())
-                .ok_or_else(|| {
-                    PipelineError::State(format!("section {section} is simulated at no level"))
-                })?;
-            let from = block.nodes(block.slot(section).expect("found above"));
+            let block = self.block(level);
+            let slot = block.slot(section).ok_or_else(|| {
+                PipelineError::State(format!(
+                    "section {section} is not in the {} block",
+                    level.name()
+                ))
+            })?;
+            let from = block.nodes(slot);
             if level == Level::StrandGroup {
                 positions[nodes.clone()].copy_from_slice(&block.state.node_positions[from]);
             } else {
-                let mut velocities = vec![Vec3::ZERO; nodes.len()];
+                velocities.resize(nodes.len(), Vec3::ZERO);
                 hand_over(
                     groom,
                     section,

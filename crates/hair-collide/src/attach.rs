@@ -8,7 +8,7 @@ use hair_core::TriangleMesh;
 use serde::{Deserialize, Serialize};
 
 use crate::body::CollisionBody;
-use crate::error::{CollideError, Result, require_finite_points};
+use crate::error::{CollideError, Result};
 
 /// Where one root is attached.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -54,7 +54,6 @@ pub fn attach_roots(
     body: &CollisionBody,
     roots: &[Vec3],
 ) -> Result<(Vec<RootAttachment>, AttachmentReport)> {
-    require_finite_points("root", roots)?;
     let triangles = body.triangles();
     let mut attachments = Vec::with_capacity(roots.len());
     for (index, &root) in roots.iter().enumerate() {

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Checks hairlod's USD text BasisCurves against Pixar's USD (usd-core), both ways.
 
-Run from the repository root (a manual check, not part of `cargo test`):
+`.ci/run` runs it after the tests (in a virtual environment with usd-core 26.11). By hand, from
+the repository root:
 
-    python3 -m venv /tmp/usdvenv && /tmp/usdvenv/bin/pip install usd-core   # once (26.11 works)
+    python3 -m venv /tmp/usdvenv && /tmp/usdvenv/bin/pip install usd-core==26.11   # once
     /tmp/usdvenv/bin/python crates/hair-core/tests/usd_check.py
 
 Set CARGO_TARGET_DIR as usual if you use one. The script

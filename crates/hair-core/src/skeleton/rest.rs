@@ -98,22 +98,52 @@ impl SkeletonRest {
         Ok(index)
     }
 
-    /// Replaces the rest angles of chain `chain` (its shape at rest) and, separately, its springs'
-    /// natural angles, one entry per node of the chain [rad] (roots' entries are ignored and stored
-    /// as 0). Fails, changing nothing, on a size mismatch or a non-finite angle.
-    pub fn set_chain_angles(
+    /// Replaces the rest angles of chain `chain` (its shape at rest), one entry per node [rad]
+    /// (the root's is ignored and stored as 0); its springs' natural angles stay. Fails, changing
+    /// nothing, on a size mismatch or a non-finite angle.
+    pub fn set_rest_angles(&mut self, chain: usize, polar: &[f32], azimuth: &[f32]) -> Result<()> {
+        let nodes = self.checked_angles(chain, "rest angles", polar, azimuth)?;
+        set_angles(
+            &mut self.rest_polar_angles,
+            &mut self.rest_azimuth_angles,
+            nodes,
+            polar,
+            azimuth,
+        );
+        Ok(())
+    }
+
+    /// Replaces the natural angles of chain `chain`'s springs, one entry per node [rad] (the
+    /// root's is ignored and stored as 0); its rest shape stays. Fails, changing nothing, on a
+    /// size mismatch or a non-finite angle.
+    pub fn set_natural_angles(
         &mut self,
         chain: usize,
-        rest: (&[f32], &[f32]),
-        natural: (&[f32], &[f32]),
+        polar: &[f32],
+        azimuth: &[f32],
     ) -> Result<()> {
+        let nodes = self.checked_angles(chain, "natural angles", polar, azimuth)?;
+        set_angles(
+            &mut self.natural_polar_angles,
+            &mut self.natural_azimuth_angles,
+            nodes,
+            polar,
+            azimuth,
+        );
+        Ok(())
+    }
+
+    /// The node range of `chain` when `polar` and `azimuth` have one finite angle per node after
+    /// the root; `what` names them in the error.
+    fn checked_angles(
+        &self,
+        chain: usize,
+        what: &'static str,
+        polar: &[f32],
+        azimuth: &[f32],
+    ) -> Result<Range<usize>> {
         let nodes = self.nodes(chain);
-        for (what, values) in [
-            ("rest polar angles", rest.0),
-            ("rest azimuth angles", rest.1),
-            ("natural polar angles", natural.0),
-            ("natural azimuth angles", natural.1),
-        ] {
+        for values in [polar, azimuth] {
             if values.len() != nodes.len() {
                 return Err(HairError::SizeMismatch {
                     what,
@@ -125,16 +155,7 @@ impl SkeletonRest {
                 return Err(HairError::invalid(what, bad, "finite angles [rad]"));
             }
         }
-        for (target, values) in [
-            (&mut self.rest_polar_angles, rest.0),
-            (&mut self.rest_azimuth_angles, rest.1),
-            (&mut self.natural_polar_angles, natural.0),
-            (&mut self.natural_azimuth_angles, natural.1),
-        ] {
-            target[nodes.clone()].copy_from_slice(values);
-            target[nodes.start] = 0.0;
-        }
-        Ok(())
+        Ok(nodes)
     }
 
     /// Appends a chain and returns its index. `angles` has one entry per node, at least 2 nodes,
@@ -278,6 +299,20 @@ impl SkeletonRest {
     pub fn world_root_frame(&self, chain: usize, head: &RigidTransform) -> Frame {
         head.transform_frame(&self.root_frames[chain])
     }
+}
+
+/// Writes one chain's angles (`nodes` of the per-node arrays), 0 at its root.
+fn set_angles(
+    polar_out: &mut [f32],
+    azimuth_out: &mut [f32],
+    nodes: Range<usize>,
+    polar: &[f32],
+    azimuth: &[f32],
+) {
+    polar_out[nodes.clone()].copy_from_slice(polar);
+    azimuth_out[nodes.clone()].copy_from_slice(azimuth);
+    polar_out[nodes.start] = 0.0;
+    azimuth_out[nodes.start] = 0.0;
 }
 
 #[cfg(test)]

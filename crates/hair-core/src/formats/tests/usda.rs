@@ -3,7 +3,8 @@
 //! before the reader's axes; hand-written files with the syntax Pixar's tools write (nested prims,
 //! other prim types, metadata, relationships, variant sets, indexed primvars) read; every broken
 //! file names its line; the writer refuses bad curves before writing. The two `#[ignore]`d tests
-//! are steps of `tests/usd_check.py`, the check against Pixar's USD.
+//! are steps of `tests/usd_check.py`, the check against Pixar's USD, which `.ci/run` runs (they
+//! need the files the script writes with Pixar's library between them).
 
 use std::path::PathBuf;
 
