@@ -7,7 +7,9 @@
 use std::ops::Range;
 
 use hair_core::Scene;
-use hair_core::lod::{BudgetController, BudgetReport, BudgetSettings};
+use hair_core::lod::{
+    BudgetController, BudgetMethod, BudgetReport, BudgetSettings, CostModel, CostRates,
+};
 use hair_render::ShadingMode;
 use serde::Serialize;
 
@@ -158,6 +160,14 @@ pub fn run_shot(
         )?),
         _ => None,
     };
+    // The greedy method chooses levels within the budget (aiming at its margin) from costs the
+    // pipeline calibrates frame by frame; the controller then only keeps the tally.
+    if let Some(settings) = controller.as_ref().map(|c| *c.settings())
+        && settings.method == BudgetMethod::Greedy
+    {
+        let model = CostModel::new(CostRates::default())?;
+        pipeline.set_frame_budget(Some((settings.margin * settings.budget, model)))?;
+    }
     let mut reports = Vec::with_capacity(frames.len());
     let mut tolerances = Vec::new();
     let mut images = Vec::new();
@@ -199,6 +209,7 @@ pub fn run_shot(
         if let Some(controller) = &mut controller {
             controller.update(report.times.total())?;
         }
+        pipeline.observe_frame(&report);
         tolerances.extend(tolerance);
         on_frame(FrameOutput {
             report: &report,

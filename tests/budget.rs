@@ -1,11 +1,17 @@
-//! The frame-budget mode on a real pipeline (issue 7): whatever the machine's speed, a budget no
-//! frame can meet drives the pixel tolerance to its largest value and is reported as never met,
-//! and a budget every frame meets by far drives it to its smallest; the larger tolerance keeps no
-//! more sections detailed than a fixed 1 px run. No timing is asserted.
+//! The frame-budget modes on a real pipeline, whatever the machine's speed (no timing is
+//! asserted).
+//!
+//! - The tolerance controller: a budget no frame can meet drives the pixel tolerance to its
+//!   largest value and is reported as never met, and a budget every frame meets by far drives it
+//!   to its smallest; the larger tolerance keeps no more sections detailed than a fixed 1 px run.
+//! - The greedy method (least estimated error within the budget): a budget no frame can meet
+//!   keeps every section at its floor (no strands; clusters only where a rule or motion asks),
+//!   and a budget every frame meets by far puts every visible section at strand level (the only
+//!   level with no estimated error).
 
 use hairlod::Scene;
 use hairlod::benchmark::{paper_shot, resized, run_budgeted, run_mode};
-use hairlod::core::lod::{BudgetSettings, LodSettings};
+use hairlod::core::lod::{BudgetMethod, BudgetSettings, LodSettings};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
 use hairlod::shot::Shot;
@@ -15,6 +21,10 @@ fn benchmark() -> Shot {
 }
 
 fn run(budget_seconds: f64) -> hairlod::benchmark::BudgetedRun {
+    run_with(budget_seconds, BudgetMethod::Tolerance)
+}
+
+fn run_with(budget_seconds: f64, method: BudgetMethod) -> hairlod::benchmark::BudgetedRun {
     let benchmark = benchmark();
     let scene = Scene::preset("curly").unwrap();
     let mut renderer =
@@ -26,6 +36,7 @@ fn run(budget_seconds: f64) -> hairlod::benchmark::BudgetedRun {
     let settings = BudgetSettings {
         min_tolerance: 0.5,
         max_tolerance: 32.0,
+        method,
         ..BudgetSettings::new(budget_seconds)
     };
     let mut seen = 0;
@@ -70,7 +81,7 @@ fn an_impossible_budget_saturates_the_tolerance_and_is_never_met() {
             ..PipelineSettings::default()
         },
         None,
-        |_, _| {},
+        |_| Ok(()),
     )
     .unwrap();
     let [_, budget_clusters, budget_strands] = run.run.frames.last().unwrap().sections_at;
@@ -91,4 +102,42 @@ fn a_generous_budget_lowers_the_tolerance_to_its_floor_and_is_always_met() {
         "{:?}",
         run.tolerances
     );
+}
+
+#[test]
+fn greedy_an_impossible_budget_keeps_every_section_at_its_floor() {
+    let run = run_with(1e-6, BudgetMethod::Greedy);
+    assert_eq!(run.budget.met, 0, "{:?}", run.budget);
+    assert_eq!(run.budget.method, BudgetMethod::Greedy);
+    // The first frame starts every section at strand level and hands it down; from then on
+    // nothing is refined: no strands (calm air, still head: no motion floor), and the
+    // part-line and face rule keeps clusters at most.
+    for report in &run.run.frames[1..] {
+        let [_, _, strands] = report.sections_at;
+        assert_eq!(
+            strands, 0,
+            "frame {}: {:?}",
+            report.frame, report.sections_at
+        );
+    }
+    // The tolerance is not steered.
+    assert!(
+        run.tolerances.iter().all(|&t| t == 1.0),
+        "{:?}",
+        run.tolerances
+    );
+}
+
+#[test]
+fn greedy_a_generous_budget_draws_every_visible_section_as_strands() {
+    let run = run_with(1000.0, BudgetMethod::Greedy);
+    assert_eq!(run.budget.met, run.budget.frames);
+    for report in &run.run.frames {
+        let [_, _, strands] = report.sections_at;
+        assert_eq!(
+            strands, report.visible_sections,
+            "frame {}: {:?}, {} visible",
+            report.frame, report.sections_at, report.visible_sections
+        );
+    }
 }

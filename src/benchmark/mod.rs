@@ -89,21 +89,19 @@ pub fn paper_modes(lod: LodSettings) -> [LodMode; 4] {
 pub const SETTLE_TIME: f32 = 1.0;
 
 /// Runs `settings` on `shot` over all its frames (through the frame loop, [`run_shot`]),
-/// rendering each frame shaded with `renderer` when given; `on_frame` sees each frame's report
-/// and image (for popping measures or progress).
+/// rendering each frame shaded with `renderer` when given; `on_frame` sees each frame (report,
+/// the shaded image when rendered, the pipeline, for popping and error measures or progress); an
+/// error from it stops the run.
 pub fn run_mode(
     shot: &Shot,
     scene: &hair_core::Scene,
     settings: PipelineSettings,
     renderer: Option<&mut PipelineRenderer>,
-    mut on_frame: impl FnMut(&crate::pipeline::FrameReport, Option<&image::RgbaImage>),
+    on_frame: impl FnMut(crate::run::FrameOutput<'_>) -> Result<()>,
 ) -> Result<ModeRun> {
     let options = RunOptions::whole(shot, settings);
     let views = [View::Shaded];
     let renderer = renderer.map(|r| (r, &views[..]));
-    let run = run_shot(shot, scene, options, renderer, |frame| {
-        on_frame(frame.report, frame.images.first());
-        Ok(())
-    })?;
+    let run = run_shot(shot, scene, options, renderer, on_frame)?;
     Ok(run.run)
 }

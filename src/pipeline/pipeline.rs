@@ -8,8 +8,8 @@ use hair_collide::{
 };
 use hair_core::dynamics::{DynamicsModel, DynamicsParams, Environment, Simulation};
 use hair_core::lod::{
-    LodSelector, SectionChoice, SectionObservation, head_point_acceleration_from_poses,
-    motion_measure,
+    CostModel, LodSelector, RenderSample, SectionChoice, SectionObservation, SectionWork,
+    covered_pixels, head_point_acceleration_from_poses, motion_measure,
 };
 use hair_core::skeleton::node_frames;
 use hair_core::{Camera, Frame, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
@@ -55,6 +55,14 @@ pub struct Pipeline {
     /// One collision body per mesh (the head), shared by every level's collision stage.
     bodies: Vec<CollisionBody>,
     selector: Option<LodSelector>,
+    /// The frame budget that minimises error: the budget [s] and the calibrated cost model
+    /// (`None`: levels from the pixel tolerance).
+    budget: Option<(f64, CostModel)>,
+    /// What each section simulates and draws at each level (for the cost model).
+    section_work: Vec<SectionWork>,
+    /// Screen area each section covers this frame [pixels] (its bounding disc, for the cost
+    /// model).
+    section_pixels: Vec<f64>,
     observations: Vec<SectionObservation>,
     frames_scratch: Vec<Frame>,
     collision_chains: Vec<CollisionChain>,
@@ -146,6 +154,9 @@ impl Pipeline {
             work,
             bodies,
             selector,
+            budget: None,
+            section_work: section_work(&scene.groom),
+            section_pixels: vec![0.0; sections],
             observations: vec![SectionObservation::default(); sections],
             frames_scratch: Vec::new(),
             collision_chains: Vec::new(),
@@ -399,6 +410,49 @@ impl Pipeline {
         self.selector.as_ref()
     }
 
+    /// Chooses levels within a frame budget of `seconds` [s] from the next frame on, minimising
+    /// the total estimated error ([`LodSelector::select_within_budget`]) with costs from
+    /// `model`, which [`observe_frame`](Self::observe_frame) calibrates; `None` goes back to the
+    /// pixel tolerance. Errors at a fixed level (there is nothing to choose) and for a budget
+    /// that is not a positive number of seconds.
+    pub fn set_frame_budget(&mut self, budget: Option<(f64, CostModel)>) -> Result<()> {
+        if let Some((seconds, _)) = &budget {
+            if self.selector.is_none() {
+                return Err(PipelineError::State(
+                    "a frame budget needs automatic levels (the levels are fixed)".into(),
+                ));
+            }
+            if !(seconds.is_finite() && *seconds > 0.0) {
+                return Err(hair_core::HairError::invalid(
+                    "frame budget (s)",
+                    seconds,
+                    "a positive number of seconds",
+                )
+                .into());
+            }
+        }
+        self.budget = budget;
+        Ok(())
+    }
+
+    /// The frame budget [s] and cost model, when levels are chosen within a budget.
+    pub fn frame_budget(&self) -> Option<&(f64, CostModel)> {
+        self.budget.as_ref()
+    }
+
+    /// Calibrates the frame budget's cost model with a finished frame's `report` (its rendering
+    /// time filled in when the frame was drawn). Does nothing without a budget.
+    pub fn observe_frame(&mut self, report: &FrameReport) {
+        if let Some((_, model)) = &mut self.budget {
+            let render = (report.times.rendering > 0.0).then_some(RenderSample {
+                seconds: report.times.rendering,
+                drawn_segments: report.drawn_at,
+                pixels: report.pixels_at,
+            });
+            model.observe(report.level_seconds, report.level_nodes, render);
+        }
+    }
+
     /// Sets the selector's pixel tolerance [pixels] from the next frame on (a frame-budget
     /// controller steers it); nothing at a fixed level.
     pub fn set_pixel_tolerance(&mut self, pixel_tolerance: f32) -> Result<()> {
@@ -480,8 +534,10 @@ impl Pipeline {
         let PendingFrame { changes, mut times } = self.pending.take().unwrap_or_default();
         let mut contacts = 0;
         let mut max_stretch = 0.0f32;
+        let mut level_seconds = [0.0; 3];
         let time = self.state.time;
         for level in Level::ALL {
+            let before = times.dynamics + times.collision;
             let block = &mut self.state.blocks[level];
             let work = &mut self.work[level];
             let Some(simulation) = work.simulation.as_mut() else {
@@ -519,8 +575,10 @@ impl Pipeline {
                     times.dynamics += started.elapsed().as_secs_f64();
                 }
             }
+            level_seconds[level as usize] = times.dynamics + times.collision - before;
         }
         self.state.time += f64::from(self.settings.dynamics.time_step);
+        let (drawn_at, pixels_at) = self.drawn_work();
         let report = FrameReport {
             frame: self.state.frame,
             time: self.state.time,
@@ -530,7 +588,11 @@ impl Pipeline {
             visibility_changes: changes.visibility,
             blending_sections: self.state.levels.blending_count(),
             simulated_nodes: self.state.simulated_nodes(),
-            drawn_segments: self.drawn_segments(),
+            drawn_segments: drawn_at.iter().sum(),
+            drawn_at,
+            pixels_at,
+            level_seconds,
+            level_nodes: Level::ALL.map(|level| self.state.blocks[level].node_count()),
             contacts,
             max_stretch,
             times,
@@ -577,8 +639,25 @@ impl Pipeline {
                 |x| head_point_acceleration_from_poses(&head_poses, frame_time, x),
             );
             *observation = SectionObservation::of_section(groom, section, level, positions, motion);
+            self.section_pixels[section] = covered_pixels(camera, observation, selector.settings());
         }
-        let choices = selector.select(&self.observations, camera, head)?;
+        let choices = match &self.budget {
+            Some((budget, model)) => {
+                // The frame's overhead is not any section's: leave it out of what they share.
+                let share = (budget - model.rates().overhead).max(0.0);
+                selector
+                    .select_within_budget(
+                        &self.observations,
+                        camera,
+                        head,
+                        share,
+                        model,
+                        &self.section_work,
+                    )?
+                    .0
+            }
+            None => selector.select(&self.observations, camera, head)?,
+        };
         state.choices.copy_from_slice(choices);
         // The first frame picks the starting levels outright: there is nothing on screen to
         // blend from.
@@ -638,29 +717,21 @@ impl Pipeline {
     }
 
     /// Skeleton segments drawn this frame (strand groups count each of their strands).
-    fn drawn_segments(&self) -> usize {
-        let groom = &self.scene.groom;
+    /// Segments drawn and pixels covered at each level by the sections shown this frame.
+    fn drawn_work(&self) -> ([usize; 3], [f64; 3]) {
         let levels = &self.state.levels;
         let display_time = self.display_time();
-        let mut segments = 0;
-        for section in 0..groom.section_count() {
+        let (mut segments, mut pixels) = ([0; 3], [0.0; 3]);
+        for (section, work) in self.section_work.iter().enumerate() {
             if levels.shown_weight(section, display_time) <= 0.0 {
                 continue;
             }
             for level in levels.drawn(section) {
-                for chain in groom.section_chains(section, level) {
-                    let per_chain = groom.skeletons.chain_node_count(chain).saturating_sub(1);
-                    let copies = if level == Level::StrandGroup {
-                        let group = chain - groom.level_chains(Level::StrandGroup).start;
-                        groom.strands.strands(group).len()
-                    } else {
-                        1
-                    };
-                    segments += per_chain * copies;
-                }
+                segments[level as usize] += work.drawn_segments[level as usize];
+                pixels[level as usize] += self.section_pixels[section];
             }
         }
-        segments
+        (segments, pixels)
     }
 
     /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
@@ -712,4 +783,28 @@ impl Pipeline {
         }
         Ok(())
     }
+}
+
+/// What each section of `groom` simulates and draws at each level: its skeleton nodes, and its
+/// skeleton segments drawn (a strand group's once per strand).
+fn section_work(groom: &hair_core::Groom) -> Vec<SectionWork> {
+    let first_group = groom.level_chains(Level::StrandGroup).start;
+    (0..groom.section_count())
+        .map(|section| {
+            let mut work = SectionWork::default();
+            for level in Level::ALL {
+                for chain in groom.section_chains(section, level) {
+                    let nodes = groom.skeletons.chain_node_count(chain);
+                    let copies = if level == Level::StrandGroup {
+                        groom.strands.strands(chain - first_group).len()
+                    } else {
+                        1
+                    };
+                    work.nodes[level as usize] += nodes;
+                    work.drawn_segments[level as usize] += nodes.saturating_sub(1) * copies;
+                }
+            }
+            work
+        })
+        .collect()
 }

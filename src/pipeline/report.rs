@@ -53,6 +53,19 @@ pub struct FrameReport {
     /// Skeleton segments drawn: active skeleton segments of visible sections at strand level count
     /// once per strand.
     pub drawn_segments: usize,
+    /// [`drawn_segments`](Self::drawn_segments) by level (patch, clusters, strand groups).
+    #[serde(default)]
+    pub drawn_at: [usize; 3],
+    /// Screen area covered by the sections drawn at each level [pixels] (their bounding discs;
+    /// 0 at fixed levels, which observe nothing).
+    #[serde(default)]
+    pub pixels_at: [f64; 3],
+    /// Dynamics and collision time of each level's block [s] (patch, clusters, strand groups).
+    #[serde(default)]
+    pub level_seconds: [f64; 3],
+    /// Skeleton nodes simulated in each level's block.
+    #[serde(default)]
+    pub level_nodes: [usize; 3],
     /// Hair segments found touching the head.
     pub contacts: usize,
     /// The largest relative segment-length error the collision projection left this frame

@@ -216,10 +216,16 @@ pub struct CameraKeyframeEntry {
 pub struct LodTable {
     /// `auto` (default), `strands`, `clusters` or `patches`.
     pub mode: Option<String>,
-    /// Screen-space error tolerance [pixels], > 0 (default 1; larger means coarser levels).
+    /// Screen-space error tolerance [pixels], > 0 (default 2; larger means coarser levels).
     pub pixel_tolerance: Option<f32>,
-    /// Frame budget [ms], > 0: the tolerance is steered so that a frame costs at most this.
+    /// How a coarse level's error is estimated: `deviation` (default: each section's measured
+    /// deviation from its strands, scaled by its depth) or `chord` (the paper's rule, §7.4).
+    pub error_model: Option<String>,
+    /// Frame budget [ms], > 0: the levels are chosen so that a frame costs at most this.
     pub budget_ms: Option<f64>,
+    /// How the budget is met: `greedy` (default: the levels that minimise the total estimated
+    /// error within it) or `tolerance` (the pixel tolerance steered to meet it).
+    pub budget_method: Option<String>,
     /// Blend time of a level transition [s], ≥ 0 (default 0.25).
     pub blend_time: Option<f32>,
 }

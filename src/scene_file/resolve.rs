@@ -5,7 +5,7 @@ use glam::{EulerRot, Quat, Vec3};
 use hair_core::dynamics::{
     Environment, HeadKeyframe, HeadMotion, IntegratorKind, SimulationSettings, WindField,
 };
-use hair_core::lod::{BudgetSettings, LodSettings};
+use hair_core::lod::{BudgetMethod, BudgetSettings, LodSettings};
 use hair_core::{GroomParams, HeadParams, Level, RigidTransform};
 
 use super::{SCENE_FILE_VERSION, SceneFile, SceneFileError};
@@ -142,8 +142,16 @@ impl SceneFile {
                     LodMode::Auto(lod) => lod.blend_time,
                     LodMode::Fixed(_) => 0.0,
                 };
+                let method = match self.lod.budget_method.as_deref() {
+                    None => BudgetMethod::default(),
+                    Some(name) => {
+                        one_of("lod.budget_method", name, &["greedy", "tolerance"])?;
+                        name.parse().expect("checked above")
+                    }
+                };
                 Some(BudgetSettings {
                     hold_frames: (blend * fps).round() as usize,
+                    method,
                     ..BudgetSettings::new(ms / 1e3)
                 })
             }
@@ -465,6 +473,10 @@ impl SceneFile {
         }
         if let Some(v) = table.blend_time {
             lod.blend_time = within("lod.blend_time", v, 0.0, 10.0, "seconds in 0..=10")?;
+        }
+        if let Some(name) = table.error_model.as_deref() {
+            one_of("lod.error_model", name, &["deviation", "chord"])?;
+            lod.error_model = name.parse().expect("checked above");
         }
         lod.validate()
             .map_err(|error| SceneFileError::new(format!("[lod]: {error}")))?;

@@ -21,6 +21,7 @@ use hairlod::accuracy::{
 };
 use hairlod::benchmark::{paper_shot, resized};
 use hairlod::core::dynamics::{IntegratorKind, SimulationSettings};
+use hairlod::core::lod::ErrorModel;
 use hairlod::pipeline::{LodMode, PipelineError, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
 use hairlod::run::{RunOptions, View, run_shot};
@@ -72,6 +73,10 @@ pub struct AccuracyArgs {
     /// LOD pixel tolerances to sweep [pixels], comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "0.5,1,2,4,8,16")]
     pub tolerances: Vec<f32>,
+    /// How the LODs estimate a level's error: `deviation` (measured per section, the default),
+    /// `chord` (the paper's rule), comma-separated to run the LODs with each.
+    #[arg(long, value_delimiter = ',', default_value = "deviation")]
+    pub error_models: Vec<ErrorModel>,
     /// Integrator of the fixed levels and the LODs (the integrator sweep tries the others).
     #[arg(long, default_value_t = IntegratorKind::DEFAULT)]
     pub integrator: IntegratorKind,
@@ -127,14 +132,23 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
         fixed("Clusters", Level::Cluster),
         fixed("Patches", Level::Patch),
     ];
-    for &tolerance in &args.tolerances {
+    for (&tolerance, &error_model) in args
+        .tolerances
+        .iter()
+        .flat_map(|t| args.error_models.iter().map(move |m| (t, m)))
+    {
         let lod = hairlod::core::lod::LodSettings {
             pixel_tolerance: tolerance,
+            error_model,
             ..shot.lod_settings()
         };
         lod.validate()?;
+        let model = match error_model {
+            ErrorModel::Deviation => String::new(),
+            other => format!(" ({other})"),
+        };
         list.push(Configuration {
-            label: format!("LODs {tolerance}px"),
+            label: format!("LODs{model} {tolerance}px"),
             group: Group::Lods,
             settings: PipelineSettings {
                 lod: LodMode::Auto(lod),

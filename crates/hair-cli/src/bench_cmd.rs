@@ -8,10 +8,13 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use hairlod::Scene;
+use hairlod::accuracy::{
+    geometric_error_of_visible, head_sight, sample_skeletons, strand_skeletons, visible_samples,
+};
 use hairlod::benchmark::{
     BudgetedRun, paper_figures, paper_modes, paper_shot, resized, run_budgeted, run_mode,
 };
-use hairlod::core::lod::{BudgetSettings, LodSettings};
+use hairlod::core::lod::{BudgetMethod, BudgetSettings, ErrorModel, LodSettings};
 use hairlod::metrics::{luma, ssim};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::popping::{ExcessPopping, Popping, PoppingMeter, excess_popping};
@@ -75,10 +78,19 @@ pub struct PaperArgs {
     /// Screen-space error tolerance of the LOD selector [pixels]: larger means coarser levels.
     #[arg(long, default_value_t = 1.0)]
     pub pixel_tolerance: f32,
-    /// Also run the LODs in frame-budget mode: the pixel tolerance (starting from
-    /// --pixel-tolerance) is steered so that a frame costs at most MS milliseconds.
+    /// How the LODs estimate a level's error (the paper's tables use `chord`, the paper's rule;
+    /// `deviation` is the library's default).
+    #[arg(long, default_value_t = ErrorModel::Chord)]
+    pub error_model: ErrorModel,
+    /// Also run the LODs in frame-budget mode: levels chosen so that a frame costs at most MS
+    /// milliseconds (see --budget-method).
     #[arg(long, value_name = "MS")]
     pub budget_ms: Option<f64>,
+    /// How the budget is met: `greedy` (least total estimated error within it) or `tolerance`
+    /// (the pixel tolerance, starting from --pixel-tolerance, steered to meet it); comma-separated
+    /// to run both.
+    #[arg(long, value_delimiter = ',', default_value = "greedy")]
+    pub budget_method: Vec<BudgetMethod>,
     /// Chart the simulated nodes and drawn segments per frame under LODs and Strands against the
     /// camera distance, to FILE.png and FILE.svg.
     #[arg(long, value_name = "FILE")]
@@ -90,8 +102,12 @@ pub struct PaperArgs {
 pub struct PaperExtras {
     /// Frame budget [ms] for a budgeted LODs run.
     pub budget_ms: Option<f64>,
+    /// How the budget is met, one budgeted run each (empty: the greedy method).
+    pub budget_methods: Vec<BudgetMethod>,
     /// Model-size chart path.
     pub chart: Option<PathBuf>,
+    /// Error model of the LODs (`None`: the shot's).
+    pub error_model: Option<ErrorModel>,
 }
 
 #[derive(Serialize)]
@@ -107,9 +123,11 @@ struct PaperReport<'a> {
     excess_popping_instant: ExcessPopping,
     popping_lod_stage: hairlod::popping::PoppingComparison,
     pixel_tolerance: f32,
+    error_model: ErrorModel,
     mean_ssim_against_strands: SsimAgainstStrands,
+    mean_pixel_error_against_strands: MeanPixelError,
     paper_seconds_per_frame: Option<[[f64; 4]; 3]>,
-    budgeted: Option<Budgeted>,
+    budgeted: Vec<Budgeted>,
 }
 
 /// The frame-budget run and the error it paid.
@@ -123,6 +141,14 @@ struct Budgeted {
 
 #[derive(Serialize, Clone, Copy)]
 struct SsimAgainstStrands {
+    lods: f64,
+    clusters: f64,
+    patches: f64,
+}
+
+/// Mean pixel error of each mode's hair samples against the Strands run's, frame by frame.
+#[derive(Serialize, Clone, Copy)]
+struct MeanPixelError {
     lods: f64,
     clusters: f64,
     patches: f64,
@@ -160,7 +186,9 @@ fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
     );
     let extras = PaperExtras {
         budget_ms: args.budget_ms,
+        budget_methods: Vec::new(),
         chart: args.chart.clone(),
+        error_model: None,
     };
     let pixel_tolerance = shot.lod_settings().pixel_tolerance;
     let report = paper_tables(&shot, pixel_tolerance, &extras)?;
@@ -180,7 +208,9 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
     let shot = resized(&paper_shot(args.wind), args.frames, width, height);
     let extras = PaperExtras {
         budget_ms: args.budget_ms,
+        budget_methods: args.budget_method.clone(),
         chart: args.chart.clone(),
+        error_model: Some(args.error_model),
     };
     let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
     if let Some(path) = &args.json {
@@ -201,6 +231,9 @@ pub fn paper_tables(
     let options = RendererOptions::from_env()?;
     let lod = LodSettings {
         pixel_tolerance,
+        error_model: extras
+            .error_model
+            .unwrap_or(shot.lod_settings().error_model),
         ..shot.lod_settings()
     };
     lod.validate()?;
@@ -238,6 +271,12 @@ pub fn paper_tables(
     let mut instant_frames = Vec::new();
     let mut instant_switched = Vec::new();
     let mut ssim_sums = [0.0f64; 4];
+    // Hair samples per frame (the strand-group skeletons each mode stands for, 8 per skeleton)
+    // for the pixel error against Strands, with which of the Strands samples the viewer sees.
+    let (width, height) = (shot.width, shot.height);
+    let mut lod_samples = Vec::new();
+    let mut strand_samples: Vec<(Vec<glam::Vec3>, Vec<bool>)> = Vec::new();
+    let mut pixel_sums = [0.0f64; 4];
     for (index, (mode, label)) in runs.iter().enumerate() {
         let bar = progress_bar(shot.frames, label);
         let settings = PipelineSettings {
@@ -245,32 +284,55 @@ pub fn paper_tables(
             ..shot.settings
         };
         let mut meter = PoppingMeter::default();
-        let run = run_mode(
-            shot,
-            &scene,
-            settings,
-            Some(&mut renderer),
-            |report, image| {
-                if let Some(image) = image {
-                    meter.add(image, report.level_changes > 0);
-                    let frame = report.frame;
-                    match index {
-                        0 => lod_frames.push(luma(image)),
-                        1 => {
-                            let gray = luma(image);
-                            ssim_sums[0] += ssim(&lod_frames[frame], &gray);
-                            strand_frames.push(gray);
-                        }
-                        2 | 3 => ssim_sums[index] += ssim(&strand_frames[frame], &luma(image)),
-                        _ => {
-                            instant_frames.push(luma(image));
-                            instant_switched.push(report.level_changes > 0);
-                        }
+        let run = run_mode(shot, &scene, settings, Some(&mut renderer), |output| {
+            let report = output.report;
+            let frame = report.frame;
+            if index < 4 {
+                let groom = &output.pipeline.scene().groom;
+                let samples = sample_skeletons(groom, &strand_skeletons(output.pipeline)?, 8);
+                let error = |(reference, visible): &(Vec<glam::Vec3>, Vec<bool>),
+                             samples: &[glam::Vec3]| {
+                    geometric_error_of_visible(
+                        output.camera,
+                        width,
+                        height,
+                        reference,
+                        samples,
+                        visible,
+                    )
+                    .mean_pixels
+                };
+                match index {
+                    0 => lod_samples.push(samples),
+                    1 => {
+                        let sight = head_sight(output.pipeline)?;
+                        let visible = visible_samples(output.camera, &sight, &samples);
+                        let reference = (samples, visible);
+                        pixel_sums[0] += error(&reference, &lod_samples[frame]);
+                        strand_samples.push(reference);
+                    }
+                    _ => pixel_sums[index] += error(&strand_samples[frame], &samples),
+                }
+            }
+            if let Some(image) = output.images.first() {
+                meter.add(image, report.level_changes > 0);
+                match index {
+                    0 => lod_frames.push(luma(image)),
+                    1 => {
+                        let gray = luma(image);
+                        ssim_sums[0] += ssim(&lod_frames[frame], &gray);
+                        strand_frames.push(gray);
+                    }
+                    2 | 3 => ssim_sums[index] += ssim(&strand_frames[frame], &luma(image)),
+                    _ => {
+                        instant_frames.push(luma(image));
+                        instant_switched.push(report.level_changes > 0);
                     }
                 }
-                bar.inc(1);
-            },
-        )
+            }
+            bar.inc(1);
+            Ok(())
+        })
         .with_context(|| format!("the {label} run failed"))?;
         bar.finish();
         match index {
@@ -335,6 +397,12 @@ pub fn paper_tables(
          (LOD pixel tolerance {pixel_tolerance} px)",
         mean_ssim.lods, mean_ssim.clusters, mean_ssim.patches
     );
+    let mean_pixels = MeanPixelError {
+        lods: pixel_sums[0] / frames,
+        clusters: pixel_sums[2] / frames,
+        patches: pixel_sums[3] / frames,
+    };
+    print_where_lods_sit(&modes, &mean_ssim, &mean_pixels, lod.error_model);
     for warning in modes.iter().filter_map(ModeRun::stretch_warning) {
         eprintln!("{warning}");
     }
@@ -348,17 +416,25 @@ pub fn paper_tables(
         popping_instant.changing,
         popping_instant.steady
     );
-    let budgeted = match budget {
-        Some(budget) => Some(budgeted_run(
-            shot,
-            &scene,
-            lod,
-            budget,
-            &mut renderer,
-            &strand_frames,
-        )?),
-        None => None,
-    };
+    let mut budgeted = Vec::new();
+    if let Some(budget) = budget {
+        let methods = if extras.budget_methods.is_empty() {
+            vec![budget.method]
+        } else {
+            extras.budget_methods.clone()
+        };
+        for method in methods {
+            let budget = BudgetSettings { method, ..budget };
+            budgeted.push(budgeted_run(
+                shot,
+                &scene,
+                lod,
+                budget,
+                &mut renderer,
+                &strand_frames,
+            )?);
+        }
+    }
     if let Some(path) = &extras.chart {
         model_size_chart(path, shot, &modes)?;
     }
@@ -374,7 +450,9 @@ pub fn paper_tables(
         excess_popping_instant: excess_instant,
         popping_lod_stage,
         pixel_tolerance,
+        error_model: lod.error_model,
         mean_ssim_against_strands: mean_ssim,
+        mean_pixel_error_against_strands: mean_pixels,
         paper_seconds_per_frame: paper,
         budgeted,
     };
@@ -390,7 +468,10 @@ fn budgeted_run(
     renderer: &mut PipelineRenderer,
     strand_frames: &[image::GrayImage],
 ) -> Result<Budgeted> {
-    let bar = progress_bar(shot.frames, "LODs, frame budget");
+    let bar = progress_bar(
+        shot.frames,
+        &format!("LODs, frame budget ({})", budget.method),
+    );
     let mut ssim_sum = 0.0;
     let run = run_budgeted(
         shot,
@@ -411,9 +492,10 @@ fn budgeted_run(
     let mean_ssim = ssim_sum / shot.frames.max(1) as f64;
     let b = &run.budget;
     println!(
-        "frame budget {:.1} ms: met in {} of {} frames ({:.0} %), mean cost {:.1} ms, mean \
+        "frame budget {:.1} ms ({}): met in {} of {} frames ({:.0} %), mean cost {:.1} ms, mean \
          tolerance {:.2} px (largest {:.2}), mean SSIM against Strands {:.4}",
         1e3 * b.budget,
+        b.method,
         b.met,
         b.frames,
         100.0 * b.met_fraction,
@@ -482,6 +564,42 @@ fn model_size_chart(path: &std::path::Path, shot: &Shot, modes: &[ModeRun]) -> R
 }
 
 /// Prints the table in the paper's layout (ours, paper's in brackets) and returns the speedups.
+/// Where the LODs sit against the fixed levels: cost per frame (mean and median), its ratio to
+/// Strands, SSIM and pixel error against the Strands frames, side by side. `modes` are LODs,
+/// Strands, Clusters, Patches.
+fn print_where_lods_sit(
+    modes: &[ModeRun],
+    ssim: &SsimAgainstStrands,
+    pixels: &MeanPixelError,
+    error_model: ErrorModel,
+) {
+    let strands_mean = modes[1].mean.total();
+    println!();
+    println!("where the LODs ({error_model} error model) sit, against Strands frame by frame:");
+    println!(
+        "{:<10}{:>14}{:>16}{:>14}{:>10}{:>16}",
+        "mode", "ms/frame mean", "ms/frame median", "vs Strands", "SSIM", "pixel error"
+    );
+    let rows = [
+        (&modes[0], ssim.lods, pixels.lods),
+        (&modes[1], 1.0, 0.0),
+        (&modes[2], ssim.clusters, pixels.clusters),
+        (&modes[3], ssim.patches, pixels.patches),
+    ];
+    for (run, ssim, pixels) in rows {
+        let mean = run.mean.total();
+        println!(
+            "{:<10}{:>14.1}{:>16.1}{:>13.2}×{:>10.4}{:>16.2}",
+            run.mode,
+            1e3 * mean,
+            1e3 * run.median_total,
+            strands_mean / mean.max(f64::MIN_POSITIVE),
+            ssim,
+            pixels
+        );
+    }
+}
+
 fn print_table(
     title: &str,
     modes: &[ModeRun],

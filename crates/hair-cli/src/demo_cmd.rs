@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::benchmark::{paper_shot, resized};
-use hairlod::core::lod::LodSettings;
+use hairlod::core::lod::{ErrorModel, LodSettings};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
 use hairlod::render::output::{frame_path, write_png_atomic};
@@ -33,8 +33,9 @@ pub struct DemoArgs {
     /// Only write the image sequences; skip the four-mode comparison.
     #[arg(long)]
     pub no_bench: bool,
-    /// Screen-space error tolerance of the LOD selector [pixels]: larger means coarser levels.
-    #[arg(long, default_value_t = 1.0)]
+    /// Screen-space error tolerance of the LOD selector [pixels]: larger means coarser levels
+    /// (the library's default, with error-driven selection).
+    #[arg(long, default_value_t = LodSettings::default().pixel_tolerance)]
     pub pixel_tolerance: f32,
 }
 
@@ -50,6 +51,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     let scene = shot.build_scene()?;
     let lod = LodSettings {
         pixel_tolerance: args.pixel_tolerance,
+        error_model: ErrorModel::Deviation,
         ..shot.lod_settings()
     };
     let settings = PipelineSettings {
@@ -108,7 +110,9 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     if !args.no_bench {
         let extras = PaperExtras {
             budget_ms: None,
+            budget_methods: Vec::new(),
             chart: Some(args.out.join("model_size.png")),
+            error_model: Some(ErrorModel::Deviation),
         };
         let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
         write_json(&args.out.join("bench.json"), &report)?;

@@ -30,7 +30,49 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result, require_positive};
 
-/// Settings of a [`BudgetController`].
+/// How a frame budget is met.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BudgetMethod {
+    /// Levels chosen every frame to minimise the total estimated error within the budget
+    /// ([`LodSelector::select_within_budget`](super::LodSelector::select_within_budget): greedy
+    /// refinement by error saved per unit cost, costs from a [`CostModel`](super::CostModel)
+    /// calibrated as the run goes). The pixel tolerance plays no part.
+    #[default]
+    Greedy,
+    /// The pixel tolerance steered by a [`BudgetController`] (the law below).
+    Tolerance,
+}
+
+impl BudgetMethod {
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            BudgetMethod::Greedy => "greedy",
+            BudgetMethod::Tolerance => "tolerance",
+        }
+    }
+}
+
+impl std::fmt::Display for BudgetMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for BudgetMethod {
+    type Err = HairError;
+
+    fn from_str(text: &str) -> Result<Self> {
+        [BudgetMethod::Greedy, BudgetMethod::Tolerance]
+            .into_iter()
+            .find(|method| method.name() == text)
+            .ok_or_else(|| HairError::invalid("frame budget method", text, "greedy or tolerance"))
+    }
+}
+
+/// Settings of a frame budget: its method, and the law of the [`BudgetController`] (used by
+/// [`BudgetMethod::Tolerance`]; the greedy method uses only `budget` and `margin`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BudgetSettings {
     /// Time budget per frame [s].
@@ -52,11 +94,15 @@ pub struct BudgetSettings {
     /// time, so its cost shows only afterwards: set this to the blend time in frames. 0: no hold.
     #[serde(default)]
     pub hold_frames: usize,
+    /// How the budget is met.
+    #[serde(default)]
+    pub method: BudgetMethod,
 }
 
 impl BudgetSettings {
-    /// Default law for a budget of `budget` seconds per frame: gain 0.5, smoothing 0.5, margin
-    /// 0.9, dead band 5 %, tolerance between 0.25 and 64 pixels, no hold.
+    /// A budget of `budget` seconds per frame met by the greedy method, aiming at 0.9 of it; the
+    /// controller's law (for [`BudgetMethod::Tolerance`]): gain 0.5, smoothing 0.5, margin 0.9,
+    /// dead band 5 %, tolerance between 0.25 and 64 pixels, no hold.
     pub fn new(budget: f64) -> Self {
         BudgetSettings {
             budget,
@@ -67,6 +113,7 @@ impl BudgetSettings {
             min_tolerance: 0.25,
             max_tolerance: 64.0,
             hold_frames: 0,
+            method: BudgetMethod::Greedy,
         }
     }
 
@@ -126,6 +173,9 @@ pub struct BudgetReport {
     pub mean_tolerance: f64,
     /// Largest pixel tolerance chosen [pixels].
     pub max_tolerance: f32,
+    /// How the budget was met.
+    #[serde(default)]
+    pub method: BudgetMethod,
 }
 
 /// The frame-budget controller (see the module documentation for the law).
@@ -173,7 +223,8 @@ impl BudgetController {
     }
 
     /// Records the cost [s] of the frame that ran at [`tolerance`](Self::tolerance) and returns
-    /// the tolerance for the next frame. A negative or non-finite cost is an error.
+    /// the tolerance for the next frame (unchanged under [`BudgetMethod::Greedy`], for which the
+    /// controller only counts). A negative or non-finite cost is an error.
     pub fn update(&mut self, cost: f64) -> Result<f32> {
         if !(cost.is_finite() && cost >= 0.0) {
             return Err(HairError::invalid(
@@ -194,6 +245,10 @@ impl BudgetController {
             None => cost,
         };
         self.smoothed = Some(smoothed);
+        if s.method == BudgetMethod::Greedy {
+            // The greedy method chooses levels itself: the controller only keeps the tally.
+            return Ok(self.tolerance);
+        }
         let aim = s.margin * s.budget;
         let ratio = smoothed.max(1e-12) / aim;
         let holding = self.hold_left > 0;
@@ -223,6 +278,7 @@ impl BudgetController {
             mean_cost: self.cost_sum / n,
             mean_tolerance: self.tolerance_sum / n,
             max_tolerance: self.max_seen,
+            method: self.settings.method,
         }
     }
 }
@@ -230,6 +286,14 @@ impl BudgetController {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The controller's law (the tolerance method) for a budget of `budget` seconds.
+    fn law(budget: f64) -> BudgetSettings {
+        BudgetSettings {
+            method: BudgetMethod::Tolerance,
+            ..BudgetSettings::new(budget)
+        }
+    }
 
     /// A synthetic scene whose frame costs `a + b/τ` seconds at tolerance `τ`.
     fn plant(a: f64, b: f64) -> impl Fn(f32) -> f64 {
@@ -247,7 +311,7 @@ mod tests {
         let run = |hold_frames: usize| {
             let settings = BudgetSettings {
                 hold_frames,
-                ..BudgetSettings::new(0.012)
+                ..law(0.012)
             };
             let mut controller = BudgetController::new(settings, 16.0).unwrap();
             let mut history = vec![16.0f32; lag];
@@ -284,7 +348,7 @@ mod tests {
         let cost = plant(0.002, 0.040);
         let settings = BudgetSettings {
             dead_band: 0.0,
-            ..BudgetSettings::new(0.012)
+            ..law(0.012)
         };
         let mut controller = BudgetController::new(settings, 1.0).unwrap();
         for _ in 0..60 {
@@ -313,7 +377,7 @@ mod tests {
         // smoothing; with smoothing it converges geometrically. τ* = sqrt(b / (m·B)).
         let settings = BudgetSettings {
             dead_band: 0.0,
-            ..BudgetSettings::new(0.010)
+            ..law(0.010)
         };
         let mut controller = BudgetController::new(settings, 16.0).unwrap();
         for _ in 0..80 {
@@ -329,7 +393,7 @@ mod tests {
     fn an_unreachable_budget_saturates_and_says_so() {
         // The fixed cost a = 20 ms is above the 10 ms budget whatever the tolerance.
         let cost = plant(0.020, 0.010);
-        let mut controller = BudgetController::new(BudgetSettings::new(0.010), 1.0).unwrap();
+        let mut controller = BudgetController::new(law(0.010), 1.0).unwrap();
         for _ in 0..60 {
             let c = cost(controller.tolerance());
             controller.update(c).unwrap();
@@ -340,7 +404,7 @@ mod tests {
 
     #[test]
     fn the_dead_band_holds_a_met_budget_still() {
-        let mut controller = BudgetController::new(BudgetSettings::new(0.010), 3.0).unwrap();
+        let mut controller = BudgetController::new(law(0.010), 3.0).unwrap();
         // 0.0092 s is within 5 % of the aim 0.009 s.
         for _ in 0..10 {
             assert_eq!(controller.update(0.0092).unwrap(), 3.0);
@@ -349,16 +413,16 @@ mod tests {
 
     #[test]
     fn bad_inputs_are_named_errors() {
-        let error = BudgetController::new(BudgetSettings::new(-1.0), 1.0).unwrap_err();
+        let error = BudgetController::new(law(-1.0), 1.0).unwrap_err();
         assert!(error.to_string().contains("frame budget"), "{error}");
-        let error = BudgetController::new(BudgetSettings::new(f64::NAN), 1.0).unwrap_err();
+        let error = BudgetController::new(law(f64::NAN), 1.0).unwrap_err();
         assert!(error.to_string().contains("frame budget"), "{error}");
-        let mut controller = BudgetController::new(BudgetSettings::new(0.01), 1.0).unwrap();
+        let mut controller = BudgetController::new(law(0.01), 1.0).unwrap();
         let error = controller.update(f64::NAN).unwrap_err();
         assert!(error.to_string().contains("frame cost"), "{error}");
         let settings = BudgetSettings {
             gain: 0.0,
-            ..BudgetSettings::new(0.01)
+            ..law(0.01)
         };
         assert!(BudgetController::new(settings, 1.0).is_err());
     }

@@ -3,16 +3,24 @@
 //!
 //! - [`LodSettings`]: the pixel tolerance the distance limits derive from, motion thresholds,
 //!   hysteresis, per-section rules, blend time;
+//! - [`level_deviations`]: how far each section's patch and clusters are from its strands [m],
+//!   the estimate behind error-driven selection;
 //! - [`criteria`]: the paper's tests as pure functions (occlusion rays against a box inside the
 //!   head, projected skeleton length, motion measure, a level with hysteresis);
 //! - [`LodSelector`]: the per-frame choice for every section ([`SectionChoice`]) from what it sees of
 //!   each ([`SectionObservation`]);
 //! - [`hand_over`]: a section's skeleton state from one level to another (split and merge);
-//! - [`BudgetController`]: the frame-budget mode, the pixel tolerance steered to meet a time
-//!   budget per frame.
+//! - [`refine_within_budget`] with a [`CostModel`]: the frame budget that minimises the total
+//!   estimated error (greedy refinement by error saved per unit cost, costs calibrated at run
+//!   time);
+//! - [`BudgetController`]: the other frame-budget mode, the pixel tolerance steered to meet a
+//!   time budget per frame.
 
 mod budget;
+mod cost_model;
 pub mod criteria;
+mod deviation;
+mod greedy;
 mod selector;
 mod settings;
 mod transfer;
@@ -20,11 +28,19 @@ mod transfer;
 #[cfg(test)]
 mod tests;
 
-pub use budget::{BudgetController, BudgetReport, BudgetSettings};
+pub use budget::{BudgetController, BudgetMethod, BudgetReport, BudgetSettings};
+pub use cost_model::{CostModel, CostRates, RenderSample, SectionWork};
 pub use criteria::{
     distance_limits, head_point_acceleration, head_point_acceleration_from_poses, is_occluded,
     level_with_hysteresis, motion_measure, projected_length, segment_hits_box,
 };
-pub use selector::{LodSelector, Reason, SectionChoice, SectionObservation};
-pub use settings::LodSettings;
+pub use deviation::{
+    DEVIATION_PERCENTILE, DRAWN_TUBE_RADIUS, LevelDeviation, PointGrid, level_deviations,
+    level_deviations_at,
+};
+pub use greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
+pub use selector::{LodSelector, Reason, SectionChoice, SectionObservation, covered_pixels};
+pub use settings::{ErrorModel, LodSettings};
 pub use transfer::{SectionStateRef, hand_over};
+#[cfg(test)]
+mod tests_deviation;

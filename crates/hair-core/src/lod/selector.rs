@@ -1,11 +1,15 @@
 //! The per-frame level choice of every section (§7.4): occlusion and frustum first, then the higher
-//! of the distance and motion levels, per-section rules, hysteresis.
+//! of the error-driven (or the paper's distance) level and the motion level, per-section rules,
+//! hysteresis.
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+use super::cost_model::{CostModel, SectionWork};
 use super::criteria::{distance_limits, is_occluded, level_with_hysteresis, projected_length};
-use super::settings::LodSettings;
+use super::deviation::{LevelDeviation, level_deviations};
+use super::greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
+use super::settings::{ErrorModel, LodSettings};
 use crate::camera::Camera;
 use crate::error::{HairError, Result};
 use crate::groom::Groom;
@@ -96,7 +100,10 @@ pub struct SectionChoice {
 /// Per-section constants of the selector, from the groom.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct SectionConstants {
+    /// The paper's distance limits [pixels of projected chord] (error model `Chord`).
     limits: [f32; 2],
+    /// The measured deviations [m] (error model `Deviation`).
+    deviation: LevelDeviation,
     crown_factor: f32,
     keep_clusters: bool,
 }
@@ -113,15 +120,39 @@ pub struct LodSelector {
 impl LodSelector {
     /// A selector for `groom` on a head whose occluding boxes are `occluders` (head space [m],
     /// inside the head: [`Head::occluder_boxes`](crate::Head::occluder_boxes)); every section
-    /// starts as a visible patch.
+    /// starts as a visible patch. With the error-driven model the sections' deviations are
+    /// measured here ([`level_deviations`]).
     pub fn new(groom: &Groom, occluders: &[(Vec3, Vec3)], settings: LodSettings) -> Result<Self> {
         settings.validate()?;
+        let deviations = match settings.error_model {
+            ErrorModel::Deviation => level_deviations(groom)?,
+            ErrorModel::Chord => vec![LevelDeviation::default(); groom.section_count()],
+        };
+        Self::with_deviations(groom, occluders, settings, &deviations)
+    }
+
+    /// [`LodSelector::new`] with the sections' deviations [m] already measured (one per section).
+    pub fn with_deviations(
+        groom: &Groom,
+        occluders: &[(Vec3, Vec3)],
+        settings: LodSettings,
+        deviations: &[LevelDeviation],
+    ) -> Result<Self> {
+        settings.validate()?;
+        if deviations.len() != groom.section_count() {
+            return Err(HairError::SizeMismatch {
+                what: "section deviations",
+                actual: deviations.len(),
+                expected: groom.section_count(),
+            });
+        }
         let patches = groom.level_chains(Level::Patch);
         let constants = groom
             .sections
             .iter()
             .zip(patches)
-            .map(|(section, chain)| {
+            .zip(deviations)
+            .map(|((section, chain), &deviation)| {
                 let mut rest = vec![Vec3::ZERO; groom.skeletons.chain_node_count(chain)];
                 groom
                     .skeletons
@@ -135,6 +166,7 @@ impl LodSelector {
                 };
                 SectionConstants {
                     limits: distance_limits(chord, section.width, settings.pixel_tolerance),
+                    deviation,
                     crown_factor,
                     keep_clusters: settings.keep_part_and_face_detailed
                         && (section.along_part || section.around_face),
@@ -202,6 +234,48 @@ impl LodSelector {
         self.constants[section].limits
     }
 
+    /// The measured deviations [m] of section `section`'s patch and clusters from its strands
+    /// (zero under the `Chord` error model, which does not measure them).
+    pub fn deviation(&self, section: usize) -> LevelDeviation {
+        self.constants[section].deviation
+    }
+
+    /// The estimated screen-space error [pixels] of each level of section `section` seen as in
+    /// `observation` by `camera` (indexed by [`Level`] rank: patch, clusters, strand groups), under
+    /// the selector's error model, without the crown boost; infinite for a coarse level when the
+    /// section is at or behind the eye.
+    pub fn estimated_errors(
+        &self,
+        section: usize,
+        observation: &SectionObservation,
+        camera: &Camera,
+    ) -> [f32; 3] {
+        let constants = &self.constants[section];
+        let settings = &self.settings;
+        match settings.error_model {
+            ErrorModel::Deviation => {
+                let scale = pixels_per_metre(camera, observation.bound_centre, settings);
+                Level::ALL.map(|level| scaled_error(constants.deviation.at(level), scale))
+            }
+            ErrorModel::Chord => {
+                // e·ℓ/L = tolerance·ℓ/limit (the limits are tolerance·L/e).
+                let length = projected_length(
+                    camera,
+                    observation.top,
+                    observation.bottom,
+                    settings.image_width,
+                    settings.image_height,
+                );
+                let [patch, cluster] = constants.limits;
+                [
+                    settings.pixel_tolerance * length / patch,
+                    settings.pixel_tolerance * length / cluster,
+                    0.0,
+                ]
+            }
+        }
+    }
+
     /// Chooses the level of every section from `observations` (one per section) seen by `camera`
     /// with the head posed by `head`; returns the choices.
     pub fn select(
@@ -239,6 +313,140 @@ impl LodSelector {
         }
         Ok(&self.choices)
     }
+
+    /// Chooses the level of every section so that the predicted cost of the frame stays within
+    /// `budget` [s] and the sum of the visible sections' estimated errors [pixels] is least
+    /// ([`refine_within_budget`]); the pixel tolerance plays no part. Visibility, motion and the
+    /// per-section rules set each section's floor as in [`select`](Self::select); hidden sections
+    /// stay patches. Each section's cost comes from `model` for its `work` (one per section). A
+    /// section keeps a finer current level unless the coarser one's error, raised by the
+    /// hysteresis band, is still worth the cost saved. Returns the choices and the outcome.
+    pub fn select_within_budget(
+        &mut self,
+        observations: &[SectionObservation],
+        camera: &Camera,
+        head: &RigidTransform,
+        budget: f64,
+        model: &CostModel,
+        work: &[SectionWork],
+    ) -> Result<(&[SectionChoice], BudgetOutcome)> {
+        if work.len() != self.choices.len() {
+            return Err(HairError::SizeMismatch {
+                what: "section work",
+                actual: work.len(),
+                expected: self.choices.len(),
+            });
+        }
+        let previous: Vec<Level> = self.choices.iter().map(|c| c.level).collect();
+        // Floors: visibility, motion and rules as in `select`, with no error allowed for the
+        // distance (an infinite tolerance asks for patches everywhere).
+        let settings = self.settings;
+        self.select(observations, camera, head)?;
+        let band = settings.hysteresis;
+        let mut options = Vec::with_capacity(self.choices.len());
+        let mut motion_levels = Vec::with_capacity(self.choices.len());
+        for (section, choice) in self.choices.iter().enumerate() {
+            let constants = &self.constants[section];
+            let mut motion_level = Level::Patch;
+            let floor = if choice.visible {
+                let by_motion = level_with_hysteresis(
+                    observations[section].motion,
+                    [
+                        settings.cluster_force_threshold,
+                        settings.strand_force_threshold,
+                    ],
+                    previous[section],
+                    band,
+                );
+                motion_level = by_motion;
+                if constants.keep_clusters {
+                    by_motion.max(Level::Cluster)
+                } else {
+                    by_motion
+                }
+            } else {
+                Level::Patch
+            };
+            let mut errors = if choice.visible {
+                self.estimated_errors(section, &observations[section], camera)
+                    .map(|e| e * constants.crown_factor)
+            } else {
+                [0.0; 3]
+            };
+            for level in Level::ALL {
+                if level < previous[section] {
+                    errors[level as usize] *= 1.0 + band;
+                }
+                if !errors[level as usize].is_finite() {
+                    errors[level as usize] = f32::MAX;
+                }
+            }
+            let pixels = choice
+                .visible
+                .then(|| covered_pixels(camera, &observations[section], &settings));
+            options.push(SectionOptions {
+                errors,
+                costs: model.section_costs(&work[section], pixels),
+                floor,
+            });
+            motion_levels.push(motion_level);
+        }
+        let mut levels = vec![Level::Patch; options.len()];
+        let outcome = refine_within_budget(&options, budget, &mut levels);
+        for (((choice, level), option), motion) in self
+            .choices
+            .iter_mut()
+            .zip(levels)
+            .zip(&options)
+            .zip(motion_levels)
+        {
+            if choice.visible {
+                choice.reason = if level > option.floor || level == Level::Patch {
+                    Reason::Distance
+                } else if motion == option.floor {
+                    Reason::Motion
+                } else {
+                    Reason::Rule
+                };
+            }
+            choice.level = level;
+        }
+        Ok((&self.choices, outcome))
+    }
+}
+
+/// Pixels a metre covers at the depth of `point` [m] seen by `camera` in the selector's image
+/// (`f / z`, `f` the focal length in pixels); infinite at or behind the near plane.
+fn pixels_per_metre(camera: &Camera, point: Vec3, settings: &LodSettings) -> f32 {
+    let forward = (camera.target - camera.position).normalize_or_zero();
+    let depth = (point - camera.position).dot(forward);
+    if depth <= camera.near {
+        return f32::INFINITY;
+    }
+    camera.focal_length_pixels(settings.image_height) / depth
+}
+
+/// The screen area [pixels] of the disc that `observation`'s bounding sphere projects to in the
+/// selector's image, at most the whole image: `π (r·f/z)²`.
+pub fn covered_pixels(
+    camera: &Camera,
+    observation: &SectionObservation,
+    settings: &LodSettings,
+) -> f64 {
+    let image = f64::from(settings.image_width) * f64::from(settings.image_height);
+    let radius = f64::from(
+        observation.bound_radius * pixels_per_metre(camera, observation.bound_centre, settings),
+    );
+    (std::f64::consts::PI * radius * radius).min(image)
+}
+
+/// `deviation · scale` [pixels], 0 for a zero deviation even at an infinite scale.
+fn scaled_error(deviation: f32, scale: f32) -> f32 {
+    if deviation == 0.0 {
+        0.0
+    } else {
+        deviation * scale
+    }
 }
 
 /// One section's choice (§7.4).
@@ -272,15 +480,33 @@ fn choose(
     {
         return hidden(Reason::Occluded);
     }
-    let length = projected_length(
-        camera,
-        observation.top,
-        observation.bottom,
-        settings.image_width,
-        settings.image_height,
-    ) * constants.crown_factor;
     let band = settings.hysteresis;
-    let by_distance = level_with_hysteresis(length, constants.limits, current, band);
+    let by_distance = match settings.error_model {
+        ErrorModel::Chord => {
+            let length = projected_length(
+                camera,
+                observation.top,
+                observation.bottom,
+                settings.image_width,
+                settings.image_height,
+            ) * constants.crown_factor;
+            level_with_hysteresis(length, constants.limits, current, band)
+        }
+        ErrorModel::Deviation => {
+            // The error of a level is its deviation times the pixels a metre covers, so a level
+            // is good enough while that scale stays below tolerance / deviation. A patch never
+            // counts as closer than the clusters.
+            let scale = pixels_per_metre(camera, observation.bound_centre, settings)
+                * constants.crown_factor;
+            let deviation = constants.deviation;
+            let limit = |error: f32| settings.pixel_tolerance / error.max(f32::MIN_POSITIVE);
+            let limits = [
+                limit(deviation.patch.max(deviation.cluster)),
+                limit(deviation.cluster),
+            ];
+            level_with_hysteresis(scale, limits, current, band)
+        }
+    };
     let by_motion = level_with_hysteresis(
         observation.motion,
         [

@@ -4,14 +4,61 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result, require_non_negative, require_positive};
 
+/// How the selector estimates the screen-space error [pixels] a coarse level makes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ErrorModel {
+    /// Error-driven: each section's own measured deviation of its patch and of its clusters from
+    /// its strands ([`LevelDeviation`](super::LevelDeviation), metres, measured at rest when the
+    /// selector is built) times the pixels a metre covers at the section's depth,
+    /// `e_px = e · f / z` (`f` the focal length in pixels, `z` the depth of the section's bound
+    /// centre).
+    #[default]
+    Deviation,
+    /// The paper's rule (§7.4): one error per level from the section's width, `w/6` for a patch
+    /// and `w/10` for clusters, scaled by the section's projected chord, `e_px = e · ℓ / L`.
+    Chord,
+}
+
+impl ErrorModel {
+    /// Both models, the default first.
+    pub const ALL: [ErrorModel; 2] = [ErrorModel::Deviation, ErrorModel::Chord];
+
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ErrorModel::Deviation => "deviation",
+            ErrorModel::Chord => "chord",
+        }
+    }
+}
+
+impl std::fmt::Display for ErrorModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ErrorModel {
+    type Err = HairError;
+
+    fn from_str(text: &str) -> Result<Self> {
+        ErrorModel::ALL
+            .into_iter()
+            .find(|model| model.name() == text)
+            .ok_or_else(|| HairError::invalid("LOD error model", text, "deviation or chord"))
+    }
+}
+
 /// Settings of the level-of-detail selector.
 ///
-/// The distance limits derive from one screen-space error tolerance (§7.4): a level whose
-/// geometric error is `e` [m] on a section of length `L` [m] that projects to `ℓ` pixels makes an
-/// error of about `e · ℓ / L` pixels, so it is good enough while `ℓ ≤ tolerance · L / e`. The
-/// geometric error of a patch is taken as the radius of the clusters it replaces (the depth a flat
-/// strip cannot show, `w/6` for a section `w` wide); that of a cluster is the radius of the strand
-/// groups it replaces (`w/10`).
+/// A section takes the cheapest level whose estimated screen-space error is within one pixel
+/// tolerance (§7.4), at least the level its motion asks for. [`ErrorModel`] says how the error is
+/// estimated: from each section's measured deviations (the default), or as in the paper from its
+/// width and projected chord: a level whose geometric error is `e` [m] on a section of length `L`
+/// [m] that projects to `ℓ` pixels makes an error of about `e · ℓ / L` pixels, so it is good
+/// enough while `ℓ ≤ tolerance · L / e`, with `e = w/6` for a patch (the depth a flat strip cannot
+/// show) and `w/10` for clusters (the radius of the strand groups they replace).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct LodSettings {
@@ -40,12 +87,14 @@ pub struct LodSettings {
     pub occlusion: bool,
     /// Duration of a transition's blend [s] (0: instant switching, as in the paper).
     pub blend_time: f32,
+    /// How a coarse level's screen-space error is estimated.
+    pub error_model: ErrorModel,
 }
 
 impl Default for LodSettings {
     fn default() -> Self {
         LodSettings {
-            pixel_tolerance: 1.0,
+            pixel_tolerance: 2.0,
             image_height: 720,
             image_width: 1280,
             cluster_force_threshold: 4.0,
@@ -56,6 +105,7 @@ impl Default for LodSettings {
             keep_part_and_face_detailed: true,
             occlusion: true,
             blend_time: 0.25,
+            error_model: ErrorModel::Deviation,
         }
     }
 }

@@ -208,7 +208,9 @@ fn strong_wind_raises_levels() {
         keep_part_and_face_detailed: false,
         ..LodSettings::default()
     };
-    let camera = front_camera(12.0);
+    // Far enough that every section is a patch when still (the curly patches deviate 16–17 mm
+    // from their strands: 0.9 px at 20 m, 1.4 px with the crown boost, under the 2 px default).
+    let camera = front_camera(20.0);
     let calm = observations(&scene, Level::Patch, 0.0);
     let mut selector =
         LodSelector::new(&scene.groom, &scene.head.occluder_boxes(), settings).unwrap();
@@ -220,7 +222,7 @@ fn strong_wind_raises_levels() {
         .collect();
     assert!(
         calm_levels.iter().all(|&l| l == Level::Patch),
-        "12 m away, still: patches"
+        "20 m away, still: patches"
     );
     // A 10 m/s wind on hair at rest: the drag alone is c_d·|w − v| = 1.5 · 10 = 15 m/s², above
     // the strand threshold (6 m/s²).
