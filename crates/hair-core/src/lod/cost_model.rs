@@ -18,8 +18,9 @@
 //! [`CostModel::SMOOTHING`]). Rendering draws all levels at once, so `(b_l, f_l, c₀)` are fitted
 //! by recursive least squares to each frame's rendering time against its drawn segments and
 //! covered pixels per level, with forgetting factor [`CostModel::FORGETTING`] and starting from
-//! prior rates (so that a level not yet drawn has a sensible cost). Rates are kept
-//! non-negative.
+//! prior rates (so that a level not yet drawn has a sensible cost). A rate the frames cannot
+//! separate from the others can drift anywhere along the fit's null space; each is kept at
+//! least [`CostModel::FLOOR`] of its prior, so that no level ever looks free.
 
 use serde::{Deserialize, Serialize};
 
@@ -71,6 +72,7 @@ const FIT: usize = 7;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CostModel {
     rates: CostRates,
+    prior: CostRates,
     /// Inverse-information matrix of the rendering fit, in scaled units (see `SCALE`).
     covariance: [[f64; FIT]; FIT],
     /// Whether each level's per-node rate has been measured yet.
@@ -86,6 +88,8 @@ impl CostModel {
     pub const SMOOTHING: f64 = 0.2;
     /// Forgetting factor of the rendering fit (older frames weigh `FORGETTING^age`).
     pub const FORGETTING: f64 = 0.95;
+    /// Smallest fraction of its prior a rate may fall to.
+    pub const FLOOR: f64 = 0.1;
 
     /// A model starting from `prior` rates (all finite and ≥ 0).
     pub fn new(prior: CostRates) -> Result<CostModel> {
@@ -115,6 +119,7 @@ impl CostModel {
         }
         Ok(CostModel {
             rates: prior,
+            prior,
             covariance,
             measured_nodes: [false; 3],
         })
@@ -176,7 +181,8 @@ impl CostModel {
                 (1.0 - Self::SMOOTHING) * *old + Self::SMOOTHING * rate
             } else {
                 rate
-            };
+            }
+            .max(Self::FLOOR * self.prior.per_node[level]);
             self.measured_nodes[level] = true;
         }
         if let Some(sample) = render
@@ -200,14 +206,15 @@ impl CostModel {
             1.0,
         ];
         let mut theta = Self::parameters(&self.rates);
+        let floors = Self::parameters(&self.prior).map(|value| Self::FLOOR * value);
         let p = &mut self.covariance;
         let px: [f64; FIT] = std::array::from_fn(|i| (0..FIT).map(|j| p[i][j] * x[j]).sum());
         let xpx: f64 = (0..FIT).map(|i| x[i] * px[i]).sum();
         let lambda = Self::FORGETTING;
         let gain: [f64; FIT] = std::array::from_fn(|i| px[i] / (lambda + xpx));
         let residual = sample.seconds - (0..FIT).map(|i| x[i] * theta[i]).sum::<f64>();
-        for (value, gain) in theta.iter_mut().zip(gain) {
-            *value = (*value + gain * residual).max(0.0);
+        for ((value, gain), floor) in theta.iter_mut().zip(gain).zip(floors) {
+            *value = (*value + gain * residual).max(floor);
         }
         for (i, row) in p.iter_mut().enumerate() {
             for (j, entry) in row.iter_mut().enumerate() {
@@ -320,6 +327,28 @@ mod tests {
         for level in 0..3 {
             assert_eq!(hidden[level], 1e-6 * work.nodes[level] as f64);
             assert!(shown[level] > hidden[level]);
+        }
+    }
+
+    #[test]
+    fn no_level_ever_looks_free() {
+        // Frames that cost nothing at all drive every rate down, but not below a tenth of its
+        // prior: a refinement never looks free to the budget.
+        let prior = CostRates::default();
+        let mut model = CostModel::new(prior).unwrap();
+        for _ in 0..200 {
+            let sample = RenderSample {
+                seconds: 0.0,
+                drawn_segments: [1000, 3000, 400_000],
+                pixels: [1e4, 3e4, 1e5],
+            };
+            model.observe([0.0; 3], [100, 300, 500], Some(sample));
+        }
+        let rates = model.rates();
+        for level in 0..3 {
+            assert_eq!(rates.per_node[level], 0.1 * prior.per_node[level]);
+            assert!(rates.per_drawn_segment[level] >= 0.1 * prior.per_drawn_segment[level]);
+            assert!(rates.per_pixel[level] >= 0.1 * prior.per_pixel[level]);
         }
     }
 

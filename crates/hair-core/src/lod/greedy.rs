@@ -6,8 +6,9 @@
 //! budget remains, the single refinement with the largest error saved per unit of added cost,
 //! `(e_now − e_finer) / (c_finer − c_now)`, over all sections and all finer levels of each (so a
 //! section may jump from patch to strands when clusters would save little), is applied if it
-//! fits. Refinements that do not fit are skipped, and cheaper ones still tried. Ties go to the
-//! lower section index and the coarser target, so the result is deterministic.
+//! fits (the total stays within the budget; over a budget that the floors already break, nothing
+//! is refined). Refinements that do not fit are skipped, and cheaper ones still tried. Ties go to
+//! the lower section index and the coarser target, so the result is deterministic.
 //!
 //! For sections whose error falls convexly with cost (each step saves less per unit cost than the
 //! one before), and costs that fill the budget exactly, this is the optimum of the knapsack; in
@@ -117,7 +118,7 @@ pub fn refine_within_budget(
         }
         let option = &options[section];
         let added = option.costs[candidate.target as usize] - option.costs[candidate.from as usize];
-        if cost + added > budget && added > 0.0 {
+        if cost + added > budget {
             continue;
         }
         cost += added;
