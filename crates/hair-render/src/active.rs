@@ -135,12 +135,7 @@ impl ActiveSkeletons {
     /// [`ActiveSkeletons::gather_level`] with the groom in its rest pose, the head at the origin
     /// (a still frame: previews, benchmarks, tests).
     pub fn gather_rest_pose(&mut self, groom: &Groom, level: Level) -> Result<()> {
-        let head = RigidTransform::IDENTITY;
-        let positions = groom.skeletons.rest_positions(&head);
-        let mut frames = vec![Frame::default(); positions.len()];
-        groom
-            .skeletons
-            .node_frames_into(&head, &positions, &mut frames);
+        let (positions, frames) = groom.skeletons.rest_pose(&RigidTransform::IDENTITY);
         self.gather_level(groom, level, &positions, &frames)
     }
 

@@ -259,13 +259,7 @@ impl LodSelector {
             }
             ErrorModel::Chord => {
                 // e·ℓ/L = tolerance·ℓ/limit (the limits are tolerance·L/e).
-                let length = projected_length(
-                    camera,
-                    observation.top,
-                    observation.bottom,
-                    settings.image_width,
-                    settings.image_height,
-                );
+                let length = chord_pixels(camera, observation, settings);
                 let [patch, cluster] = constants.limits;
                 [
                     settings.pixel_tolerance * length / patch,
@@ -415,6 +409,17 @@ impl LodSelector {
     }
 }
 
+/// The projected length [pixels] of the section's centre skeleton's root-to-tip line (§7.2).
+fn chord_pixels(camera: &Camera, observation: &SectionObservation, settings: &LodSettings) -> f32 {
+    projected_length(
+        camera,
+        observation.top,
+        observation.bottom,
+        settings.image_width,
+        settings.image_height,
+    )
+}
+
 /// Pixels a metre covers at the depth of `point` [m] seen by `camera` in the selector's image
 /// (`f / z`, `f` the focal length in pixels); infinite at or behind the near plane.
 fn pixels_per_metre(camera: &Camera, point: Vec3, settings: &LodSettings) -> f32 {
@@ -483,13 +488,7 @@ fn choose(
     let band = settings.hysteresis;
     let by_distance = match settings.error_model {
         ErrorModel::Chord => {
-            let length = projected_length(
-                camera,
-                observation.top,
-                observation.bottom,
-                settings.image_width,
-                settings.image_height,
-            ) * constants.crown_factor;
+            let length = chord_pixels(camera, observation, settings) * constants.crown_factor;
             level_with_hysteresis(length, constants.limits, current, band)
         }
         ErrorModel::Deviation => {

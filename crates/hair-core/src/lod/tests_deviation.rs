@@ -16,11 +16,7 @@ const ROWS_PER_SEGMENT: usize = 4;
 
 /// Everything at rest (head at the identity): node positions and frames of every chain.
 fn rest(scene: &Scene) -> (Vec<Vec3>, Vec<Frame>) {
-    let skeletons = &scene.groom.skeletons;
-    let positions = skeletons.rest_positions(&RigidTransform::IDENTITY);
-    let mut frames = vec![Frame::default(); positions.len()];
-    skeletons.node_frames_into(&RigidTransform::IDENTITY, &positions, &mut frames);
-    (positions, frames)
+    scene.groom.skeletons.rest_pose(&RigidTransform::IDENTITY)
 }
 
 /// Points filling section `section`'s coarse `level` as drawn: the patch strip sampled across,

@@ -261,6 +261,14 @@ impl SkeletonRest {
         positions
     }
 
+    /// Rest positions [m] and node frames of every node with the head at `head`, chain-major.
+    pub fn rest_pose(&self, head: &RigidTransform) -> (Vec<Vec3>, Vec<Frame>) {
+        let positions = self.rest_positions(head);
+        let mut frames = vec![Frame::default(); positions.len()];
+        self.node_frames_into(head, &positions, &mut frames);
+        (positions, frames)
+    }
+
     /// Computes the frame at every node of every chain from `positions` (one per node, chain-major)
     /// with the head at `head` (which carries the root frames), in parallel over chains; see
     /// [`node_frames`]. `frames` has one entry per node.

@@ -76,12 +76,7 @@ impl LevelDeviation {
 /// The deviation of every section of `groom` at rest (head at the identity), in parallel over
 /// sections (deterministic).
 pub fn level_deviations(groom: &Groom) -> Result<Vec<LevelDeviation>> {
-    let head = RigidTransform::IDENTITY;
-    let positions = groom.skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    groom
-        .skeletons
-        .node_frames_into(&head, &positions, &mut frames);
+    let (positions, frames) = groom.skeletons.rest_pose(&RigidTransform::IDENTITY);
     level_deviations_at(groom, &positions, &frames)
 }
 
