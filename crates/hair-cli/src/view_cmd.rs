@@ -24,7 +24,8 @@ pub struct ViewArgs {
     /// override it. Without one: the paper-curly groom on the procedural head.
     #[arg(value_name = "SCENE.toml")]
     scene: Option<PathBuf>,
-    /// Draw N frames, then close (headless runs: tests, CI, measurements).
+    /// Draw N frames, then close (headless runs: tests, CI, measurements); the shot is N frames
+    /// long (its camera path spans them) [scene: frames.count].
     #[arg(long, value_name = "N")]
     frames: Option<u64>,
     /// Write the last of the --frames as a PNG (the window's image, HUD included).
@@ -80,6 +81,11 @@ impl ViewArgs {
         };
         if let Some(preset) = self.preset {
             file.groom.preset = Some(preset.name().to_string());
+        }
+        if let Some(frames) = self.frames {
+            // The camera path spans the frames shown, as `render --frames N` makes the shot N
+            // frames long.
+            file.frames.count = Some(usize::try_from(frames).unwrap_or(usize::MAX));
         }
         if let Some(level) = self.level {
             file.lod.mode = Some(level.name().to_string());

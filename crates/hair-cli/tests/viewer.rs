@@ -15,8 +15,8 @@ const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
 const WIDTH: u32 = 480;
 const HEIGHT: u32 = 270;
 /// The HUD's corner of the window [pixels]: the top-left box it is drawn in, at most.
-const HUD_WIDTH: u32 = 340;
-const HUD_HEIGHT: u32 = 110;
+const HUD_WIDTH: u32 = 320;
+const HUD_HEIGHT: u32 = 140;
 
 /// A fresh folder under the target's temporary directory.
 fn folder(name: &str) -> PathBuf {
@@ -159,16 +159,22 @@ fn a_scripted_viewer_run_draws_hair_and_hud_and_obeys_the_keys() {
          9 screenshot orbited.png\n",
     )
     .unwrap();
+    // The paper-curly groom (the default) seen from its right side, where the face shows.
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "version = 2\n[camera]\npath = \"fixed\"\nazimuth_degrees = 90.0\n",
+    )
+    .unwrap();
     let size = format!("{WIDTH}x{HEIGHT}");
     let checkpoint = dir.join("checkpoint.json");
     let output = hairlod(
         &display,
         &[
             "view",
+            scene.to_str().unwrap(),
             "--size",
             &size,
-            "--camera",
-            "fixed",
             "--frames",
             "10",
             "--screenshot",
@@ -209,7 +215,8 @@ fn a_scripted_viewer_run_draws_hair_and_hud_and_obeys_the_keys() {
     let paused_a = open(&dir.join("paused_a.png"));
     let paused_b = open(&dir.join("paused_b.png"));
     assert!(paused_a == paused_b, "two paused screenshots differ\n{log}");
-    // The orbit drag turns the camera: the head moves in the image.
+    // The orbit drag turns the camera from the side towards the face: the head moves in the
+    // image.
     let orbited = open(&dir.join("orbited.png"));
     let before = head_centroid(&paused_b);
     let after = head_centroid(&orbited);
@@ -230,10 +237,9 @@ fn a_scripted_viewer_run_draws_hair_and_hud_and_obeys_the_keys() {
         &display,
         &[
             "render",
+            scene.to_str().unwrap(),
             "--size",
             &size,
-            "--camera",
-            "fixed",
             "--resume",
             checkpoint.to_str().unwrap(),
             "--frames",

@@ -87,9 +87,15 @@ fn body(ui: &mut Ui, status: &Status, help: bool) {
     line(
         ui,
         format!(
-            "wind {}  motion {}  {}  {}",
+            "wind {}  motion {}",
             if status.wind_on { "on" } else { "off" },
-            status.motion,
+            status.motion
+        ),
+    );
+    line(
+        ui,
+        format!(
+            "{}  {}",
             if status.color_coded {
                 "level colours"
             } else {
