@@ -115,7 +115,10 @@ fn count_outside_hud(image: &image::RgbaImage, test: impl Fn([u8; 3]) -> bool) -
 /// The level colours (strands yellow, clusters red, patches blue; unlit in the colour-coded
 /// mode), as the render tests read them.
 fn is_level_color([r, g, b]: [u8; 3]) -> bool {
-    (r > 200 && g > 200 && b < 60) || (r > 200 && g < 60 && b < 60) || (b > 200 && r < 60 && g < 60)
+    let yellow = r > 200 && g > 200 && b < 60;
+    let red = r > 200 && g < 60 && b < 60;
+    let blue = b > 200 && r < 60 && g < 60;
+    yellow || red || blue
 }
 
 /// The colour-coded head: flat grey 0.2 (linear), 124 in sRGB.
