@@ -34,7 +34,12 @@ fn a_forced_level_reaches_every_section_and_automatic_levels_return() {
         pipeline.advance(&camera).unwrap();
     }
     let automatic = pipeline.fingerprint();
-    assert!(pipeline.section_levels().iter().all(|&l| l != Level::StrandGroup));
+    assert!(
+        pipeline
+            .section_levels()
+            .iter()
+            .all(|&l| l != Level::StrandGroup)
+    );
 
     pipeline
         .set_lod_mode(LodMode::Fixed(Level::StrandGroup))
