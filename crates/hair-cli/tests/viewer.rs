@@ -15,7 +15,7 @@ const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
 const WIDTH: u32 = 480;
 const HEIGHT: u32 = 270;
 /// The HUD's corner of the window [pixels]: the top-left box it is drawn in, at most.
-const HUD_WIDTH: u32 = 320;
+const HUD_WIDTH: u32 = 370;
 const HUD_HEIGHT: u32 = 140;
 
 /// A fresh folder under the target's temporary directory.
@@ -208,10 +208,13 @@ fn a_scripted_viewer_run_draws_hair_and_hud_and_obeys_the_keys() {
         coded_hair > pixels / 50,
         "{coded_hair} level-coloured pixels after `c`\n{log}"
     );
-    // The HUD's text: light grey glyphs on its dark box in the top-left corner.
+    // The HUD's text: light grey glyphs (not brown hair) on its dark box in the top-left corner.
     let hud_text = shaded
         .enumerate_pixels()
-        .filter(|(x, y, p)| *x < HUD_WIDTH && *y < HUD_HEIGHT && p.0[0] > 180 && p.0[1] > 180)
+        .filter(|(x, y, p)| {
+            let [r, g, b, _] = p.0;
+            *x < HUD_WIDTH && *y < HUD_HEIGHT && r.min(g).min(b) > 180 && r.abs_diff(b) < 30
+        })
         .count();
     assert!(hud_text > 300, "{hud_text} HUD text pixels\n{log}");
     // Paused: the frame and the HUD stay as they are.

@@ -23,13 +23,13 @@ pub fn show(ui: &mut Ui, status: &Status, help: bool) {
         });
 }
 
+/// One line of the HUD, never wrapped.
 fn line(ui: &mut Ui, text: String) {
-    ui.label(
-        RichText::new(text)
-            .monospace()
-            .size(11.0)
-            .color(Color32::from_gray(235)),
-    );
+    let text = RichText::new(text)
+        .monospace()
+        .size(11.0)
+        .color(Color32::from_gray(235));
+    ui.add(egui::Label::new(text).extend().selectable(false));
 }
 
 fn body(ui: &mut Ui, status: &Status, help: bool) {
@@ -51,7 +51,7 @@ fn body(ui: &mut Ui, status: &Status, help: bool) {
             line(
                 ui,
                 format!(
-                    "ms  lod {:.1}  dyn {:.1}  coll {:.1}  render {:.1}",
+                    "lod {:.1} dyn {:.1} coll {:.1} render {:.1} ms",
                     1e3 * times.lod,
                     1e3 * times.dynamics,
                     1e3 * times.collision,
@@ -66,8 +66,11 @@ fn body(ui: &mut Ui, status: &Status, help: bool) {
             line(
                 ui,
                 format!(
-                    "nodes {}  segments {}  visible {}",
-                    report.simulated_nodes, report.drawn_segments, report.visible_sections
+                    "nodes {}  segments {}  visible {}  blending {}",
+                    report.simulated_nodes,
+                    report.drawn_segments,
+                    report.visible_sections,
+                    report.blending_sections
                 ),
             );
         }
