@@ -38,6 +38,20 @@ impl PipelineRenderer {
         })
     }
 
+    /// A pipeline renderer on an already built `renderer` (for example one on a window's
+    /// device, [`hair_render::acquire_device_for_surface`]), with `scene`'s groom and head
+    /// uploaded.
+    pub fn with_renderer(mut renderer: Renderer, scene: &Scene) -> Result<Self> {
+        renderer.upload_groom(&scene.groom)?;
+        renderer.set_head_mesh(Some(&scene.head.mesh))?;
+        Ok(PipelineRenderer {
+            renderer,
+            active: ActiveSkeletons::new(),
+            head_pose: RigidTransform::IDENTITY,
+            line_shading: LineShading::default(),
+        })
+    }
+
     /// Shades 1-pixel strand lines per vertex (the default) or per fragment.
     pub fn set_line_shading(&mut self, line_shading: LineShading) {
         self.line_shading = line_shading;
@@ -89,6 +103,28 @@ impl PipelineRenderer {
         };
         let image = self.renderer.render(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
+    }
+
+    /// Renders the pipeline's current skeletons through `camera` into `destination` (a window's
+    /// texture, see [`Renderer::render_to_texture`]) instead of an image; returns the time it
+    /// took to record and submit [s] (the GPU's work is not waited for).
+    pub fn render_to_texture(
+        &mut self,
+        pipeline: &mut Pipeline,
+        camera: &Camera,
+        mode: ShadingMode,
+        destination: &hair_render::wgpu::Texture,
+    ) -> Result<f64> {
+        let started = Instant::now();
+        self.prepare(pipeline)?;
+        let settings = FrameSettings {
+            mode,
+            line_shading: self.line_shading,
+            ..FrameSettings::new(destination.width(), destination.height(), *camera)
+        };
+        self.renderer
+            .render_to_texture(&self.active.frame(), &settings, destination)?;
+        Ok(started.elapsed().as_secs_f64())
     }
 
     /// Renders shaded and colour-coded side by side (`2·width`×`height`); returns the image and

@@ -463,6 +463,71 @@ impl Pipeline {
         Ok(())
     }
 
+    /// Switches between automatic levels and a fixed level from the next frame on (an
+    /// interactive viewer's "force a level"). To a fixed level, every section is switched through
+    /// the same hand-over (§4.2) and blend as an automatic change (blending over the current
+    /// selector's blend time) and shown whether in view or not, as a fixed-level run does; back to
+    /// automatic levels, a selector with `lod` settings starts from the levels the sections are at
+    /// and chooses at the next frame. The run's fingerprint follows the settings. Refused while a
+    /// frame is begun and not finished.
+    pub fn set_lod_mode(&mut self, mode: LodMode) -> Result<()> {
+        if self.pending.is_some() {
+            return Err(PipelineError::State(
+                "a frame is begun and not finished: change the level mode between frames".into(),
+            ));
+        }
+        if mode == self.settings.lod {
+            return Ok(());
+        }
+        match mode {
+            LodMode::Auto(lod) => {
+                let mut selector =
+                    LodSelector::new(&self.scene.groom, &self.scene.head.occluder_boxes(), lod)?;
+                selector.restore_choices(&self.state.choices)?;
+                self.state.pixel_tolerance = Some(lod.pixel_tolerance);
+                self.selector = Some(selector);
+            }
+            LodMode::Fixed(level) => {
+                let blend = self
+                    .selector
+                    .as_ref()
+                    .map_or(0.0, |s| s.settings().blend_time);
+                let time = self.state.time;
+                for section in 0..self.scene.groom.section_count() {
+                    if self.state.levels.current()[section] != level {
+                        self.state.levels.switch(section, level, time, blend);
+                    }
+                    self.state.levels.set_visible(section, true, time, blend);
+                    self.state.choices[section] = SectionChoice {
+                        level,
+                        visible: true,
+                        reason: hair_core::lod::Reason::Fixed,
+                    };
+                }
+                self.selector = None;
+                self.state.pixel_tolerance = None;
+                let head = self.environment.head.transform_at(time);
+                self.apply_level_changes(&head)?;
+            }
+        }
+        self.settings.lod = mode;
+        Ok(())
+    }
+
+    /// Replaces the environment (head motion, wind, gravity) from the next frame on (an
+    /// interactive viewer's wind and head-motion switches). The head's pose jumps to the new
+    /// motion's pose at the current time. The run's fingerprint follows the environment.
+    /// Refused while a frame is begun and not finished.
+    pub fn set_environment(&mut self, environment: Environment) -> Result<()> {
+        if self.pending.is_some() {
+            return Err(PipelineError::State(
+                "a frame is begun and not finished: change the environment between frames".into(),
+            ));
+        }
+        self.environment = environment;
+        Ok(())
+    }
+
     /// Simulated time [s].
     pub fn time(&self) -> f64 {
         self.state.time

@@ -1,7 +1,8 @@
 //! The `hairlod` command-line tool: every verb that makes frames runs a scene through the one frame
 //! loop (`hairlod::run`): `render` (image sequences, checkpoints), `bench` (a scene in every mode,
 //! the paper's tables), `demo` (the main job), `accuracy` (speed against accuracy); and `groom`
-//! (counts, OBJ export) and `stability` (where each integrator holds).
+//! (counts, OBJ export) and `stability` (where each integrator holds); `view` opens a window on
+//! the same frame loop.
 
 mod accuracy_cmd;
 mod bench_cmd;
@@ -14,6 +15,8 @@ mod pareto;
 mod render_cmd;
 mod scene_args;
 mod stability_cmd;
+mod view_cmd;
+mod viewer;
 
 use std::process::ExitCode;
 
@@ -46,6 +49,11 @@ enum Command {
     Demo(demo_cmd::DemoArgs),
     /// Speed against accuracy: fixed levels and LODs against the strand-level reference.
     Accuracy(accuracy_cmd::AccuracyArgs),
+    /// Open a window on a scene running through the pipeline: orbit, pan and zoom with the
+    /// mouse; pause, step, force a level, colour-code, tune the tolerance, budget, wind and head
+    /// motion with keys; a HUD with stage times and counts. `--frames N --screenshot F` and
+    /// `--script FILE` run it headless (under Xvfb). See docs/viewer.md.
+    View(view_cmd::ViewArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +65,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench_cmd::run(&args),
         Command::Demo(args) => demo_cmd::run(&args),
         Command::Accuracy(args) => accuracy_cmd::run(&args),
+        Command::View(args) => view_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -249,6 +249,32 @@ fn unsuitability(adapter: &wgpu::Adapter, options: &DeviceOptions) -> Option<Str
 /// Errors: [`RenderError::NoAdapter`] when no adapter exists on the chosen backends,
 /// [`RenderError::NoUsableAdapter`] when none meets the renderer's needs; both say what to install.
 pub fn acquire_device(options: &DeviceOptions) -> Result<GpuContext> {
+    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+    descriptor.backends = options.backend.backends();
+    let instance = wgpu::Instance::new(descriptor);
+    open_device(&instance, options, None)
+}
+
+/// [`acquire_device`] on the caller's `instance` (one that knows the window's display), keeping
+/// only adapters that can present to `surface`: the device of an interactive viewer, which
+/// renders with [`crate::Renderer::with_context`] and shows the frames in a window.
+///
+/// Errors as [`acquire_device`]; an adapter that cannot present to the window is rejected with
+/// that reason.
+pub fn acquire_device_for_surface(
+    instance: &wgpu::Instance,
+    surface: &wgpu::Surface<'_>,
+    options: &DeviceOptions,
+) -> Result<GpuContext> {
+    open_device(instance, options, Some(surface))
+}
+
+/// Opens a device on the best adapter of `instance` for `options` (and `surface`, when given).
+fn open_device(
+    instance: &wgpu::Instance,
+    options: &DeviceOptions,
+    surface: Option<&wgpu::Surface<'_>>,
+) -> Result<GpuContext> {
     if !matches!(options.sample_count, 1 | 2 | 4 | 8 | 16) {
         return Err(RenderError::InvalidInput(format!(
             "sample count {} is not one of 1, 2, 4, 8, 16",
@@ -256,9 +282,6 @@ pub fn acquire_device(options: &DeviceOptions) -> Result<GpuContext> {
         )));
     }
     let backends = options.backend.backends();
-    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
-    descriptor.backends = backends;
-    let instance = wgpu::Instance::new(descriptor);
     let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
     if adapters.is_empty() {
         return Err(RenderError::NoAdapter {
@@ -273,6 +296,13 @@ pub fn acquire_device(options: &DeviceOptions) -> Result<GpuContext> {
         let info = adapter.get_info();
         if let Some(reason) = unsuitability(&adapter, options) {
             rejections.push(format!("{} ({}): {reason}", info.name, info.backend));
+            continue;
+        }
+        if surface.is_some_and(|surface| !adapter.is_surface_supported(surface)) {
+            rejections.push(format!(
+                "{} ({}): cannot present to the window",
+                info.name, info.backend
+            ));
             continue;
         }
         let descriptor = wgpu::DeviceDescriptor {

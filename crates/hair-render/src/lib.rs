@@ -93,6 +93,7 @@ pub use surfaces::{ClusterSet, PatchSet};
 pub use camera::Camera;
 pub use device::{
     AdapterReport, BACKEND_ENV_VAR, BackendChoice, DeviceOptions, GpuContext, acquire_device,
+    acquire_device_for_surface,
 };
 pub use error::{RenderError, Result};
 pub use inputs::{SkeletonFrame, StrandSet};
@@ -102,3 +103,6 @@ pub use settings::{
     StrandStyle, Tessellation,
 };
 pub use target::RenderTarget;
+/// The wgpu this renderer is built on (its device, queue and textures), for callers that draw
+/// beside it, such as an interactive viewer.
+pub use wgpu;

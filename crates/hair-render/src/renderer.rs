@@ -240,11 +240,48 @@ impl Renderer {
         settings.validate()?;
         let counts = self.upload_frame(frame, settings, 0)?;
         let scope = ErrorScopes::push(&self.gpu.device);
-        let result = self.draw(settings, counts);
+        let result = self.draw(settings, counts, None);
         let checked = scope.pop("rendering a frame");
         let image = result?;
         checked?;
-        Ok(image)
+        image.ok_or_else(|| RenderError::Gpu("the frame was not read back".into()))
+    }
+
+    /// Renders one frame as [`Renderer::render`] does, but copies the image into `destination`
+    /// on the GPU instead of reading it back (an interactive viewer's window): `destination`
+    /// must be a `settings.width`×`settings.height` texture of
+    /// [`crate::target::COLOR_FORMAT`] with `COPY_DST` usage. The commands are submitted, not
+    /// waited for.
+    pub fn render_to_texture(
+        &mut self,
+        frame: &SkeletonFrame<'_>,
+        settings: &FrameSettings,
+        destination: &wgpu::Texture,
+    ) -> Result<()> {
+        settings.validate()?;
+        let size = (destination.width(), destination.height());
+        if size != (settings.width, settings.height)
+            || destination.format() != crate::target::COLOR_FORMAT
+            || !destination.usage().contains(wgpu::TextureUsages::COPY_DST)
+        {
+            return Err(invalid(format!(
+                "the destination texture is {}x{} {:?} with {:?}; the frame needs {}x{} {:?} \
+                 with COPY_DST",
+                size.0,
+                size.1,
+                destination.format(),
+                destination.usage(),
+                settings.width,
+                settings.height,
+                crate::target::COLOR_FORMAT
+            )));
+        }
+        let counts = self.upload_frame(frame, settings, 0)?;
+        let scope = ErrorScopes::push(&self.gpu.device);
+        let result = self.draw(settings, counts, Some(destination));
+        let checked = scope.pop("rendering a frame into a texture");
+        result?;
+        checked
     }
 
     /// Renders the frame shaded and colour-coded by level (Fig. 6) and puts the two side by side:
@@ -410,11 +447,14 @@ impl Renderer {
         group
     }
 
+    /// Draws the frame into the target, then reads it back (`destination` `None`) or copies it
+    /// into `destination` (returning `None`).
     fn draw(
         &mut self,
         settings: &FrameSettings,
         counts: GeometryCounts,
-    ) -> Result<image::RgbaImage> {
+        destination: Option<&wgpu::Texture>,
+    ) -> Result<Option<image::RgbaImage>> {
         let needs_new_target = self
             .target
             .as_ref()
@@ -582,8 +622,13 @@ impl Renderer {
                 }
             }
         }
+        if let Some(destination) = destination {
+            target.encode_copy_to(&mut encoder, destination);
+            self.gpu.queue.submit([encoder.finish()]);
+            return Ok(None);
+        }
         target.encode_readback(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
-        target.read_image(&self.gpu.device)
+        target.read_image(&self.gpu.device).map(Some)
     }
 }

@@ -188,6 +188,20 @@ impl RenderTarget {
         );
     }
 
+    /// Records the copy of the resolved image into `destination` (for a window: a texture of
+    /// [`COLOR_FORMAT`] and this target's size with `COPY_DST` usage, checked by the caller).
+    pub fn encode_copy_to(&self, encoder: &mut wgpu::CommandEncoder, destination: &wgpu::Texture) {
+        encoder.copy_texture_to_texture(
+            self.resolved.as_image_copy(),
+            destination.as_image_copy(),
+            wgpu::Extent3d {
+                width: self.width,
+                height: self.height,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+
     /// Maps the readback buffer (after the commands from [`Self::encode_readback`] were submitted)
     /// and returns the image, rows unpadded; sRGB-encoded RGBA8 as stored in the target.
     pub fn read_image(&self, device: &wgpu::Device) -> Result<image::RgbaImage> {
