@@ -75,6 +75,7 @@ pub mod inputs;
 pub mod output;
 pub mod renderer;
 pub mod settings;
+pub mod shadows;
 pub mod surfaces;
 pub mod target;
 
@@ -84,6 +85,8 @@ mod evaluate;
 mod head;
 mod pipelines;
 mod scopes;
+mod shadow_maps;
+mod shadow_pipelines;
 mod uniforms;
 
 pub use active::ActiveSkeletons;
@@ -101,4 +104,5 @@ pub use settings::{
     DirectionalLight, FrameSettings, HairMaterial, LevelColors, LineShading, ShadingMode,
     StrandStyle, Tessellation,
 };
+pub use shadows::SelfShadowing;
 pub use target::RenderTarget;

@@ -5,6 +5,7 @@ use glam::Vec3;
 
 use crate::camera::Camera;
 use crate::error::{Result, invalid};
+use crate::shadows::SelfShadowing;
 
 /// How geometry is coloured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -245,6 +246,8 @@ pub struct FrameSettings {
     pub tessellation: Tessellation,
     /// Colours of the colour-coding mode.
     pub level_colors: LevelColors,
+    /// Self-shadowing of the hair (deep opacity maps).
+    pub shadows: SelfShadowing,
 }
 
 impl FrameSettings {
@@ -263,6 +266,7 @@ impl FrameSettings {
             line_shading: LineShading::default(),
             tessellation: Tessellation::default(),
             level_colors: LevelColors::default(),
+            shadows: SelfShadowing::default(),
         }
     }
 
@@ -350,6 +354,7 @@ impl FrameSettings {
                 t.max_chord_error_pixels
             )));
         }
+        self.shadows.validate()?;
         if !(t.full_detail_distance.is_finite() && t.full_detail_distance > 0.0) {
             return Err(invalid(format!(
                 "full-detail distance {} m must be finite and > 0",

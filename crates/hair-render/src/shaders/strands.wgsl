@@ -109,10 +109,38 @@ fn strand_color(in: StrandVertex) -> vec3<f32> {
         return globals.strand_code_color.rgb;
     }
     let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, in.shade);
-    return hair_color(base, normalize(in.tangent), in.world_position, 1.0);
+    let light = shadow_transmittance(in.world_position);
+    return hair_color(base, normalize(in.tangent), in.world_position, light);
 }
 
 @fragment
 fn fs_strand(in: StrandVertex) -> @location(0) vec4<f32> {
     return vec4<f32>(strand_color(in), 1.0);
+}
+
+// A vertex of the light passes (depth map and opacity map, `shadows.wgsl`).
+struct ShadowVertex {
+    @builtin(position) clip: vec4<f32>,
+}
+
+// Line strip per instance (one strand) in the light passes: vertex i is curve point
+// i · stride (clamped to the last), projected by the light's view (the light passes' globals).
+@vertex
+fn vs_strand_shadow(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> ShadowVertex {
+    let stride = max(u32(globals.shadow_surfaces.z), 1u);
+    var out: ShadowVertex;
+    out.clip = strand_vertex(strand, vertex * stride, 0.0).clip;
+    return out;
+}
+
+// Depth pass: the fragment's light-space depth (the depth test keeps the nearest).
+@fragment
+fn fs_strand_depth(in: ShadowVertex) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.clip.z, 0.0, 0.0, 0.0);
+}
+
+// Opacity pass: a strand line adds its optical depth to its layer.
+@fragment
+fn fs_strand_opacity(in: ShadowVertex) -> @location(0) vec4<f32> {
+    return globals.shadow.z * opacity_layer(in.clip.xy, in.clip.z);
 }
