@@ -76,6 +76,7 @@ pub mod output;
 pub mod renderer;
 pub mod settings;
 pub mod shadows;
+pub mod strand_shapes;
 pub mod surfaces;
 pub mod target;
 
@@ -105,4 +106,5 @@ pub use settings::{
     StrandStyle, Tessellation,
 };
 pub use shadows::SelfShadowing;
+pub use strand_shapes::StrandShapes;
 pub use target::RenderTarget;

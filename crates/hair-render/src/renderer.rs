@@ -14,6 +14,7 @@ use crate::scopes::ErrorScopes;
 use crate::settings::{FrameSettings, LineShading, ShadingMode, StrandStyle};
 use crate::shadow_maps::ShadowMaps;
 use crate::shadows::{bounding_sphere, light_view_projection};
+use crate::strand_shapes::StrandShapes;
 use crate::surfaces::{ClusterSet, PatchSet, chain_ring_radii, pack_clusters, pack_patches};
 use crate::target::RenderTarget;
 use crate::uniforms::{GeometryCounts, Globals, ShadowFrame};
@@ -202,10 +203,22 @@ impl Renderer {
         self.patches.order.item_count()
     }
 
-    /// Uploads the static strand data, replacing any earlier set.
+    /// Uploads the static strand data, replacing any earlier set (full-length strands parallel
+    /// to their chains; see [`Renderer::upload_strands_with_shapes`]).
     pub fn upload_strands(&mut self, strands: &StrandSet<'_>) -> Result<()> {
+        self.upload_strands_with_shapes(strands, &StrandShapes::default())
+    }
+
+    /// Uploads the static strand data with per-strand lengths and tip scales, replacing any
+    /// earlier set.
+    pub fn upload_strands_with_shapes(
+        &mut self,
+        strands: &StrandSet<'_>,
+        shapes: &StrandShapes<'_>,
+    ) -> Result<()> {
         strands.validate()?;
-        let packed = pack_strands(strands);
+        shapes.validate(strands.strand_count())?;
+        let packed = pack_strands(strands, shapes);
         let scope = ErrorScopes::push(&self.gpu.device);
         self.strands
             .upload(&self.gpu, strands.strand_chain, &packed);

@@ -43,14 +43,22 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     if (chain.node_count < 2u || dissolve_rank(strand_index) >= chain.coverage) {
         return out;
     }
-    let slot = chain.first_sample + min(point_index, chain.along_segments);
+    // A strand of length l ends at the chain point nearest u = l; later vertices repeat it.
+    let last = max(1u, u32(round(strand.length * f32(chain.along_segments))));
+    let point = min(min(point_index, last), chain.along_segments);
+    let slot = chain.first_sample + point;
     if (slot >= arrayLength(&chain_samples)) {
         return out;
     }
     let sample = chain_samples[slot];
+    // Offset σ(u)·o with σ(u) = 1 + (tip_scale − 1)·u: strands gather towards the chain.
+    let u = f32(point) / f32(chain.along_segments);
+    let scale = 1.0 + (strand.tip_scale - 1.0) * u;
     let o = strand.root_offset;
-    let position = sample.position.xyz + o.x * sample.normal.xyz + o.y * sample.binormal.xyz;
-    var tangent = sample.d_position.xyz + o.x * sample.d_normal.xyz + o.y * sample.d_binormal.xyz;
+    let across = o.x * sample.normal.xyz + o.y * sample.binormal.xyz;
+    let position = sample.position.xyz + scale * across;
+    var tangent = sample.d_position.xyz + scale * (o.x * sample.d_normal.xyz + o.y * sample.d_binormal.xyz)
+        + (strand.tip_scale - 1.0) * across;
     if (dot(tangent, tangent) < 1e-20) {
         tangent = vec3<f32>(0.0, 1.0, 0.0);
     }
