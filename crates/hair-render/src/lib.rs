@@ -103,7 +103,7 @@ pub use inputs::{SkeletonFrame, StrandSet};
 pub use renderer::{Renderer, RendererOptions};
 pub use settings::{
     DirectionalLight, FrameSettings, HairMaterial, LevelColors, LineShading, ShadingMode,
-    StrandStyle, Tessellation,
+    StrandStyle, SurfaceTexture, Tessellation,
 };
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;

@@ -20,6 +20,8 @@ const SHADOWS_WGSL: &str = include_str!("shaders/shadows.wgsl");
 const STRANDS_WGSL: &str = include_str!("shaders/strands.wgsl");
 /// Cluster tubes and patch strips.
 const SURFACES_WGSL: &str = include_str!("shaders/surfaces.wgsl");
+/// The hair texture of clusters and patches.
+const HAIR_TEXTURE_WGSL: &str = include_str!("shaders/hair_texture.wgsl");
 /// The head mesh.
 const HEAD_WGSL: &str = include_str!("shaders/head.wgsl");
 /// The evaluation compute pass.
@@ -195,7 +197,7 @@ impl Pipelines {
         let surfaces_module = shader(
             device,
             "hair-render surfaces",
-            &[SHADOWS_WGSL, SURFACES_WGSL],
+            &[SHADOWS_WGSL, SURFACES_WGSL, HAIR_TEXTURE_WGSL],
         );
         let head_module = shader(device, "hair-render head", &[SHADOWS_WGSL, HEAD_WGSL]);
         let evaluate_module = shader(
@@ -221,6 +223,12 @@ impl Pipelines {
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         })];
+        // Surfaces turn their hair texture's coverage (alpha) into MSAA samples, so their
+        // silhouettes break up like strands without `discard` (which would cost early depth).
+        let surface_multisample = wgpu::MultisampleState {
+            alpha_to_coverage_enabled: sample_count > 1,
+            ..multisample
+        };
         let hair_pipeline = |label: &str,
                              layout: &wgpu::PipelineLayout,
                              module: &wgpu::ShaderModule,
@@ -228,6 +236,11 @@ impl Pipelines {
                              fragment_entry: &str,
                              topology,
                              cull_mode: Option<wgpu::Face>| {
+            let multisample = if fragment_entry.starts_with("fs_surface") {
+                surface_multisample
+            } else {
+                multisample
+            };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(layout),
@@ -311,7 +324,9 @@ impl Pipelines {
                 surfaces_module: &surfaces_module,
                 strand_layout: &strand_layout,
                 surface_layout: &surface_layout,
-                cluster_cull_mode: cluster_cull_mode(),
+                // Always culled: the opacity pass puts a tube's whole optical depth on the faces
+                // towards the light (whatever `HAIRLOD_CLUSTER_CULL` says for the camera pass).
+                cluster_cull_mode: Some(wgpu::Face::Back),
             },
         );
         let patches = surface_pipelines("patches", "vs_patch", None);

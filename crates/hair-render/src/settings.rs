@@ -42,6 +42,18 @@ impl Default for LevelColors {
     }
 }
 
+/// The texture of clusters and patches (§6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SurfaceTexture {
+    /// Hair: fine strands across the surface whose shades drift along the hair, each ending at
+    /// its own length, fewer of them towards the silhouette; the coverage becomes MSAA samples
+    /// (alpha-to-coverage), so tips and silhouettes break up like strands (with MSAA only).
+    #[default]
+    Hair,
+    /// Stripes across the surface, constant along the hair, solid to the edges.
+    Stripes,
+}
+
 /// How strands are drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum StrandStyle {
@@ -248,6 +260,8 @@ pub struct FrameSettings {
     pub level_colors: LevelColors,
     /// Self-shadowing of the hair (deep opacity maps).
     pub shadows: SelfShadowing,
+    /// Texture of clusters and patches.
+    pub surface_texture: SurfaceTexture,
 }
 
 impl FrameSettings {
@@ -267,6 +281,7 @@ impl FrameSettings {
             tessellation: Tessellation::default(),
             level_colors: LevelColors::default(),
             shadows: SelfShadowing::default(),
+            surface_texture: SurfaceTexture::default(),
         }
     }
 

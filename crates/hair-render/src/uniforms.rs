@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use crate::settings::{FrameSettings, ShadingMode, StrandStyle};
+use crate::settings::{FrameSettings, ShadingMode, StrandStyle, SurfaceTexture};
 use crate::shadows::SelfShadowing;
 
 /// Counts the shaders need to bound their reads.
@@ -102,7 +102,10 @@ impl Globals {
                 half_width,
                 min_half_pixels,
                 settings.camera.focal_length_pixels(settings.height),
-                0.0,
+                match settings.surface_texture {
+                    SurfaceTexture::Hair => 1.0,
+                    SurfaceTexture::Stripes => 0.0,
+                },
             ],
             counts: [
                 counts.strands,

@@ -20,7 +20,8 @@ struct Globals {
     viewport: vec4<f32>,
     // x: diffuse, y: specular, z: specular exponent, w: 1 in colour-coding mode.
     shading: vec4<f32>,
-    // x: ribbon half width [m], y: minimum half width [pixels], z: focal length [pixels].
+    // x: ribbon half width [m], y: minimum half width [pixels], z: focal length [pixels], w: 1
+    // for the hair texture on clusters and patches, 0 for stripes.
     ribbon: vec4<f32>,
     // x: strand count, y: chain count, z: node count, w: samples per strand (evaluation pass).
     counts: vec4<u32>,

@@ -192,11 +192,6 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
     if (in.kind == 1u) {
         stripes = STRIPES_AROUND;
     }
-    // Texture: coarse locks and fine strands across the surface, constant along the hair.
-    let coarse = stripe_noise(in.texcoord.x * stripes, stripes, in.seed);
-    let fine = stripe_noise(in.texcoord.x * stripes * 3.0, stripes * 3.0, in.seed * 7919u + 1u);
-    let shade = clamp(0.6 * coarse + 0.4 * fine, 0.0, 1.0);
-    let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, shade);
     let to_eye = normalize(globals.camera_position.xyz - in.world_position);
     var normal = in.normal;
     if (dot(normal, normal) < 1e-20) {
@@ -206,10 +201,28 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
     if (in.kind == 2u && dot(normal, to_eye) < 0.0) {
         normal = -normal;
     }
+    var shade: f32;
+    var coverage = 1.0;
+    if (globals.ribbon.w > 0.5) {
+        // Hair texture: strands with shades along the hair, own lengths, a broken silhouette.
+        var silhouette = abs(dot(normal, to_eye));
+        if (in.kind == 2u) {
+            silhouette = 2.0 * min(in.texcoord.x, 1.0 - in.texcoord.x);
+        }
+        let texture = hair_texture(in.texcoord.x, in.texcoord.y, in.seed, stripes, silhouette);
+        shade = texture.x;
+        coverage = texture.y;
+    } else {
+        // Stripes: coarse locks and fine strands across the surface, constant along the hair.
+        let coarse = stripe_noise(in.texcoord.x * stripes, stripes, in.seed);
+        let fine = stripe_noise(in.texcoord.x * stripes * 3.0, stripes * 3.0, in.seed * 7919u + 1u);
+        shade = clamp(0.6 * coarse + 0.4 * fine, 0.0, 1.0);
+    }
+    let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, shade);
     // Light-facing term: the side of a tube or strip away from the light is darker.
     let facing = 0.35 + 0.65 * max(dot(normal, globals.light_direction.xyz), 0.0);
     let occlusion = facing * shadow_transmittance(in.world_position);
-    return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, occlusion), 1.0);
+    return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, occlusion), coverage);
 }
 
 // Depth pass: the fragment's light-space depth (the depth test keeps the nearest).
