@@ -235,6 +235,15 @@ impl Batch {
     pub fn surface_vertices(&self, bands: u32) -> u32 {
         bands * (2 * (self.along_segments + 1) + 2) - 2
     }
+
+    /// The same batch tessellated for the light passes: every `stride`-th curve point along
+    /// (`ceil(along / stride)` segments, `shadow_segments` in `shadows.wgsl`).
+    pub fn for_light_passes(&self, stride: u32) -> Batch {
+        Batch {
+            along_segments: self.along_segments.div_ceil(stride.max(1)),
+            ..self.clone()
+        }
+    }
 }
 
 #[cfg(test)]

@@ -59,7 +59,7 @@ impl Renderer {
         counts: GeometryCounts,
         total: u64,
     ) -> Result<Vec<Vec3>> {
-        let globals = Globals::new(settings, counts);
+        let globals = Globals::new(settings, counts, None);
         self.gpu
             .queue
             .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));

@@ -7,6 +7,7 @@ use hair_core::{Groom, Level};
 use crate::error::Result;
 use crate::inputs::StrandSet;
 use crate::renderer::Renderer;
+use crate::strand_shapes::StrandShapes;
 use crate::surfaces::{ClusterSet, PatchSet};
 
 /// The static render data of a [`Groom`], owned, with chains numbered as in
@@ -20,6 +21,10 @@ pub struct GroomGeometry {
     pub strand_root_offsets: Vec<Vec2>,
     /// Shade of each strand in 0..1.
     pub strand_shades: Vec<f32>,
+    /// Length of each strand as a fraction of its chain's (empty: all 1).
+    pub strand_lengths: Vec<f32>,
+    /// Scale of each strand's offset at the tip (empty: all 1).
+    pub strand_tip_scales: Vec<f32>,
     /// Chain of each cluster.
     pub cluster_chain: Vec<u32>,
     /// Root radius of each cluster's control circle [m].
@@ -45,6 +50,8 @@ impl GroomGeometry {
             strand_chain,
             strand_root_offsets: groom.strands.root_offsets.clone(),
             strand_shades: groom.strands.shades.clone(),
+            strand_lengths: groom.strands.lengths.clone(),
+            strand_tip_scales: groom.strands.tip_scales.clone(),
             cluster_chain: groom
                 .level_chains(Level::Cluster)
                 .map(|c| c as u32)
@@ -62,6 +69,14 @@ impl GroomGeometry {
             strand_chain: &self.strand_chain,
             strand_root_offsets: &self.strand_root_offsets,
             strand_shades: &self.strand_shades,
+        }
+    }
+
+    /// The strands' lengths and tip scales as [`StrandShapes`].
+    pub fn strand_shapes(&self) -> StrandShapes<'_> {
+        StrandShapes {
+            strand_lengths: &self.strand_lengths,
+            strand_tip_scales: &self.strand_tip_scales,
         }
     }
 
@@ -89,7 +104,7 @@ impl Renderer {
     /// [`crate::ActiveSkeletons`]).
     pub fn upload_groom(&mut self, groom: &Groom) -> Result<()> {
         let geometry = GroomGeometry::new(groom);
-        self.upload_strands(&geometry.strands())?;
+        self.upload_strands_with_shapes(&geometry.strands(), &geometry.strand_shapes())?;
         self.upload_clusters(&geometry.clusters())?;
         self.upload_patches(&geometry.patches())
     }

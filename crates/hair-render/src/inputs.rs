@@ -185,13 +185,17 @@ pub(crate) struct GpuNode {
     pub binormal: [f32; 4],
 }
 
-/// One strand as the shaders read it (`Strand` in `common.wgsl`), 16 bytes.
+/// One strand as the shaders read it (`Strand` in `strand_items.wgsl`), 24 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct GpuStrand {
     pub chain: u32,
     pub shade: f32,
     pub root_offset: [f32; 2],
+    /// Fraction of the chain the strand runs, `(0, 1]`.
+    pub length: f32,
+    /// Scale of the offset at the tip, `0..=1`.
+    pub tip_scale: f32,
 }
 
 /// Packs a (validated) frame's nodes into `out`, reusing its allocation.
@@ -211,17 +215,23 @@ pub(crate) fn pack_nodes(frame: &SkeletonFrame<'_>, out: &mut Vec<GpuNode>) {
     );
 }
 
-/// Packs a (validated) strand set.
-pub(crate) fn pack_strands(strands: &StrandSet<'_>) -> Vec<GpuStrand> {
+/// Packs a (validated) strand set with its (validated) shapes.
+pub(crate) fn pack_strands(
+    strands: &StrandSet<'_>,
+    shapes: &crate::strand_shapes::StrandShapes<'_>,
+) -> Vec<GpuStrand> {
     strands
         .strand_chain
         .iter()
         .zip(strands.strand_root_offsets)
         .zip(strands.strand_shades)
-        .map(|((&chain, offset), &shade)| GpuStrand {
+        .enumerate()
+        .map(|(strand, ((&chain, offset), &shade))| GpuStrand {
             chain,
             shade,
             root_offset: offset.to_array(),
+            length: shapes.length(strand),
+            tip_scale: shapes.tip_scale(strand),
         })
         .collect()
 }

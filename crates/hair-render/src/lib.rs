@@ -75,6 +75,8 @@ pub mod inputs;
 pub mod output;
 pub mod renderer;
 pub mod settings;
+pub mod shadows;
+pub mod strand_shapes;
 pub mod surfaces;
 pub mod target;
 
@@ -84,6 +86,8 @@ mod evaluate;
 mod head;
 mod pipelines;
 mod scopes;
+mod shadow_maps;
+mod shadow_pipelines;
 mod uniforms;
 
 pub use active::ActiveSkeletons;
@@ -100,8 +104,10 @@ pub use inputs::{SkeletonFrame, StrandSet};
 pub use renderer::{Renderer, RendererOptions};
 pub use settings::{
     DirectionalLight, FrameSettings, HairMaterial, LevelColors, LineShading, ShadingMode,
-    StrandStyle, Tessellation,
+    StrandStyle, SurfaceTexture, Tessellation,
 };
+pub use shadows::SelfShadowing;
+pub use strand_shapes::StrandShapes;
 pub use target::RenderTarget;
 /// The wgpu this renderer is built on (its device, queue and textures), for callers that draw
 /// beside it, such as an interactive viewer.

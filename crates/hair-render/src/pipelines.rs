@@ -1,5 +1,6 @@
 //! Shader modules, bind group layouts and pipelines of the renderer.
 
+use crate::shadow_pipelines::{ShadowPipelines, ShadowSources, shadow_maps_layout};
 use crate::target::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// WGSL shared by every pipeline: globals, node and chain storage buffers, the B-spline and
@@ -13,10 +14,14 @@ const COMMON_WGSL: &str = concat!(
 const CHAIN_CURVES_WGSL: &str = include_str!("shaders/chain_curves.wgsl");
 /// The strand storage buffer (group 1).
 const STRAND_ITEMS_WGSL: &str = include_str!("shaders/strand_items.wgsl");
+/// The shadow maps (group 2) and their lookup.
+const SHADOWS_WGSL: &str = include_str!("shaders/shadows.wgsl");
 /// Strand ribbons and lines.
 const STRANDS_WGSL: &str = include_str!("shaders/strands.wgsl");
 /// Cluster tubes and patch strips.
 const SURFACES_WGSL: &str = include_str!("shaders/surfaces.wgsl");
+/// The hair texture of clusters and patches.
+const HAIR_TEXTURE_WGSL: &str = include_str!("shaders/hair_texture.wgsl");
 /// The head mesh.
 const HEAD_WGSL: &str = include_str!("shaders/head.wgsl");
 /// The evaluation compute pass.
@@ -48,6 +53,10 @@ pub(crate) struct Pipelines {
     pub patches: SurfacePipelines,
     pub head: wgpu::RenderPipeline,
     pub evaluate: wgpu::ComputePipeline,
+    /// Group 2 of the hair and head pipelines: the shadow maps.
+    pub shadow_maps_layout: wgpu::BindGroupLayout,
+    /// The light passes of self-shadowing.
+    pub shadows: ShadowPipelines,
 }
 
 /// The two pipelines of a surface kind (clusters or patches).
@@ -138,19 +147,29 @@ impl Pipelines {
             label: Some("hair-render evaluation output"),
             entries: &[storage_entry(0, false, wgpu::ShaderStages::COMPUTE)],
         });
+        let shadow_maps_layout = shadow_maps_layout(device);
+        // The head takes no items: no group 1, the shadow maps at group 2.
         let head_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("hair-render head"),
-            bind_group_layouts: &[Some(&scene_layout)],
+            bind_group_layouts: &[Some(&scene_layout), None, Some(&shadow_maps_layout)],
             immediate_size: 0,
         });
         let strand_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("hair-render strands"),
-            bind_group_layouts: &[Some(&scene_layout), Some(&strand_items_layout)],
+            bind_group_layouts: &[
+                Some(&scene_layout),
+                Some(&strand_items_layout),
+                Some(&shadow_maps_layout),
+            ],
             immediate_size: 0,
         });
         let surface_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("hair-render surfaces"),
-            bind_group_layouts: &[Some(&scene_layout), Some(&items_layout)],
+            bind_group_layouts: &[
+                Some(&scene_layout),
+                Some(&items_layout),
+                Some(&shadow_maps_layout),
+            ],
             immediate_size: 0,
         });
         let chain_curves_pipeline_layout =
@@ -173,10 +192,14 @@ impl Pipelines {
         let strands_module = shader(
             device,
             "hair-render strands",
-            &[STRAND_ITEMS_WGSL, STRANDS_WGSL],
+            &[STRAND_ITEMS_WGSL, SHADOWS_WGSL, STRANDS_WGSL],
         );
-        let surfaces_module = shader(device, "hair-render surfaces", &[SURFACES_WGSL]);
-        let head_module = shader(device, "hair-render head", &[HEAD_WGSL]);
+        let surfaces_module = shader(
+            device,
+            "hair-render surfaces",
+            &[SHADOWS_WGSL, SURFACES_WGSL, HAIR_TEXTURE_WGSL],
+        );
+        let head_module = shader(device, "hair-render head", &[SHADOWS_WGSL, HEAD_WGSL]);
         let evaluate_module = shader(
             device,
             "hair-render evaluate",
@@ -200,6 +223,12 @@ impl Pipelines {
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         })];
+        // Surfaces turn their hair texture's coverage (alpha) into MSAA samples, so their
+        // silhouettes break up like strands without `discard` (which would cost early depth).
+        let surface_multisample = wgpu::MultisampleState {
+            alpha_to_coverage_enabled: sample_count > 1,
+            ..multisample
+        };
         let hair_pipeline = |label: &str,
                              layout: &wgpu::PipelineLayout,
                              module: &wgpu::ShaderModule,
@@ -207,6 +236,11 @@ impl Pipelines {
                              fragment_entry: &str,
                              topology,
                              cull_mode: Option<wgpu::Face>| {
+            let multisample = if fragment_entry.starts_with("fs_surface") {
+                surface_multisample
+            } else {
+                multisample
+            };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(layout),
@@ -283,6 +317,18 @@ impl Pipelines {
             ),
         };
         let clusters = surface_pipelines("clusters", "vs_cluster", cluster_cull_mode());
+        let shadows = ShadowPipelines::new(
+            device,
+            &ShadowSources {
+                strands_module: &strands_module,
+                surfaces_module: &surfaces_module,
+                strand_layout: &strand_layout,
+                surface_layout: &surface_layout,
+                // Always culled: the opacity pass puts a tube's whole optical depth on the faces
+                // towards the light (whatever `HAIRLOD_CLUSTER_CULL` says for the camera pass).
+                cluster_cull_mode: Some(wgpu::Face::Back),
+            },
+        );
         let patches = surface_pipelines("patches", "vs_patch", None);
 
         let head_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
@@ -350,6 +396,8 @@ impl Pipelines {
             patches,
             head,
             evaluate,
+            shadow_maps_layout,
+            shadows,
         }
     }
 }

@@ -12,9 +12,12 @@ use crate::inputs::{GpuNode, SkeletonFrame, StrandSet, pack_nodes, pack_strands}
 use crate::pipelines::Pipelines;
 use crate::scopes::ErrorScopes;
 use crate::settings::{FrameSettings, LineShading, ShadingMode, StrandStyle};
+use crate::shadow_maps::ShadowMaps;
+use crate::shadows::{bounding_sphere, light_view_projection};
+use crate::strand_shapes::StrandShapes;
 use crate::surfaces::{ClusterSet, PatchSet, chain_ring_radii, pack_clusters, pack_patches};
 use crate::target::RenderTarget;
-use crate::uniforms::{GeometryCounts, Globals};
+use crate::uniforms::{GeometryCounts, Globals, ShadowFrame};
 
 /// Options of [`Renderer::new`].
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -104,7 +107,19 @@ pub struct Renderer {
     chain_ring_radii: Vec<f32>,
     /// Draw-order scratch of the front-to-back surface batches.
     order_scratch: Vec<(f32, u32)>,
+    /// Self-shadowing's maps and light-pass globals.
+    shadow_maps: ShadowMaps,
+    /// Group 0 of the light passes (light globals, nodes, chains); `None` after a buffer was
+    /// replaced.
+    light_scene_bind_group: Option<wgpu::BindGroup>,
+    /// A sphere around this frame's hair [m] (centre, radius), for the light's view.
+    hair_bounds: Option<(glam::Vec3, f32)>,
 }
+
+/// Margin around the active nodes' bounding sphere for the light's view [m]: strands, tubes and
+/// strips reach at most a section's half width (about 1.5 cm on the shipped grooms) from their
+/// skeleton.
+const HAIR_BOUNDS_MARGIN: f32 = 0.03;
 
 impl Renderer {
     /// Acquires a device (see [`acquire_device`]) and builds the pipelines.
@@ -131,6 +146,7 @@ impl Renderer {
         let strands = Items::new(device, "hair-render strands");
         let clusters = Items::new(device, "hair-render clusters");
         let patches = Items::new(device, "hair-render patches");
+        let shadow_maps = ShadowMaps::new(device, &pipelines.shadow_maps_layout);
         scope.pop("building the render pipelines")?;
         Ok(Renderer {
             gpu,
@@ -151,6 +167,9 @@ impl Renderer {
             chain_distances: Vec::new(),
             chain_ring_radii: Vec::new(),
             order_scratch: Vec::new(),
+            shadow_maps,
+            light_scene_bind_group: None,
+            hair_bounds: None,
         })
     }
 
@@ -184,10 +203,22 @@ impl Renderer {
         self.patches.order.item_count()
     }
 
-    /// Uploads the static strand data, replacing any earlier set.
+    /// Uploads the static strand data, replacing any earlier set (full-length strands parallel
+    /// to their chains; see [`Renderer::upload_strands_with_shapes`]).
     pub fn upload_strands(&mut self, strands: &StrandSet<'_>) -> Result<()> {
+        self.upload_strands_with_shapes(strands, &StrandShapes::default())
+    }
+
+    /// Uploads the static strand data with per-strand lengths and tip scales, replacing any
+    /// earlier set.
+    pub fn upload_strands_with_shapes(
+        &mut self,
+        strands: &StrandSet<'_>,
+        shapes: &StrandShapes<'_>,
+    ) -> Result<()> {
         strands.validate()?;
-        let packed = pack_strands(strands);
+        shapes.validate(strands.strand_count())?;
+        let packed = pack_strands(strands, shapes);
         let scope = ErrorScopes::push(&self.gpu.device);
         self.strands
             .upload(&self.gpu, strands.strand_chain, &packed);
@@ -332,6 +363,12 @@ impl Renderer {
             }
         }
         pack_nodes(frame, &mut self.node_scratch);
+        self.hair_bounds = bounding_sphere(
+            self.node_scratch
+                .iter()
+                .map(|node| glam::Vec3::from_slice(&node.position[..3])),
+            HAIR_BOUNDS_MARGIN,
+        );
         // A ribbon no wider than a pixel covers what a 1-pixel line does, at a fraction of the
         // rasterization cost: such strands are drawn as lines.
         let focal = settings.camera.focal_length_pixels(settings.height);
@@ -362,6 +399,7 @@ impl Renderer {
             .write(device, queue, bytemuck::cast_slice(&self.chain_scratch));
         if replaced {
             self.scene_bind_group = None;
+            self.light_scene_bind_group = None;
         }
         if self
             .chain_samples
@@ -382,8 +420,23 @@ impl Renderer {
         if let Some(group) = &self.scene_bind_group {
             return group.clone();
         }
-        let group = self
-            .gpu
+        let group = self.make_scene_bind_group(&self.globals);
+        self.scene_bind_group = Some(group.clone());
+        group
+    }
+
+    /// Group 0 of the light passes: the light globals with this frame's nodes and chains.
+    fn light_scene_bind_group(&mut self) -> wgpu::BindGroup {
+        if let Some(group) = &self.light_scene_bind_group {
+            return group.clone();
+        }
+        let group = self.make_scene_bind_group(&self.shadow_maps.light_globals);
+        self.light_scene_bind_group = Some(group.clone());
+        group
+    }
+
+    fn make_scene_bind_group(&self, globals: &wgpu::Buffer) -> wgpu::BindGroup {
+        self.gpu
             .device
             .create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("hair-render scene"),
@@ -391,7 +444,7 @@ impl Renderer {
                 entries: &[
                     wgpu::BindGroupEntry {
                         binding: 0,
-                        resource: self.globals.as_entire_binding(),
+                        resource: globals.as_entire_binding(),
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,
@@ -402,9 +455,33 @@ impl Renderer {
                         resource: self.chains.buffer().as_entire_binding(),
                     },
                 ],
-            });
-        self.scene_bind_group = Some(group.clone());
-        group
+            })
+    }
+
+    /// The light's view of this frame's hair, when the frame is shaded with self-shadowing and
+    /// has hair.
+    fn shadow_frame(&self, settings: &FrameSettings) -> Option<ShadowFrame> {
+        if !settings.shadows.enabled || settings.mode != ShadingMode::Shaded {
+            return None;
+        }
+        let (centre, radius) = self.hair_bounds?;
+        let (light_view_proj, depth_range) =
+            light_view_projection(centre, radius, settings.light.direction);
+        let strands = self.strand_count() as f32;
+        let per = |count: usize| {
+            if count > 0 {
+                strands / count as f32
+            } else {
+                0.0
+            }
+        };
+        Some(ShadowFrame {
+            light_view_proj,
+            depth_range,
+            texel_size: 2.0 * radius / settings.shadows.resolution as f32,
+            strands_per_cluster: per(self.cluster_count()),
+            strands_per_patch: per(self.patch_count()),
+        })
     }
 
     pub(crate) fn item_bind_group(&mut self, kind: ItemKind) -> wgpu::BindGroup {
@@ -474,10 +551,27 @@ impl Renderer {
             samples_per_strand: slots,
             ..counts
         };
-        let globals = Globals::new(settings, counts);
+        let shadow = self.shadow_frame(settings);
+        let globals = Globals::new(settings, counts, shadow.as_ref());
         self.gpu
             .queue
             .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
+        let maps_group = match shadow {
+            Some(_) => {
+                self.gpu.queue.write_buffer(
+                    &self.shadow_maps.light_globals,
+                    0,
+                    bytemuck::bytes_of(&globals.for_light_passes()),
+                );
+                self.shadow_maps.prepare(
+                    &self.gpu.device,
+                    &self.pipelines.shadow_maps_layout,
+                    settings.shadows.resolution,
+                )
+            }
+            None => self.shadow_maps.unshadowed().clone(),
+        };
+        let light_scene_group = shadow.map(|_| self.light_scene_bind_group());
         let scene_group = self.scene_bind_group();
         let curves_group = self
             .gpu
@@ -551,6 +645,17 @@ impl Renderer {
                 1,
             );
         }
+        if let Some(light_scene) = &light_scene_group {
+            self.shadow_maps.encode(
+                &mut encoder,
+                &self.pipelines.shadows.depth,
+                &self.pipelines.shadows.opacity,
+                light_scene,
+                &item_groups,
+                &batches,
+                settings.shadows.along_stride,
+            );
+        }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hair-render scene"),
@@ -561,6 +666,7 @@ impl Renderer {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &scene_group, &[]);
+            pass.set_bind_group(2, &maps_group, &[]);
             if let Some(head) = &self.head {
                 pass.set_pipeline(&self.pipelines.head);
                 pass.set_vertex_buffer(0, head.vertices.slice(..));

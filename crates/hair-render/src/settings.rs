@@ -5,6 +5,7 @@ use glam::Vec3;
 
 use crate::camera::Camera;
 use crate::error::{Result, invalid};
+use crate::shadows::SelfShadowing;
 
 /// How geometry is coloured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -39,6 +40,18 @@ impl Default for LevelColors {
             head: Vec3::splat(0.2),
         }
     }
+}
+
+/// The texture of clusters and patches (§6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SurfaceTexture {
+    /// Hair: fine strands across the surface whose shades drift along the hair, each ending at
+    /// its own length, fewer of them towards the silhouette; the coverage becomes MSAA samples
+    /// (alpha-to-coverage), so tips and silhouettes break up like strands (with MSAA only).
+    #[default]
+    Hair,
+    /// Stripes across the surface, constant along the hair, solid to the edges.
+    Stripes,
 }
 
 /// How strands are drawn.
@@ -245,6 +258,10 @@ pub struct FrameSettings {
     pub tessellation: Tessellation,
     /// Colours of the colour-coding mode.
     pub level_colors: LevelColors,
+    /// Self-shadowing of the hair (deep opacity maps).
+    pub shadows: SelfShadowing,
+    /// Texture of clusters and patches.
+    pub surface_texture: SurfaceTexture,
 }
 
 impl FrameSettings {
@@ -263,6 +280,8 @@ impl FrameSettings {
             line_shading: LineShading::default(),
             tessellation: Tessellation::default(),
             level_colors: LevelColors::default(),
+            shadows: SelfShadowing::default(),
+            surface_texture: SurfaceTexture::default(),
         }
     }
 
@@ -350,6 +369,7 @@ impl FrameSettings {
                 t.max_chord_error_pixels
             )));
         }
+        self.shadows.validate()?;
         if !(t.full_detail_distance.is_finite() && t.full_detail_distance > 0.0) {
             return Err(invalid(format!(
                 "full-detail distance {} m must be finite and > 0",

@@ -2,7 +2,8 @@
 
 use glam::Vec3;
 
-use crate::settings::{FrameSettings, ShadingMode, StrandStyle};
+use crate::settings::{FrameSettings, ShadingMode, StrandStyle, SurfaceTexture};
+use crate::shadows::SelfShadowing;
 
 /// Counts the shaders need to bound their reads.
 #[derive(Debug, Clone, Copy, Default)]
@@ -34,6 +35,24 @@ pub(crate) struct Globals {
     shading: [f32; 4],
     ribbon: [f32; 4],
     counts: [u32; 4],
+    light_view_proj: [[f32; 4]; 4],
+    shadow: [f32; 4],
+    shadow_layers: [f32; 4],
+    shadow_surfaces: [f32; 4],
+}
+
+/// What the light passes of self-shadowing need besides the settings (see [`crate::shadows`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ShadowFrame {
+    /// The light's orthographic view-projection.
+    pub light_view_proj: glam::Mat4,
+    /// Depth range of the light view [m].
+    pub depth_range: f32,
+    /// Side of a shadow-map texel [m].
+    pub texel_size: f32,
+    /// Mean strands per cluster and per patch (uploaded strands over uploaded surfaces).
+    pub strands_per_cluster: f32,
+    pub strands_per_patch: f32,
 }
 
 fn v4(v: Vec3) -> [f32; 4] {
@@ -41,8 +60,12 @@ fn v4(v: Vec3) -> [f32; 4] {
 }
 
 impl Globals {
-    /// Packs (validated) settings and counts.
-    pub fn new(settings: &FrameSettings, counts: GeometryCounts) -> Globals {
+    /// Packs (validated) settings and counts; `shadow` is `None` without self-shadowing.
+    pub fn new(
+        settings: &FrameSettings,
+        counts: GeometryCounts,
+        shadow: Option<&ShadowFrame>,
+    ) -> Globals {
         let aspect = settings.width as f32 / settings.height as f32;
         let (half_width, min_half_pixels) = match settings.strand_style {
             StrandStyle::Lines => (0.0, 0.0),
@@ -79,7 +102,10 @@ impl Globals {
                 half_width,
                 min_half_pixels,
                 settings.camera.focal_length_pixels(settings.height),
-                0.0,
+                match settings.surface_texture {
+                    SurfaceTexture::Hair => 1.0,
+                    SurfaceTexture::Stripes => 0.0,
+                },
             ],
             counts: [
                 counts.strands,
@@ -87,8 +113,52 @@ impl Globals {
                 counts.nodes,
                 counts.samples_per_strand,
             ],
+            light_view_proj: shadow
+                .map_or(glam::Mat4::IDENTITY, |s| s.light_view_proj)
+                .to_cols_array_2d(),
+            shadow: match shadow {
+                Some(frame) => [
+                    1.0,
+                    frame.depth_range,
+                    strand_optical_depth(&settings.shadows, frame.texel_size),
+                    0.0,
+                ],
+                None => [0.0; 4],
+            },
+            shadow_layers: settings.shadows.layer_ends,
+            shadow_surfaces: {
+                let per_strand = settings.shadows.hair_width * settings.shadows.strand_opacity;
+                let (clusters, patches) =
+                    shadow.map_or((0.0, 0.0), |s| (s.strands_per_cluster, s.strands_per_patch));
+                [
+                    clusters * per_strand,
+                    patches * per_strand,
+                    settings.shadows.along_stride as f32,
+                    SHADOW_AROUND_SEGMENTS as f32,
+                ]
+            },
         }
     }
+
+    /// The globals of the light passes: drawn through the light's view.
+    pub fn for_light_passes(&self) -> Globals {
+        Globals {
+            view_proj: self.light_view_proj,
+            shadow: [self.shadow[0], self.shadow[1], self.shadow[2], 1.0],
+            ..*self
+        }
+    }
+}
+
+/// Most segments around a cluster tube in the light passes (a hexagon is within 13 % of the ring
+/// radius, and the shadow map's texels are larger than most tubes' chord error).
+pub(crate) const SHADOW_AROUND_SEGMENTS: u32 = 6;
+
+/// Optical depth a strand line adds to each texel of side `texel_size` [m] it crosses: the
+/// fraction `w/s` of the texel the fibre covers times the fraction of the light it stops (capped
+/// at 1 for fibres wider than a texel).
+pub(crate) fn strand_optical_depth(shadows: &SelfShadowing, texel_size: f32) -> f32 {
+    (shadows.hair_width / texel_size.max(1e-9)).min(1.0) * shadows.strand_opacity
 }
 
 #[cfg(test)]
@@ -96,7 +166,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn layout_is_a_matrix_and_fifteen_vectors() {
-        assert_eq!(std::mem::size_of::<Globals>(), 64 + 15 * 16);
+    fn layout_is_two_matrices_and_eighteen_vectors() {
+        assert_eq!(std::mem::size_of::<Globals>(), 2 * 64 + 18 * 16);
     }
 }

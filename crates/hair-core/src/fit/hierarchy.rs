@@ -128,7 +128,8 @@ impl FittedHierarchy {
         self.section_count() + 3 * (group / 5) + CLUSTER_OF_GROUP[group % 5]
     }
 
-    /// The strands as a [`StrandSet`]: root offsets group by group, every shade 0.5.
+    /// The strands as a [`StrandSet`]: root offsets group by group, every shade 0.5, full length
+    /// and parallel (the fitted strands' own shapes are in the skeletons).
     pub fn strand_set(&self) -> StrandSet {
         let root_offsets: Vec<Vec2> = self
             .group_strands
@@ -138,6 +139,8 @@ impl FittedHierarchy {
         StrandSet {
             group_offsets: self.group_offsets.clone(),
             shades: vec![0.5; root_offsets.len()],
+            lengths: Vec::new(),
+            tip_scales: Vec::new(),
             root_offsets,
         }
     }

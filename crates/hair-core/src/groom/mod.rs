@@ -6,6 +6,7 @@
 
 mod build;
 mod params;
+mod placement;
 mod section;
 mod strands;
 

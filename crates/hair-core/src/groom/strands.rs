@@ -1,4 +1,5 @@
-//! The strands carried by strand-group skeletons: root offsets in the group's frame and shades.
+//! The strands carried by strand-group skeletons: root offsets in the group's frame, shades,
+//! lengths and tip scales.
 
 use glam::Vec2;
 use std::ops::Range;
@@ -15,6 +16,13 @@ pub struct StrandSet {
     pub root_offsets: Vec<Vec2>,
     /// Shade of each strand within the hair colour range, `0..1`.
     pub shades: Vec<f32>,
+    /// Length of each strand as a fraction of its skeleton's, `(0, 1]`: the strand runs from the
+    /// root to curve parameter `u = length` (empty: every strand runs the whole skeleton).
+    pub lengths: Vec<f32>,
+    /// Scale of each strand's offset from its skeleton at the tip, `0..=1`: the offset shrinks
+    /// linearly in the curve parameter from 1 at the root to this at `u = 1`, so strands gather
+    /// towards their skeleton (clump) on the way to the tip (empty: every strand at 1, parallel).
+    pub tip_scales: Vec<f32>,
 }
 
 impl StrandSet {
@@ -26,6 +34,16 @@ impl StrandSet {
     /// Number of strand groups.
     pub fn group_count(&self) -> usize {
         self.group_offsets.len().saturating_sub(1)
+    }
+
+    /// Length of strand `strand` as a fraction of its skeleton's (1 when none is given).
+    pub fn length(&self, strand: usize) -> f32 {
+        self.lengths.get(strand).copied().unwrap_or(1.0)
+    }
+
+    /// Tip scale of strand `strand`'s offset (1 when none is given).
+    pub fn tip_scale(&self, strand: usize) -> f32 {
+        self.tip_scales.get(strand).copied().unwrap_or(1.0)
     }
 
     /// The strands of strand group `group`.

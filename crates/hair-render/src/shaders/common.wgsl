@@ -20,10 +20,21 @@ struct Globals {
     viewport: vec4<f32>,
     // x: diffuse, y: specular, z: specular exponent, w: 1 in colour-coding mode.
     shading: vec4<f32>,
-    // x: ribbon half width [m], y: minimum half width [pixels], z: focal length [pixels].
+    // x: ribbon half width [m], y: minimum half width [pixels], z: focal length [pixels], w: 1
+    // for the hair texture on clusters and patches, 0 for stripes.
     ribbon: vec4<f32>,
     // x: strand count, y: chain count, z: node count, w: samples per strand (evaluation pass).
     counts: vec4<u32>,
+    // The light's orthographic view-projection (self-shadowing, `shadows.wgsl`).
+    light_view_proj: mat4x4<f32>,
+    // x: 1 with self-shadowing on, y: the light view's depth range [m], z: optical depth a strand
+    // line adds to a texel it crosses, w: 1 in the light passes.
+    shadow: vec4<f32>,
+    // Ends of the four opacity layers behind the first hair [m].
+    shadow_layers: vec4<f32>,
+    // x, y: strands per cluster and per patch × hair width × strand opacity [m], z: the light
+    // passes' stride along the curves, w: their most segments around a cluster tube.
+    shadow_surfaces: vec4<f32>,
 }
 
 // One skeleton node and its frame (w components unused).

@@ -8,6 +8,7 @@ struct HeadVertexIn {
 struct HeadVertex {
     @builtin(position) clip: vec4<f32>,
     @location(0) normal: vec3<f32>,
+    @location(1) world_position: vec3<f32>,
 }
 
 @vertex
@@ -15,6 +16,7 @@ fn vs_head(in: HeadVertexIn) -> HeadVertex {
     var out: HeadVertex;
     out.clip = globals.view_proj * vec4<f32>(in.position, 1.0);
     out.normal = in.normal;
+    out.world_position = in.position;
     return out;
 }
 
@@ -27,7 +29,9 @@ fn fs_head(in: HeadVertex) -> @location(0) vec4<f32> {
     if (dot(normal, normal) < 1e-20) {
         normal = globals.light_direction.xyz;
     }
-    let lambert = max(dot(normalize(normal), globals.light_direction.xyz), 0.0);
+    // Lit where it faces the light, through the hair between it and the light.
+    let lambert = max(dot(normalize(normal), globals.light_direction.xyz), 0.0)
+        * shadow_transmittance(in.world_position);
     let color = globals.head_color.rgb * (globals.ambient.rgb + globals.light_color.rgb * lambert);
     return vec4<f32>(color, 1.0);
 }

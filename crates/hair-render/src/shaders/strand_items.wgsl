@@ -3,6 +3,10 @@ struct Strand {
     chain: u32,
     shade: f32,
     root_offset: vec2<f32>,
+    // Fraction of the chain the strand runs, (0, 1].
+    length: f32,
+    // Scale of the offset at the tip (the offset shrinks linearly in u from 1 at the root).
+    tip_scale: f32,
 }
 
 @group(1) @binding(0) var<storage, read> strands: array<Strand>;

@@ -43,14 +43,22 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     if (chain.node_count < 2u || dissolve_rank(strand_index) >= chain.coverage) {
         return out;
     }
-    let slot = chain.first_sample + min(point_index, chain.along_segments);
+    // A strand of length l ends at the chain point nearest u = l; later vertices repeat it.
+    let last = max(1u, u32(round(strand.length * f32(chain.along_segments))));
+    let point = min(min(point_index, last), chain.along_segments);
+    let slot = chain.first_sample + point;
     if (slot >= arrayLength(&chain_samples)) {
         return out;
     }
     let sample = chain_samples[slot];
+    // Offset σ(u)·o with σ(u) = 1 + (tip_scale − 1)·u: strands gather towards the chain.
+    let u = f32(point) / f32(chain.along_segments);
+    let scale = 1.0 + (strand.tip_scale - 1.0) * u;
     let o = strand.root_offset;
-    let position = sample.position.xyz + o.x * sample.normal.xyz + o.y * sample.binormal.xyz;
-    var tangent = sample.d_position.xyz + o.x * sample.d_normal.xyz + o.y * sample.d_binormal.xyz;
+    let across = o.x * sample.normal.xyz + o.y * sample.binormal.xyz;
+    let position = sample.position.xyz + scale * across;
+    var tangent = sample.d_position.xyz + scale * (o.x * sample.d_normal.xyz + o.y * sample.d_binormal.xyz)
+        + (strand.tip_scale - 1.0) * across;
     if (dot(tangent, tangent) < 1e-20) {
         tangent = vec3<f32>(0.0, 1.0, 0.0);
     }
@@ -109,10 +117,38 @@ fn strand_color(in: StrandVertex) -> vec3<f32> {
         return globals.strand_code_color.rgb;
     }
     let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, in.shade);
-    return hair_color(base, normalize(in.tangent), in.world_position, 1.0);
+    let light = shadow_transmittance(in.world_position);
+    return hair_color(base, normalize(in.tangent), in.world_position, light);
 }
 
 @fragment
 fn fs_strand(in: StrandVertex) -> @location(0) vec4<f32> {
     return vec4<f32>(strand_color(in), 1.0);
+}
+
+// A vertex of the light passes (depth map and opacity map, `shadows.wgsl`).
+struct ShadowVertex {
+    @builtin(position) clip: vec4<f32>,
+}
+
+// Line strip per instance (one strand) in the light passes: vertex i is curve point
+// i · stride (clamped to the last), projected by the light's view (the light passes' globals).
+@vertex
+fn vs_strand_shadow(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> ShadowVertex {
+    let stride = max(u32(globals.shadow_surfaces.z), 1u);
+    var out: ShadowVertex;
+    out.clip = strand_vertex(strand, vertex * stride, 0.0).clip;
+    return out;
+}
+
+// Depth pass: the fragment's light-space depth (the depth test keeps the nearest).
+@fragment
+fn fs_strand_depth(in: ShadowVertex) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.clip.z, 0.0, 0.0, 0.0);
+}
+
+// Opacity pass: a strand line adds its optical depth to its layer.
+@fragment
+fn fs_strand_opacity(in: ShadowVertex) -> @location(0) vec4<f32> {
+    return globals.shadow.z * opacity_layer(in.clip.xy, in.clip.z);
 }

@@ -29,6 +29,8 @@ struct SurfaceVertex {
     @location(4) @interpolate(flat) kind: u32,
     @location(5) @interpolate(flat) seed: u32,
     @location(6) @interpolate(flat) coverage: f32,
+    // Control radius (clusters) or half width (patches) here [m].
+    @location(7) scale: f32,
 }
 
 // Offset direction on the unit control circle [cos(j·90°), sin(j·90°)], j = 0..3, blended by the
@@ -66,6 +68,7 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.kind = kind;
     out.seed = 0u;
     out.coverage = 1.0;
+    out.scale = 0.0;
     if (index >= arrayLength(&surfaces)) {
         return out;
     }
@@ -74,10 +77,15 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     if (chain.node_count < 2u) {
         return out;
     }
-    let segments = chain.along_segments;
+    var segments = chain.along_segments;
     var bands = 1u;
     if (kind == 1u) {
         bands = chain.around_segments;
+    }
+    if (globals.shadow.w > 0.5) {
+        // Light passes: a coarser tessellation (`SelfShadowing::along_stride`).
+        segments = shadow_segments(segments);
+        bands = min(bands, max(u32(globals.shadow_surfaces.w), 3u));
     }
     let band_vertices = 2u * (segments + 1u);
     let block = band_vertices + 2u;
@@ -124,6 +132,7 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.texcoord = vec2<f32>(across, v);
     out.seed = surface.seed;
     out.coverage = chain.coverage;
+    out.scale = mix(surface.root_scale, surface.tip_scale, v);
     return out;
 }
 
@@ -183,11 +192,6 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
     if (in.kind == 1u) {
         stripes = STRIPES_AROUND;
     }
-    // Texture: coarse locks and fine strands across the surface, constant along the hair.
-    let coarse = stripe_noise(in.texcoord.x * stripes, stripes, in.seed);
-    let fine = stripe_noise(in.texcoord.x * stripes * 3.0, stripes * 3.0, in.seed * 7919u + 1u);
-    let shade = clamp(0.6 * coarse + 0.4 * fine, 0.0, 1.0);
-    let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, shade);
     let to_eye = normalize(globals.camera_position.xyz - in.world_position);
     var normal = in.normal;
     if (dot(normal, normal) < 1e-20) {
@@ -197,7 +201,55 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
     if (in.kind == 2u && dot(normal, to_eye) < 0.0) {
         normal = -normal;
     }
+    var shade: f32;
+    var coverage = 1.0;
+    if (globals.ribbon.w > 0.5) {
+        // Hair texture: strands with shades along the hair, own lengths, a broken silhouette.
+        var silhouette = abs(dot(normal, to_eye));
+        if (in.kind == 2u) {
+            silhouette = 2.0 * min(in.texcoord.x, 1.0 - in.texcoord.x);
+        }
+        let texture = hair_texture(in.texcoord.x, in.texcoord.y, in.seed, stripes, silhouette);
+        shade = texture.x;
+        coverage = texture.y;
+    } else {
+        // Stripes: coarse locks and fine strands across the surface, constant along the hair.
+        let coarse = stripe_noise(in.texcoord.x * stripes, stripes, in.seed);
+        let fine = stripe_noise(in.texcoord.x * stripes * 3.0, stripes * 3.0, in.seed * 7919u + 1u);
+        shade = clamp(0.6 * coarse + 0.4 * fine, 0.0, 1.0);
+    }
+    let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, shade);
     // Light-facing term: the side of a tube or strip away from the light is darker.
-    let occlusion = 0.35 + 0.65 * max(dot(normal, globals.light_direction.xyz), 0.0);
-    return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, occlusion), 1.0);
+    let facing = 0.35 + 0.65 * max(dot(normal, globals.light_direction.xyz), 0.0);
+    let occlusion = facing * shadow_transmittance(in.world_position);
+    return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, occlusion), coverage);
+}
+
+// Depth pass: the fragment's light-space depth (the depth test keeps the nearest).
+@fragment
+fn fs_surface_depth(in: SurfaceVertex) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.clip.z, 0.0, 0.0, 0.0);
+}
+
+// Opacity pass: a cluster or patch fragment adds the optical depth of the strands it stands for.
+// A tube of radius R holding N strands of width w has optical depth N·w·chord/(πR²) along a
+// ray; the chord at the point where the ray meets the surface at cosine c to its normal is 2Rc,
+// all of it put on the tube's lit (front) face: 2·N·w·c/(πR). A strip of width W holding N
+// strands side by side covers N·w/W of it seen face-on, N·w/(W·c) at cosine c. The ring of the
+// periodic cubic through control points at radius r has radius ⅔·r.
+@fragment
+fn fs_surface_opacity(in: SurfaceVertex) -> @location(0) vec4<f32> {
+    var normal = in.normal;
+    if (dot(normal, normal) < 1e-20) {
+        normal = globals.light_direction.xyz;
+    }
+    let c = max(abs(dot(normalize(normal), globals.light_direction.xyz)), 0.05);
+    var tau: f32;
+    if (in.kind == 1u) {
+        let ring = max(0.6667 * in.scale, 1e-5);
+        tau = 2.0 * globals.shadow_surfaces.x * c / (3.14159265 * ring);
+    } else {
+        tau = globals.shadow_surfaces.y / (max(2.0 * in.scale, 1e-5) * c);
+    }
+    return min(tau, 8.0) * in.coverage * opacity_layer(in.clip.xy, in.clip.z);
 }
