@@ -387,9 +387,9 @@ impl App {
         );
         if self.session.differs_from_scene() {
             eprintln!(
-                "note: the wind, head motion or level mode was changed in the viewer; the \
-                 checkpoint resumes only with the same changes (`hairlod view SCENE --resume` \
-                 with them, not `render`)"
+                "note: the wind, head motion or level mode was changed in the viewer, so the \
+                 checkpoint belongs to the changed run: `--resume` refuses it with a scene and \
+                 flags that do not make the same changes"
             );
         }
         Ok(())
