@@ -46,9 +46,11 @@ fn culling_cluster_back_faces_changes_almost_nothing() {
         hair > total / 10,
         "hair and head fill the frame: {hair} of {total}"
     );
-    // Only where a tube's open end or a crease shows a back face: under 1 % of the frame
-    // (0.06 % at 1280×720 when measured); a wrong winding changes about 20 %.
-    assert!(changed * 100 < total, "{changed} of {total} pixels changed");
+    // Only where a tube's open end, a crease or the hair texture's thinned silhouette and tips
+    // (alpha-to-coverage) show a back face: under 5 % of the frame (3.2 % with the hair texture,
+    // 0.06 % at 1280×720 with the former opaque stripes, when measured); a wrong winding changes
+    // about 20 %.
+    assert!(changed * 20 < total, "{changed} of {total} pixels changed");
     // And the setting reached the renderer: open tube ends show somewhere (72 of the 57,600 pixels
     // when measured), so identical frames mean both children drew the same way.
     assert!(

@@ -20,7 +20,12 @@
 //! - **Clusters and patches** ([`ClusterSet`], [`PatchSet`]): closed tubes (4 control points per
 //!   node, periodic cubic around) and ruled strips (2 per node, linear across), evaluated in the
 //!   vertex shader from the same node buffers, shaded with Kajiya-Kay along the hair on a procedural
-//!   stripe texture in the hair colour range. [`Renderer::upload_groom`] uploads all three levels
+//!   hair texture in the hair colour range ([`SurfaceTexture`]: shades drifting along the hair,
+//!   strands of their own lengths, a thinning silhouette by alpha-to-coverage).
+//! - **Self-shadowing** ([`SelfShadowing`], [`shadows`]): deep opacity maps drawn from the active
+//!   strands, clusters and patches; hair and head receive.
+//! - **Strand shapes** ([`StrandShapes`]): per-strand lengths and tip scales (strands gathering
+//!   towards their skeleton on the way to the tip). [`Renderer::upload_groom`] uploads all three levels
 //!   of a groom; [`ActiveSkeletons`] builds the per-frame node buffer of the active skeletons
 //!   (chains without nodes draw nothing).
 //! - **Tessellation** per chain from its root's camera distance, drawn in instanced batches of

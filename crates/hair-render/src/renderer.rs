@@ -117,7 +117,7 @@ pub struct Renderer {
 }
 
 /// Margin around the active nodes' bounding sphere for the light's view [m]: strands, tubes and
-/// strips reach at most a section's half width (about 1.5 cm on the shipped grooms) from their
+/// strips reach at most a section's half width (1.8 cm on paper-curly) from their
 /// skeleton.
 const HAIR_BOUNDS_MARGIN: f32 = 0.03;
 

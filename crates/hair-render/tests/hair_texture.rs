@@ -83,8 +83,11 @@ fn the_hair_texture_varies_along_the_hair() {
         let (stripes, _) = render(cluster, SurfaceTexture::Stripes);
         if let Some(dir) = std::env::var_os("HAIRLOD_TEXTURE_IMAGES") {
             let dir = std::path::PathBuf::from(dir);
-            hair.save(dir.join(format!("texture-hair-{cluster}.png"))).unwrap();
-            stripes.save(dir.join(format!("texture-stripes-{cluster}.png"))).unwrap();
+            hair.save(dir.join(format!("texture-hair-{cluster}.png")))
+                .unwrap();
+            stripes
+                .save(dir.join(format!("texture-stripes-{cluster}.png")))
+                .unwrap();
         }
         let (along_hair, along_stripes) = (
             luma_spread_along(&hair, &settings),

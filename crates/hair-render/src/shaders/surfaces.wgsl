@@ -219,8 +219,13 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
         shade = clamp(0.6 * coarse + 0.4 * fine, 0.0, 1.0);
     }
     let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, shade);
-    // Light-facing term: the side of a tube or strip away from the light is darker.
-    let facing = 0.35 + 0.65 * max(dot(normal, globals.light_direction.xyz), 0.0);
+    // Light-facing term: the side of a tube or strip away from the light is darker. With
+    // self-shadowing the opacity map shades that side by the strands in front of it, so the
+    // term would count that shadow twice.
+    var facing = 0.35 + 0.65 * max(dot(normal, globals.light_direction.xyz), 0.0);
+    if (globals.shadow.x > 0.5) {
+        facing = 1.0;
+    }
     let occlusion = facing * shadow_transmittance(in.world_position);
     return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, occlusion), coverage);
 }
