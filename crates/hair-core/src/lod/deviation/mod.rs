@@ -14,8 +14,10 @@
 //!
 //! The deviation is the larger of their [`DEVIATION_PERCENTILE`] percentiles: a Hausdorff distance
 //! that a few stray strands do not decide. Strand groups have no deviation (they are the
-//! reference). Strand samples lie `1/SAMPLES_PER_SEGMENT` of a skeleton segment apart, so the
-//! level → strands side over-estimates by at most half that spacing where it runs along a strand.
+//! reference). The strands are taken as drawn: each ends at its length and its offset shrinks
+//! towards the tip by its tip scale (applied at the control points). Strand samples lie
+//! `1/SAMPLES_PER_SEGMENT` of a skeleton segment apart, so the level → strands side
+//! over-estimates by at most half that spacing where it runs along a strand.
 
 mod grid;
 mod shapes;
@@ -100,7 +102,7 @@ fn section_deviation(
     positions: &[Vec3],
     frames: &[Frame],
 ) -> Result<LevelDeviation> {
-    let (all, measured, per_strand) = strand_samples(groom, section, positions, frames)?;
+    let (all, measured) = strand_samples(groom, section, positions, frames)?;
     if all.is_empty() {
         return Ok(LevelDeviation::default());
     }
@@ -130,9 +132,7 @@ fn section_deviation(
     // A strand sample's nearest piece is most likely the one at the same place along the hair.
     let from_strands: Vec<f32> = measured
         .iter()
-        .enumerate()
-        .map(|(index, &p)| {
-            let hint = index % per_strand;
+        .map(|&(p, hint)| {
             strip_rows
                 .iter()
                 .map(|strip| strip.distance(p, hint))
@@ -169,9 +169,7 @@ fn section_deviation(
     }
     let from_strands: Vec<f32> = measured
         .iter()
-        .enumerate()
-        .map(|(index, &p)| {
-            let hint = index % per_strand;
+        .map(|&(p, hint)| {
             tubes
                 .iter()
                 .map(|tube| tube.distance(p, hint))
@@ -182,17 +180,20 @@ fn section_deviation(
     Ok(LevelDeviation { patch, cluster })
 }
 
-/// The section's strand samples: all of them, those of every k-th strand (at most
-/// [`MEASURED_STRANDS_PER_GROUP`] per group), and the samples per strand.
+/// A strand sample [m] and its index along its strand.
+type IndexedSample = (Vec3, usize);
+
+/// The section's strand samples as drawn: all of them, and those of every k-th strand (at most
+/// [`MEASURED_STRANDS_PER_GROUP`] per group) with their index along the strand (where the nearest
+/// piece of a coarse shape most likely is).
 fn strand_samples(
     groom: &Groom,
     section: usize,
     positions: &[Vec3],
     frames: &[Frame],
-) -> Result<(Vec<Vec3>, Vec<Vec3>, usize)> {
+) -> Result<(Vec<Vec3>, Vec<IndexedSample>)> {
     let first_group = groom.level_chains(Level::StrandGroup).start;
     let (mut all, mut measured) = (Vec::new(), Vec::new());
-    let mut per_strand = 1;
     let mut control = Vec::new();
     let mut curve = Vec::new();
     for chain in groom.section_chains(section, Level::StrandGroup) {
@@ -200,25 +201,44 @@ fn strand_samples(
         let sampler = strand_sampler(nodes.len(), SAMPLES_PER_SEGMENT)?;
         control.resize(nodes.len(), Vec3::ZERO);
         curve.resize(sampler.sample_count(), Vec3::ZERO);
-        per_strand = sampler.sample_count();
         let strands = groom.strands.strands(chain - first_group);
         let stride = strands.len().div_ceil(MEASURED_STRANDS_PER_GROUP).max(1);
         for (index, strand) in strands.enumerate() {
+            // The strand as drawn: its offset shrinks towards the tip by its tip scale, and it
+            // ends at its length (a fraction of the curve parameter).
             let offset = groom.strands.root_offsets[strand];
+            let (tip, length) = (
+                groom.strands.tip_scale(strand),
+                groom.strands.length(strand),
+            );
             strand_control_points(
                 &positions[nodes.clone()],
                 &frames[nodes.clone()],
                 offset,
                 &mut control,
             );
+            let last = control.len().saturating_sub(1).max(1) as f32;
+            for (k, (point, &node)) in control
+                .iter_mut()
+                .zip(&positions[nodes.clone()])
+                .enumerate()
+            {
+                let scale = 1.0 + (tip - 1.0) * k as f32 / last;
+                *point = node + (*point - node) * scale;
+            }
             sampler.evaluate(&control, &mut curve, None)?;
-            all.extend_from_slice(&curve);
+            let drawn = curve
+                .iter()
+                .zip(sampler.parameters())
+                .filter(|&(_, &u)| u <= length + 1e-6)
+                .map(|(&p, _)| p);
+            all.extend(drawn.clone());
             if index % stride == 0 {
-                measured.extend_from_slice(&curve);
+                measured.extend(drawn.enumerate().map(|(k, p)| (p, k)));
             }
         }
     }
-    Ok((all, measured, per_strand))
+    Ok((all, measured))
 }
 
 /// The clamped uniform B-spline with control points `control` [m], sampled
