@@ -213,3 +213,40 @@ mod tests {
         assert!(size("0x10").unwrap_err().to_string().contains("16..=8192"));
     }
 }
+
+/// The scene-file fields that `render` and `view` let the command line override: levels,
+/// pixel tolerance, image size, camera path and head motion (`None`: the file's).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ShotOverrides<'a> {
+    /// `lod.mode`.
+    pub level: Option<LevelArg>,
+    /// `lod.pixel_tolerance` [pixels].
+    pub pixel_tolerance: Option<f32>,
+    /// `frames.size`, `WIDTHxHEIGHT`.
+    pub size: Option<&'a String>,
+    /// `camera.path`.
+    pub camera: Option<CameraArg>,
+    /// `motion.kind`.
+    pub motion: Option<MotionArg>,
+}
+
+impl ShotOverrides<'_> {
+    /// Writes the given overrides into `file`.
+    pub fn apply(&self, file: &mut hairlod::scene_file::SceneFile) {
+        if let Some(level) = self.level {
+            file.lod.mode = Some(level.name().to_string());
+        }
+        if let Some(tolerance) = self.pixel_tolerance {
+            file.lod.pixel_tolerance = Some(tolerance);
+        }
+        if let Some(size) = self.size {
+            file.frames.size = Some(size.clone());
+        }
+        if let Some(camera) = self.camera {
+            file.camera.path = Some(camera.name().to_string());
+        }
+        if let Some(motion) = self.motion {
+            file.motion.kind = Some(motion.name().to_string());
+        }
+    }
+}

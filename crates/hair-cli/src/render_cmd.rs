@@ -19,7 +19,9 @@ use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::cli_args::{BackendArg, CameraArg, FramesArg, LevelArg, MotionArg, Preset};
+use crate::cli_args::{
+    BackendArg, CameraArg, FramesArg, LevelArg, MotionArg, Preset, ShotOverrides,
+};
 
 /// Arguments of `hairlod render`.
 #[derive(Debug, Args)]
@@ -105,21 +107,14 @@ impl RenderArgs {
         if let Some(FramesArg::Count(count)) = self.frames {
             file.frames.count = Some(count);
         }
-        if let Some(level) = self.level {
-            file.lod.mode = Some(level.name().to_string());
+        ShotOverrides {
+            level: self.level,
+            pixel_tolerance: self.pixel_tolerance,
+            size: self.size.as_ref(),
+            camera: self.camera,
+            motion: self.motion,
         }
-        if let Some(tolerance) = self.pixel_tolerance {
-            file.lod.pixel_tolerance = Some(tolerance);
-        }
-        if let Some(size) = &self.size {
-            file.frames.size = Some(size.clone());
-        }
-        if let Some(camera) = self.camera {
-            file.camera.path = Some(camera.name().to_string());
-        }
-        if let Some(motion) = self.motion {
-            file.motion.kind = Some(motion.name().to_string());
-        }
+        .apply(&mut file);
         if self.color_code {
             file.output.color_coded = Some(true);
             file.output.shaded.get_or_insert(false);

@@ -12,7 +12,7 @@ use hairlod::render::DeviceOptions;
 use hairlod::scene_file::SceneFile;
 use winit::event_loop::EventLoop;
 
-use crate::cli_args::{BackendArg, CameraArg, LevelArg, MotionArg, Preset};
+use crate::cli_args::{BackendArg, CameraArg, LevelArg, MotionArg, Preset, ShotOverrides};
 use crate::viewer::app::{self, ViewOptions};
 use crate::viewer::script::Script;
 use crate::viewer::session::Session;
@@ -87,21 +87,14 @@ impl ViewArgs {
             // frames long.
             file.frames.count = Some(usize::try_from(frames).unwrap_or(usize::MAX));
         }
-        if let Some(level) = self.level {
-            file.lod.mode = Some(level.name().to_string());
+        ShotOverrides {
+            level: self.level,
+            pixel_tolerance: self.pixel_tolerance,
+            size: self.size.as_ref(),
+            camera: self.camera,
+            motion: self.motion,
         }
-        if let Some(tolerance) = self.pixel_tolerance {
-            file.lod.pixel_tolerance = Some(tolerance);
-        }
-        if let Some(size) = &self.size {
-            file.frames.size = Some(size.clone());
-        }
-        if let Some(camera) = self.camera {
-            file.camera.path = Some(camera.name().to_string());
-        }
-        if let Some(motion) = self.motion {
-            file.motion.kind = Some(motion.name().to_string());
-        }
+        .apply(&mut file);
         if self.color_code {
             file.output.color_coded = Some(true);
             file.output.shaded = Some(false);
