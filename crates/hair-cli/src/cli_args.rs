@@ -218,6 +218,10 @@ mod tests {
 /// pixel tolerance, image size, camera path and head motion (`None`: the file's).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ShotOverrides<'a> {
+    /// `groom.preset`.
+    pub preset: Option<Preset>,
+    /// `frames.count`.
+    pub frames: Option<usize>,
     /// `lod.mode`.
     pub level: Option<LevelArg>,
     /// `lod.pixel_tolerance` [pixels].
@@ -231,8 +235,28 @@ pub struct ShotOverrides<'a> {
 }
 
 impl ShotOverrides<'_> {
+    /// The scene file at `path` (the built-in default scene without one) with the overrides
+    /// applied.
+    pub fn scene_file(
+        &self,
+        path: Option<&std::path::Path>,
+    ) -> anyhow::Result<hairlod::scene_file::SceneFile> {
+        let mut file = match path {
+            Some(path) => hairlod::scene_file::SceneFile::read(path)?,
+            None => hairlod::scene_file::SceneFile::default(),
+        };
+        self.apply(&mut file);
+        Ok(file)
+    }
+
     /// Writes the given overrides into `file`.
     pub fn apply(&self, file: &mut hairlod::scene_file::SceneFile) {
+        if let Some(preset) = self.preset {
+            file.groom.preset = Some(preset.name().to_string());
+        }
+        if let Some(count) = self.frames {
+            file.frames.count = Some(count);
+        }
         if let Some(level) = self.level {
             file.lod.mode = Some(level.name().to_string());
         }

@@ -97,24 +97,19 @@ pub struct RenderArgs {
 impl RenderArgs {
     /// The scene file with the flags applied over it.
     fn scene_file(&self) -> Result<SceneFile> {
-        let mut file = match &self.scene {
-            Some(path) => SceneFile::read(path)?,
-            None => SceneFile::default(),
-        };
-        if let Some(preset) = self.preset {
-            file.groom.preset = Some(preset.name().to_string());
-        }
-        if let Some(FramesArg::Count(count)) = self.frames {
-            file.frames.count = Some(count);
-        }
-        ShotOverrides {
+        let mut file = ShotOverrides {
+            preset: self.preset,
+            frames: match self.frames {
+                Some(FramesArg::Count(count)) => Some(count),
+                _ => None,
+            },
             level: self.level,
             pixel_tolerance: self.pixel_tolerance,
             size: self.size.as_ref(),
             camera: self.camera,
             motion: self.motion,
         }
-        .apply(&mut file);
+        .scene_file(self.scene.as_deref())?;
         if self.color_code {
             file.output.color_coded = Some(true);
             file.output.shaded.get_or_insert(false);

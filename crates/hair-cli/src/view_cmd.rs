@@ -75,26 +75,20 @@ pub struct ViewArgs {
 impl ViewArgs {
     /// The scene file with the flags applied over it.
     fn scene_file(&self) -> Result<SceneFile> {
-        let mut file = match &self.scene {
-            Some(path) => SceneFile::read(path)?,
-            None => SceneFile::default(),
-        };
-        if let Some(preset) = self.preset {
-            file.groom.preset = Some(preset.name().to_string());
-        }
-        if let Some(frames) = self.frames {
-            // The camera path spans the frames shown, as `render --frames N` makes the shot N
-            // frames long.
-            file.frames.count = Some(usize::try_from(frames).unwrap_or(usize::MAX));
-        }
-        ShotOverrides {
+        // The camera path spans the frames shown, as `render --frames N` makes the shot N frames
+        // long.
+        let mut file = ShotOverrides {
+            preset: self.preset,
+            frames: self
+                .frames
+                .map(|frames| usize::try_from(frames).unwrap_or(usize::MAX)),
             level: self.level,
             pixel_tolerance: self.pixel_tolerance,
             size: self.size.as_ref(),
             camera: self.camera,
             motion: self.motion,
         }
-        .apply(&mut file);
+        .scene_file(self.scene.as_deref())?;
         if self.color_code {
             file.output.color_coded = Some(true);
             file.output.shaded = Some(false);

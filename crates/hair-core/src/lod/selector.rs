@@ -108,6 +108,15 @@ struct SectionConstants {
     keep_clusters: bool,
 }
 
+/// Per-section buffers of a budgeted choice, kept between frames.
+#[derive(Debug, Clone, Default)]
+struct BudgetScratch {
+    options: Vec<SectionOptions>,
+    hidden: Vec<Option<Reason>>,
+    motion: Vec<Level>,
+    levels: Vec<Level>,
+}
+
 /// Chooses every section's level each frame, remembering the last choice for hysteresis.
 #[derive(Debug, Clone)]
 pub struct LodSelector {
@@ -115,6 +124,7 @@ pub struct LodSelector {
     constants: Vec<SectionConstants>,
     choices: Vec<SectionChoice>,
     occluders: Vec<(Vec3, Vec3)>,
+    budget_scratch: BudgetScratch,
 }
 
 impl LodSelector {
@@ -186,6 +196,7 @@ impl LodSelector {
             constants,
             choices,
             occluders: occluders.to_vec(),
+            budget_scratch: BudgetScratch::default(),
         })
     }
 
@@ -250,26 +261,13 @@ impl LodSelector {
         observation: &SectionObservation,
         camera: &Camera,
     ) -> [f32; 3] {
-        let constants = &self.constants[section];
-        let settings = &self.settings;
-        match settings.error_model {
-            ErrorModel::Deviation => {
-                let scale = pixels_per_metre(camera, observation.bound_centre, settings);
-                Level::ALL.map(|level| scaled_error(constants.deviation.at(level), scale))
-            }
-            ErrorModel::Chord => {
-                // e·ℓ/L = tolerance·ℓ/limit (the limits are tolerance·L/e).
-                let length = chord_pixels(camera, observation, settings);
-                let [patch, cluster] = constants.limits;
-                [
-                    settings.pixel_tolerance * length / patch,
-                    settings.pixel_tolerance * length / cluster,
-                    0.0,
-                ]
-            }
-        }
+        estimated_errors(
+            &self.constants[section],
+            observation,
+            camera,
+            &self.settings,
+        )
     }
-
     /// Chooses the level of every section from `observations` (one per section) seen by `camera`
     /// with the head posed by `head`; returns the choices.
     pub fn select(
@@ -331,82 +329,150 @@ impl LodSelector {
                 expected: self.choices.len(),
             });
         }
-        let previous: Vec<Level> = self.choices.iter().map(|c| c.level).collect();
-        // Floors: visibility, motion and rules as in `select`, with no error allowed for the
-        // distance (an infinite tolerance asks for patches everywhere).
+        if observations.len() != self.choices.len() {
+            return Err(HairError::SizeMismatch {
+                what: "section observations",
+                actual: observations.len(),
+                expected: self.choices.len(),
+            });
+        }
+        camera.validate()?;
         let settings = self.settings;
-        self.select(observations, camera, head)?;
-        let band = settings.hysteresis;
-        let mut options = Vec::with_capacity(self.choices.len());
-        let mut motion_levels = Vec::with_capacity(self.choices.len());
-        for (section, choice) in self.choices.iter().enumerate() {
+        let (aspect, band) = (settings.aspect(), settings.hysteresis);
+        let scratch = &mut self.budget_scratch;
+        scratch.options.clear();
+        scratch.hidden.clear();
+        scratch.motion.clear();
+        for (section, (choice, observation)) in self.choices.iter().zip(observations).enumerate() {
             let constants = &self.constants[section];
-            let mut motion_level = Level::Patch;
-            let floor = if choice.visible {
-                let by_motion = level_with_hysteresis(
-                    observations[section].motion,
-                    [
-                        settings.cluster_force_threshold,
-                        settings.strand_force_threshold,
-                    ],
-                    previous[section],
-                    band,
-                );
-                motion_level = by_motion;
-                if constants.keep_clusters {
-                    by_motion.max(Level::Cluster)
-                } else {
-                    by_motion
-                }
-            } else {
-                Level::Patch
+            let previous = choice.level;
+            let hidden = hidden_reason(
+                observation,
+                camera,
+                head,
+                &self.occluders,
+                &settings,
+                aspect,
+            );
+            // Floors: motion and the part/face rule for a visible section, patch for a hidden one.
+            let motion = motion_level(observation, previous, &settings);
+            let floor = match hidden {
+                Some(_) => Level::Patch,
+                None if constants.keep_clusters => motion.max(Level::Cluster),
+                None => motion,
             };
-            let mut errors = if choice.visible {
-                self.estimated_errors(section, &observations[section], camera)
-                    .map(|e| e * constants.crown_factor)
-            } else {
-                [0.0; 3]
+            let mut errors = match hidden {
+                Some(_) => [0.0; 3],
+                None => estimated_errors(constants, observation, camera, &settings)
+                    .map(|e| e * constants.crown_factor),
             };
             for level in Level::ALL {
-                if level < previous[section] {
+                if level < previous {
                     errors[level as usize] *= 1.0 + band;
                 }
                 if !errors[level as usize].is_finite() {
                     errors[level as usize] = f32::MAX;
                 }
             }
-            let pixels = choice
-                .visible
-                .then(|| covered_pixels(camera, &observations[section], &settings));
-            options.push(SectionOptions {
+            let pixels = hidden
+                .is_none()
+                .then(|| covered_pixels(camera, observation, &settings));
+            scratch.options.push(SectionOptions {
                 errors,
                 costs: model.section_costs(&work[section], pixels),
                 floor,
             });
-            motion_levels.push(motion_level);
+            scratch.hidden.push(hidden);
+            scratch.motion.push(motion);
         }
-        let mut levels = vec![Level::Patch; options.len()];
-        let outcome = refine_within_budget(&options, budget, &mut levels);
-        for (((choice, level), option), motion) in self
-            .choices
-            .iter_mut()
-            .zip(levels)
-            .zip(&options)
-            .zip(motion_levels)
-        {
-            if choice.visible {
-                choice.reason = if level > option.floor || level == Level::Patch {
-                    Reason::Distance
-                } else if motion == option.floor {
-                    Reason::Motion
-                } else {
-                    Reason::Rule
-                };
-            }
-            choice.level = level;
+        scratch.levels.resize(scratch.options.len(), Level::Patch);
+        let outcome = refine_within_budget(&scratch.options, budget, &mut scratch.levels);
+        for (section, choice) in self.choices.iter_mut().enumerate() {
+            let (level, option) = (scratch.levels[section], &scratch.options[section]);
+            *choice = match scratch.hidden[section] {
+                Some(reason) => SectionChoice {
+                    level,
+                    visible: false,
+                    reason,
+                },
+                None => SectionChoice {
+                    level,
+                    visible: true,
+                    reason: if level > option.floor || level == Level::Patch {
+                        Reason::Distance
+                    } else if scratch.motion[section] == option.floor {
+                        Reason::Motion
+                    } else {
+                        Reason::Rule
+                    },
+                },
+            };
         }
         Ok((&self.choices, outcome))
     }
+}
+
+/// The estimated screen-space error [pixels] of each level of a section with `constants` (see
+/// [`LodSelector::estimated_errors`]).
+fn estimated_errors(
+    constants: &SectionConstants,
+    observation: &SectionObservation,
+    camera: &Camera,
+    settings: &LodSettings,
+) -> [f32; 3] {
+    match settings.error_model {
+        ErrorModel::Deviation => {
+            let scale = pixels_per_metre(camera, observation.bound_centre, settings);
+            Level::ALL.map(|level| scaled_error(constants.deviation.at(level), scale))
+        }
+        ErrorModel::Chord => {
+            // e·ℓ/L = tolerance·ℓ/limit (the limits are tolerance·L/e).
+            let length = chord_pixels(camera, observation, settings);
+            let [patch, cluster] = constants.limits;
+            [
+                settings.pixel_tolerance * length / patch,
+                settings.pixel_tolerance * length / cluster,
+                0.0,
+            ]
+        }
+    }
+}
+
+/// Why a section is not drawn (outside the view frustum, or hidden behind the head, §7.1), or
+/// `None` when it is visible.
+fn hidden_reason(
+    observation: &SectionObservation,
+    camera: &Camera,
+    head: &RigidTransform,
+    occluders: &[(Vec3, Vec3)],
+    settings: &LodSettings,
+    aspect: f32,
+) -> Option<Reason> {
+    if !camera.sphere_in_frustum(observation.bound_centre, observation.bound_radius, aspect) {
+        return Some(Reason::OutsideView);
+    }
+    let occluded = settings.occlusion
+        && is_occluded(
+            camera.position,
+            observation.top,
+            observation.bottom,
+            occluders,
+            head,
+        );
+    occluded.then_some(Reason::Occluded)
+}
+
+/// The level a section's motion asks for (§7.3), with hysteresis around `current`.
+fn motion_level(observation: &SectionObservation, current: Level, settings: &LodSettings) -> Level {
+    level_with_hysteresis(
+        observation.motion,
+        [
+            settings.cluster_force_threshold,
+            settings.strand_force_threshold,
+        ],
+        current,
+        settings.hysteresis,
+    )
 }
 
 /// The projected length [pixels] of the section's centre skeleton's root-to-tip line (§7.2).
@@ -466,24 +532,12 @@ fn choose(
     settings: &LodSettings,
     aspect: f32,
 ) -> SectionChoice {
-    let hidden = |reason| SectionChoice {
-        level: Level::Patch,
-        visible: false,
-        reason,
-    };
-    if !camera.sphere_in_frustum(observation.bound_centre, observation.bound_radius, aspect) {
-        return hidden(Reason::OutsideView);
-    }
-    if settings.occlusion
-        && is_occluded(
-            camera.position,
-            observation.top,
-            observation.bottom,
-            occluders,
-            head,
-        )
-    {
-        return hidden(Reason::Occluded);
+    if let Some(reason) = hidden_reason(observation, camera, head, occluders, settings, aspect) {
+        return SectionChoice {
+            level: Level::Patch,
+            visible: false,
+            reason,
+        };
     }
     let band = settings.hysteresis;
     let by_distance = match settings.error_model {
@@ -506,15 +560,7 @@ fn choose(
             level_with_hysteresis(scale, limits, current, band)
         }
     };
-    let by_motion = level_with_hysteresis(
-        observation.motion,
-        [
-            settings.cluster_force_threshold,
-            settings.strand_force_threshold,
-        ],
-        current,
-        band,
-    );
+    let by_motion = motion_level(observation, current, settings);
     let (mut level, mut reason) = if by_motion > by_distance {
         (by_motion, Reason::Motion)
     } else {
