@@ -22,6 +22,7 @@
 
 pub mod accuracy;
 pub mod benchmark;
+pub mod crowd;
 pub mod metrics;
 pub mod pipeline;
 pub mod popping;
@@ -30,13 +31,14 @@ pub mod run;
 pub mod scene_file;
 pub mod shot;
 
+pub use crowd::{Crowd, CrowdModel, CrowdRenderer};
 pub use hair_collide as collide;
 pub use hair_core as core;
 pub use hair_render as render;
 pub use pipeline::{Checkpoint, LodMode, Pipeline, PipelineError, PipelineSettings, PipelineState};
 pub use rest_pose::{HangSettings, RestPose, hang_groom};
 pub use scene_file::SceneFile;
-pub use shot::Shot;
+pub use shot::{Character, Shot};
 
 pub use hair_core::{
     Camera, Frame, Groom, GroomCounts, GroomParams, HairError, HairStyle, Head, HeadParams, Level,

@@ -87,27 +87,107 @@ impl RunOptions {
     }
 }
 
+/// What the frame loop drives: one character's [`Pipeline`], or a [`Crowd`](crate::crowd::Crowd)
+/// of them, each drawn by its own kind of renderer.
+pub trait Runnable {
+    /// What draws it.
+    type Renderer;
+
+    /// The pixel tolerance of its automatic levels [pixels] (`None` at a fixed level).
+    fn pixel_tolerance(&self) -> Option<f32>;
+
+    /// Sets the pixel tolerance of its automatic levels [pixels] from the next frame on.
+    fn set_pixel_tolerance(&mut self, pixel_tolerance: f32) -> Result<()>;
+
+    /// Chooses levels within a frame budget [s] with costs from a calibrated model
+    /// ([`Pipeline::set_frame_budget`]).
+    fn set_frame_budget(&mut self, budget: Option<(f64, CostModel)>) -> Result<()>;
+
+    /// Advances one frame seen by `camera`: levels, hand-over, dynamics with collision.
+    fn advance(&mut self, camera: &hair_core::Camera) -> Result<FrameReport>;
+
+    /// Calibrates the frame budget's cost model with a finished frame's report.
+    fn observe_frame(&mut self, report: &FrameReport);
+
+    /// Draws the current frame in `view` through `camera` at `width`×`height` [pixels]; returns
+    /// the image and the time it took [s].
+    fn render_view(
+        &mut self,
+        renderer: &mut Self::Renderer,
+        camera: &hair_core::Camera,
+        size: (u32, u32),
+        view: View,
+    ) -> Result<(image::RgbaImage, f64)>;
+
+    /// The mode's column name (`LODs`, `Strands`, `Clusters`, `Patches`).
+    fn mode_name(&self) -> &'static str;
+}
+
+impl Runnable for Pipeline {
+    type Renderer = PipelineRenderer;
+
+    fn pixel_tolerance(&self) -> Option<f32> {
+        self.selector().map(|s| s.settings().pixel_tolerance)
+    }
+
+    fn set_pixel_tolerance(&mut self, pixel_tolerance: f32) -> Result<()> {
+        Pipeline::set_pixel_tolerance(self, pixel_tolerance)
+    }
+
+    fn set_frame_budget(&mut self, budget: Option<(f64, CostModel)>) -> Result<()> {
+        Pipeline::set_frame_budget(self, budget)
+    }
+
+    fn advance(&mut self, camera: &hair_core::Camera) -> Result<FrameReport> {
+        Pipeline::advance(self, camera)
+    }
+
+    fn observe_frame(&mut self, report: &FrameReport) {
+        Pipeline::observe_frame(self, report);
+    }
+
+    fn render_view(
+        &mut self,
+        renderer: &mut PipelineRenderer,
+        camera: &hair_core::Camera,
+        (width, height): (u32, u32),
+        view: View,
+    ) -> Result<(image::RgbaImage, f64)> {
+        match view {
+            View::Shaded => renderer.render(self, camera, width, height, ShadingMode::Shaded),
+            View::LevelColors => {
+                renderer.render(self, camera, width, height, ShadingMode::LevelColors)
+            }
+            View::SideBySide => renderer.render_side_by_side(self, camera, width, height),
+        }
+    }
+
+    fn mode_name(&self) -> &'static str {
+        self.settings().lod.column_name()
+    }
+}
+
 /// What the loop shows the caller after each frame.
-pub struct FrameOutput<'a> {
+pub struct FrameOutput<'a, R = Pipeline> {
     /// The frame's report (stage times, levels, model size).
     pub report: &'a FrameReport,
     /// The frame's camera.
     pub camera: &'a hair_core::Camera,
     /// One image per view asked for, in that order (empty without a renderer).
     pub images: &'a [image::RgbaImage],
-    /// The pipeline after the frame (for measurements).
-    pub pipeline: &'a Pipeline,
+    /// The pipeline (or crowd) after the frame (for measurements).
+    pub pipeline: &'a R,
     /// The pixel tolerance the frame ran at [pixels] (`None` at a fixed level).
     pub tolerance: Option<f32>,
 }
 
-/// What a run leaves: its frames, the pipeline at the end (to checkpoint) and the budget's
-/// record.
-pub struct RunResult {
+/// What a run leaves: its frames, the pipeline (or crowd) at the end (to checkpoint) and the
+/// budget's record.
+pub struct RunResult<R = Pipeline> {
     /// Every frame's report, summarised.
     pub run: ModeRun,
-    /// The pipeline after the last frame.
-    pub pipeline: Pipeline,
+    /// The pipeline (or crowd) after the last frame.
+    pub pipeline: R,
     /// The frame budget's record, when the run had one.
     pub budget: Option<BudgetReport>,
     /// The pixel tolerance each frame ran at [pixels] (empty at a fixed level).
@@ -123,7 +203,7 @@ pub fn run_shot(
     scene: &Scene,
     options: RunOptions,
     mut renderer: Option<(&mut PipelineRenderer, &[View])>,
-    mut on_frame: impl FnMut(FrameOutput<'_>) -> Result<()>,
+    on_frame: impl FnMut(FrameOutput<'_>) -> Result<()>,
 ) -> Result<RunResult> {
     let RunOptions {
         settings,
@@ -149,15 +229,26 @@ pub fn run_shot(
             }
         )));
     }
-    let mut pipeline = shot.pipeline(scene, settings, resume)?;
+    let pipeline = shot.pipeline(scene, settings, resume)?;
     if let Some((renderer, _)) = renderer.as_mut() {
         renderer.bind(&pipeline)?;
     }
-    let mut controller = match (budget, pipeline.selector()) {
-        (Some(budget), Some(selector)) => Some(BudgetController::new(
-            budget,
-            selector.settings().pixel_tolerance,
-        )?),
+    run_frames(shot, pipeline, frames, budget, renderer, on_frame)
+}
+
+/// The frame loop itself, on a pipeline or crowd already built: for each frame of `frames`, the
+/// camera, the frame budget's tolerance (or the greedy choice within `budget`),
+/// [`Runnable::advance`], the views rendered, the budget's calibration and `on_frame`.
+pub fn run_frames<R: Runnable>(
+    shot: &Shot,
+    mut target: R,
+    frames: Range<usize>,
+    budget: Option<BudgetSettings>,
+    mut renderer: Option<(&mut R::Renderer, &[View])>,
+    mut on_frame: impl FnMut(FrameOutput<'_, R>) -> Result<()>,
+) -> Result<RunResult<R>> {
+    let mut controller = match (budget, target.pixel_tolerance()) {
+        (Some(budget), Some(tolerance)) => Some(BudgetController::new(budget, tolerance)?),
         _ => None,
     };
     // The greedy method chooses levels within the budget (aiming at its margin) from costs the
@@ -166,7 +257,7 @@ pub fn run_shot(
         && settings.method == BudgetMethod::Greedy
     {
         let model = CostModel::new(CostRates::default())?;
-        pipeline.set_frame_budget(Some((settings.margin * settings.budget, model)))?;
+        target.set_frame_budget(Some((settings.margin * settings.budget, model)))?;
     }
     let mut reports = Vec::with_capacity(frames.len());
     let mut tolerances = Vec::new();
@@ -174,32 +265,15 @@ pub fn run_shot(
     for frame in frames {
         let camera = shot.camera(frame);
         if let Some(controller) = &controller {
-            pipeline.set_pixel_tolerance(controller.tolerance())?;
+            target.set_pixel_tolerance(controller.tolerance())?;
         }
-        let tolerance = pipeline.selector().map(|s| s.settings().pixel_tolerance);
-        let mut report = pipeline.advance(&camera)?;
+        let tolerance = target.pixel_tolerance();
+        let mut report = target.advance(&camera)?;
         images.clear();
         if let Some((renderer, views)) = renderer.as_mut() {
             for (k, view) in views.iter().enumerate() {
-                let (image, seconds) = match view {
-                    View::Shaded | View::LevelColors => renderer.render(
-                        &mut pipeline,
-                        &camera,
-                        shot.width,
-                        shot.height,
-                        if *view == View::Shaded {
-                            ShadingMode::Shaded
-                        } else {
-                            ShadingMode::LevelColors
-                        },
-                    )?,
-                    View::SideBySide => renderer.render_side_by_side(
-                        &mut pipeline,
-                        &camera,
-                        shot.width,
-                        shot.height,
-                    )?,
-                };
+                let (image, seconds) =
+                    target.render_view(renderer, &camera, (shot.width, shot.height), *view)?;
                 if k == 0 {
                     report.times.rendering = seconds;
                 }
@@ -209,22 +283,22 @@ pub fn run_shot(
         if let Some(controller) = &mut controller {
             controller.update(report.times.total())?;
         }
-        pipeline.observe_frame(&report);
+        target.observe_frame(&report);
         tolerances.extend(tolerance);
         on_frame(FrameOutput {
             report: &report,
             camera: &camera,
             images: &images,
-            pipeline: &pipeline,
+            pipeline: &target,
             tolerance,
         })?;
         reports.push(report);
     }
     Ok(RunResult {
-        run: ModeRun::new(pipeline.settings().lod.column_name(), reports),
+        run: ModeRun::new(target.mode_name(), reports),
         budget: controller.map(|c| c.report()),
         tolerances,
-        pipeline,
+        pipeline: target,
     })
 }
 

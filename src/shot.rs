@@ -129,6 +129,24 @@ pub struct Outputs {
     pub usd: bool,
 }
 
+/// One character of a crowd: its groom, where its head stands and how it moves, and the wind
+/// around it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Character {
+    /// A name for reports (`character 3` when none is given).
+    pub name: String,
+    /// Groom parameters (a preset with overrides).
+    pub groom: GroomParams,
+    /// Where the head stands: world from head space (the head's centre at its translation [m]).
+    pub placement: hair_core::RigidTransform,
+    /// The head's motion (already placed in the world, [`HeadMotion::placed`]), the wind and
+    /// gravity.
+    ///
+    /// [`HeadMotion::placed`]: hair_core::dynamics::HeadMotion::placed
+    #[serde(skip)]
+    pub environment: Environment,
+}
+
 /// A whole run: what to build, how it is driven and seen, and what comes out.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Shot {
@@ -163,6 +181,9 @@ pub struct Shot {
     pub outputs: Outputs,
     /// The paper's table (1 or 2) whose figures `bench` prints beside its own, if any.
     pub paper_table: Option<u8>,
+    /// The characters of a crowd (empty: one character, [`Shot::groom`] on the head driven by
+    /// [`Shot::environment`]); see [`Crowd`](crate::crowd::Crowd).
+    pub characters: Vec<Character>,
 }
 
 impl Shot {
@@ -185,11 +206,21 @@ impl Shot {
         }
     }
 
+    /// Whether the shot is a crowd (it has characters).
+    pub fn is_crowd(&self) -> bool {
+        !self.characters.is_empty()
+    }
+
     /// Builds the scene: the procedural head and the groom on it, hung on the head under this
     /// shot's gravity (with collision as the shot has it) when [`Shot::rest_pose`] is
     /// [`RestPose::Hanging`] (see [`hang_groom`]).
     pub fn build_scene(&self) -> Result<Scene> {
-        let mut scene = Scene::new(&self.head, &self.groom)?;
+        self.build_scene_with(&self.groom)
+    }
+
+    /// [`Shot::build_scene`] with `groom` instead of the shot's own (a crowd character's).
+    pub fn build_scene_with(&self, groom: &GroomParams) -> Result<Scene> {
+        let mut scene = Scene::new(&self.head, groom)?;
         if self.rest_pose == RestPose::Hanging {
             hang_groom(
                 &mut scene,

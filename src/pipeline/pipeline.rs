@@ -8,8 +8,9 @@ use hair_collide::{
 };
 use hair_core::dynamics::{DynamicsModel, DynamicsParams, Environment, Simulation};
 use hair_core::lod::{
-    CostModel, LodSelector, RenderSample, SectionChoice, SectionObservation, SectionWork,
-    covered_pixels, head_point_acceleration_from_poses, motion_measure,
+    CostModel, ErrorModel, LevelDeviation, LodSelector, RenderSample, SectionChoice,
+    SectionObservation, SectionOptions, SectionWork, covered_pixels,
+    head_point_acceleration_from_poses, motion_measure,
 };
 use hair_core::skeleton::node_frames;
 use hair_core::{Camera, Frame, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
@@ -69,6 +70,9 @@ pub struct Pipeline {
     /// A frame whose levels are chosen but whose dynamics step has not run
     /// ([`Pipeline::begin_frame`]).
     pending: Option<PendingFrame>,
+    /// The frame whose budget options were made ([`Pipeline::budget_options`]) and the time it
+    /// took [s], counted into that frame's level-of-detail stage.
+    options_made: Option<(usize, f64)>,
 }
 
 /// The solvers of one level's block: the integrator and its scratch (`None` while no section is
@@ -103,13 +107,42 @@ impl Pipeline {
         settings: PipelineSettings,
         params: DynamicsParams,
     ) -> Result<Self> {
+        Pipeline::build(scene, environment, settings, params, None)
+    }
+
+    /// [`Pipeline::new`] with the sections' level deviations [m] already measured
+    /// ([`level_deviations`](hair_core::lod::level_deviations) of this scene's groom, one per
+    /// section): characters of a crowd that share a groom measure it once.
+    pub fn with_deviations(
+        scene: Scene,
+        environment: Environment,
+        settings: PipelineSettings,
+        deviations: &[LevelDeviation],
+    ) -> Result<Self> {
+        let params = DynamicsParams::for_style(&scene.groom.params.style);
+        Pipeline::build(scene, environment, settings, params, Some(deviations))
+    }
+
+    fn build(
+        scene: Scene,
+        environment: Environment,
+        settings: PipelineSettings,
+        params: DynamicsParams,
+        deviations: Option<&[LevelDeviation]>,
+    ) -> Result<Self> {
         settings.dynamics.validate()?;
         params.validate()?;
         let groom = &scene.groom;
         let sections = groom.section_count();
+        let occluders = scene.head.occluder_boxes();
         let (selector, start_level) = match settings.lod {
             LodMode::Auto(lod) => (
-                Some(LodSelector::new(groom, &scene.head.occluder_boxes(), lod)?),
+                Some(match deviations {
+                    Some(deviations) if lod.error_model == ErrorModel::Deviation => {
+                        LodSelector::with_deviations(groom, &occluders, lod, deviations)?
+                    }
+                    _ => LodSelector::new(groom, &occluders, lod)?,
+                }),
                 Level::StrandGroup,
             ),
             LodMode::Fixed(level) => (None, level),
@@ -161,6 +194,7 @@ impl Pipeline {
             frames_scratch: Vec::new(),
             collision_chains: Vec::new(),
             pending: None,
+            options_made: None,
             scene,
         };
         pipeline.start_at_rest()?;
@@ -574,6 +608,73 @@ impl Pipeline {
     /// measured (the popping measure). A frame already begun is not begun again (its changes are
     /// returned).
     pub fn begin_frame(&mut self, camera: &Camera) -> Result<LodChanges> {
+        self.begin_frame_from(camera, None)
+    }
+
+    /// Every section's options for a frame budget shared with other pipelines (a crowd's): the
+    /// sections are observed through `camera` and their estimated errors, costs (from `model`)
+    /// and floors returned ([`LodSelector::budget_options`]). Run
+    /// [`refine_within_budget`](hair_core::lod::refine_within_budget) over the options of every
+    /// pipeline, then begin the frame with each one's levels
+    /// ([`begin_frame_with_levels`](Self::begin_frame_with_levels)). Errors at a fixed level and
+    /// while a frame is begun.
+    pub fn budget_options(
+        &mut self,
+        camera: &Camera,
+        model: &CostModel,
+    ) -> Result<&[SectionOptions]> {
+        if self.pending.is_some() {
+            return Err(PipelineError::State(
+                "a frame is begun and not finished: make the budget options before it".into(),
+            ));
+        }
+        if self.selector.is_none() {
+            return Err(PipelineError::State(
+                "a shared frame budget needs automatic levels (the levels are fixed)".into(),
+            ));
+        }
+        camera.validate()?;
+        let started = Instant::now();
+        let head = self.environment.head.transform_at(self.state.time);
+        self.observe_sections(camera)?;
+        let selector = self.selector.as_mut().expect("checked above");
+        let options = selector.budget_options(
+            &self.observations,
+            camera,
+            &head,
+            model,
+            &self.section_work,
+        )?;
+        self.options_made = Some((self.state.frame, started.elapsed().as_secs_f64()));
+        Ok(options)
+    }
+
+    /// [`begin_frame`](Self::begin_frame) with the sections' `levels` given (one per section,
+    /// each raised to its floor if below it), chosen from this frame's
+    /// [`budget_options`](Self::budget_options) by a budget shared with other pipelines. Errors
+    /// when the options were not made this frame.
+    pub fn begin_frame_with_levels(
+        &mut self,
+        camera: &Camera,
+        levels: &[Level],
+    ) -> Result<LodChanges> {
+        if let Some(pending) = self.pending {
+            return Ok(pending.changes);
+        }
+        match self.options_made {
+            Some((frame, _)) if frame == self.state.frame => {}
+            _ => {
+                return Err(PipelineError::State(
+                    "the budget options were not made this frame: call budget_options first".into(),
+                ));
+            }
+        }
+        self.begin_frame_from(camera, Some(levels))
+    }
+
+    /// [`begin_frame`](Self::begin_frame) with the levels chosen by the selector (`None`) or
+    /// given from budget options already made (`Some`).
+    fn begin_frame_from(&mut self, camera: &Camera, given: Option<&[Level]>) -> Result<LodChanges> {
         if let Some(pending) = self.pending {
             return Ok(pending.changes);
         }
@@ -581,13 +682,16 @@ impl Pipeline {
         let mut times = StageTimes::default();
         let started = Instant::now();
         let head = self.environment.head.transform_at(self.state.time);
-        let (levels, visibility) = self.select_levels(camera, &head)?;
+        let (levels, visibility) = self.select_levels(camera, &head, given)?;
         let changes = LodChanges { levels, visibility };
         let blends_ended = self.state.levels.blends_finished(self.state.time);
         if levels > 0 || blends_ended {
             self.apply_level_changes(&head)?;
         }
         times.lod = started.elapsed().as_secs_f64();
+        if given.is_some() {
+            times.lod += self.options_made.take().map_or(0.0, |(_, seconds)| seconds);
+        }
         self.pending = Some(PendingFrame { changes, times });
         Ok(changes)
     }
@@ -666,15 +770,14 @@ impl Pipeline {
         Ok(report)
     }
 
-    /// Observes every section on its current level and chooses levels; returns how many sections
-    /// changed level and how many came into view or left it (their transitions and fades are
-    /// started in the state's levels).
-    fn select_levels(&mut self, camera: &Camera, head: &RigidTransform) -> Result<(usize, usize)> {
+    /// Observes every section on its current level (its observation and covered pixels this
+    /// frame, for the selector and the cost model); nothing at a fixed level.
+    fn observe_sections(&mut self, camera: &Camera) -> Result<()> {
         let groom = &self.scene.groom;
-        let Some(selector) = self.selector.as_mut() else {
-            return Ok((0, 0));
+        let Some(selector) = self.selector.as_ref() else {
+            return Ok(());
         };
-        let state = &mut self.state;
+        let state = &self.state;
         let frame_time = self.settings.dynamics.time_step;
         // The head's poses a frame before, now and a frame after, once for every node.
         let head_poses = [-1.0, 0.0, 1.0].map(|k| {
@@ -706,8 +809,28 @@ impl Pipeline {
             *observation = SectionObservation::of_section(groom, section, level, positions, motion);
             self.section_pixels[section] = covered_pixels(camera, observation, selector.settings());
         }
-        let choices = match &self.budget {
-            Some((budget, model)) => {
+        Ok(())
+    }
+
+    /// Chooses levels (from the selector, or the `given` levels of a shared budget) and starts
+    /// the changes; returns how many sections changed level and how many came into view or left
+    /// it (their transitions and fades are started in the state's levels).
+    fn select_levels(
+        &mut self,
+        camera: &Camera,
+        head: &RigidTransform,
+        given: Option<&[Level]>,
+    ) -> Result<(usize, usize)> {
+        if self.selector.is_none() {
+            return Ok((0, 0));
+        }
+        if given.is_none() {
+            self.observe_sections(camera)?;
+        }
+        let selector = self.selector.as_mut().expect("checked above");
+        let choices = match (given, &self.budget) {
+            (Some(levels), _) => selector.choose_levels(levels)?,
+            (None, Some((budget, model))) => {
                 // The frame's overhead is not any section's: leave it out of what they share.
                 let share = (budget - model.rates().overhead).max(0.0);
                 selector
@@ -721,8 +844,9 @@ impl Pipeline {
                     )?
                     .0
             }
-            None => selector.select(&self.observations, camera, head)?,
+            (None, None) => selector.select(&self.observations, camera, head)?,
         };
+        let state = &mut self.state;
         state.choices.copy_from_slice(choices);
         // The first frame picks the starting levels outright: there is nothing on screen to
         // blend from.
@@ -731,6 +855,7 @@ impl Pipeline {
         } else {
             selector.settings().blend_time
         };
+        let time = state.time;
         let mut changes = 0;
         let mut visibility_changes = 0;
         for (section, choice) in state.choices.iter().enumerate() {
@@ -806,11 +931,18 @@ impl Pipeline {
     /// dissolves in or out over the blend as a whole), with node frames computed from the simulated
     /// positions; everything else inactive.
     pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
+        active.clear();
+        self.append_drawn(active)
+    }
+
+    /// [`gather_drawn`](Self::gather_drawn) appended after the chains already in `active` (a
+    /// crowd draws its characters' grooms one after the other, on chain numbers offset by the
+    /// chains before).
+    pub fn append_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         let head = self.environment.head.transform_at(self.state.time);
         let display_time = self.display_time();
         let groom = &self.scene.groom;
         let levels = &self.state.levels;
-        active.clear();
         for chain in 0..groom.skeletons.chain_count() {
             let (section, level, _) = groom.chain_owner(chain);
             let shown = levels.shown_weight(section, display_time);

@@ -86,6 +86,29 @@ pub struct SceneFile {
     /// `[bench]`: what `hairlod bench` compares with.
     #[serde(default)]
     pub bench: BenchTable,
+    /// `[[character]]`: the characters of a crowd, each with its own groom, place, motion and
+    /// wind (none: one character, the scene's groom on a head at the origin).
+    #[serde(default)]
+    pub character: Vec<CharacterTable>,
+}
+
+/// `[[character]]`: one character of a crowd.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CharacterTable {
+    /// A name for reports (default `character K`).
+    pub name: Option<String>,
+    /// Where the head's centre stands [m].
+    pub position: [f32; 3],
+    /// The head turned about the vertical [degrees], -360..=360 (default 0: facing +Z).
+    pub yaw_degrees: Option<f32>,
+    /// The character's groom, as `[groom]` (default the scene's `[groom]`).
+    pub groom: Option<GroomTable>,
+    /// The character's head motion, as `[motion]` (default the scene's `[motion]`), relative to
+    /// where it stands.
+    pub motion: Option<MotionTable>,
+    /// The wind around the character, as `[wind]` (default the scene's `[wind]`).
+    pub wind: Option<WindTable>,
 }
 
 /// `[groom]`.

@@ -207,7 +207,56 @@ impl SceneFile {
             rest_pose,
             outputs,
             paper_table: self.bench.paper_table,
+            characters: self.characters()?,
         })
+    }
+
+    /// The crowd's characters: each `[[character]]`'s own `groom`, `motion` and `wind` tables
+    /// (the scene's when left out), placed at `position` turned by `yaw_degrees`; errors name
+    /// `character[k]` and the field.
+    fn characters(&self) -> Result<Vec<crate::shot::Character>> {
+        let mut characters = Vec::with_capacity(self.character.len());
+        for (k, table) in self.character.iter().enumerate() {
+            let within_character = |error: SceneFileError| {
+                SceneFileError::new(format!("character[{k}].{}", error.message))
+            };
+            let own = SceneFile {
+                groom: table.groom.clone().unwrap_or_else(|| self.groom.clone()),
+                motion: table.motion.clone().unwrap_or_else(|| self.motion.clone()),
+                wind: table.wind.clone().unwrap_or_else(|| self.wind.clone()),
+                character: Vec::new(),
+                ..self.clone()
+            };
+            let groom = own.groom_params().map_err(within_character)?;
+            let position = vector("position", table.position).map_err(within_character)?;
+            let yaw = within(
+                "yaw_degrees",
+                table.yaw_degrees.unwrap_or(0.0),
+                -360.0,
+                360.0,
+                "degrees in -360..=360",
+            )
+            .map_err(within_character)?;
+            let placement = RigidTransform::new(Quat::from_rotation_y(yaw.to_radians()), position);
+            let environment = Environment {
+                head: own
+                    .head_motion()
+                    .map_err(within_character)?
+                    .placed(&placement),
+                wind: own.wind_field().map_err(within_character)?,
+                ..Environment::default()
+            };
+            characters.push(crate::shot::Character {
+                name: table
+                    .name
+                    .clone()
+                    .unwrap_or_else(|| format!("character {k}")),
+                groom,
+                placement,
+                environment,
+            });
+        }
+        Ok(characters)
     }
 
     fn rest_pose(&self) -> Result<RestPose> {

@@ -155,7 +155,7 @@ struct MeanPixelError {
 }
 
 #[derive(Serialize, Clone, Copy)]
-struct Speedups {
+pub struct Speedups {
     dynamics: f64,
     collision: f64,
     rendering: f64,
@@ -184,6 +184,9 @@ fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
         path.display(),
         shot.frames
     );
+    if shot.is_crowd() {
+        return crate::crowd_cmd::bench(&shot, args.budget_ms, args.json.as_deref());
+    }
     let extras = PaperExtras {
         budget_ms: args.budget_ms,
         budget_methods: Vec::new(),
@@ -600,7 +603,9 @@ fn print_where_lods_sit(
     }
 }
 
-fn print_table(
+/// Prints the modes' stage times in the paper's layout (LODs first, then Strands); returns the
+/// LODs' speedups over Strands.
+pub fn print_table(
     title: &str,
     modes: &[ModeRun],
     paper: Option<&[[f64; 4]; 3]>,

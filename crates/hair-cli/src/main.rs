@@ -9,6 +9,7 @@ mod bench_cmd;
 mod bench_shading;
 mod charts;
 mod cli_args;
+mod crowd_cmd;
 mod demo_cmd;
 mod groom_cmd;
 mod pareto;

@@ -161,11 +161,27 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(frames) => frames.range(shot.frames)?,
         None => start..shot.frames,
     };
-    let scene = shot.build_scene().context("could not build the groom")?;
     let mut device = DeviceOptions::from_env()?;
     if let Some(backend) = args.backend {
         device.backend = backend.into();
     }
+    if shot.is_crowd() {
+        anyhow::ensure!(
+            frames.start == 0 && args.checkpoint.is_none() && args.resume.is_none(),
+            "crowd scenes render whole shots: give --frames N, not a range, and no \
+             --checkpoint / --resume"
+        );
+        let shot = hairlod::shot::Shot {
+            frames: frames.end,
+            ..shot
+        };
+        let json = args
+            .json
+            .clone()
+            .or_else(|| file.json_output().map(|name| args.out.join(name)));
+        return crate::crowd_cmd::render(&shot, &args.out, json, &RendererOptions { device });
+    }
+    let scene = shot.build_scene().context("could not build the groom")?;
     let views = View::of_outputs(&shot.outputs);
     let folders: Vec<PathBuf> = if views.len() == 1 {
         vec![args.out.clone()]

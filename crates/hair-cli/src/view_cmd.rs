@@ -103,6 +103,11 @@ impl ViewArgs {
 pub fn run(args: &ViewArgs) -> Result<()> {
     let file = args.scene_file()?;
     let shot = file.resolve()?;
+    anyhow::ensure!(
+        !shot.is_crowd(),
+        "the viewer shows one character; crowd scenes ([[character]] tables) run in `hairlod \
+         render` and `hairlod bench`"
+    );
     let script = args.script.as_deref().map(Script::read).transpose()?;
     if let (Some(frames), Some(last)) = (args.frames, script.as_ref().and_then(Script::last_frame))
         && last >= frames

@@ -50,6 +50,14 @@ impl RigidTransform {
         frame.rotate(self.rotation)
     }
 
+    /// `self` after `inner`: the transform `x ↦ self(inner(x))`.
+    pub fn after(&self, inner: &RigidTransform) -> Self {
+        RigidTransform {
+            rotation: (self.rotation * inner.rotation).normalize(),
+            translation: self.rotation * inner.translation + self.translation,
+        }
+    }
+
     /// The inverse transform.
     pub fn inverse(&self) -> Self {
         let rotation = self.rotation.inverse();

@@ -110,6 +110,36 @@ impl HeadMotion {
         Ok(HeadMotion::Keyframed(keyframes))
     }
 
+    /// The same motion with the whole head placed by `placement` (world from the motion's
+    /// space): every pose `p(t)` becomes `placement ∘ p(t)`. A crowd stands its characters
+    /// where they are this way, each keeping its own shake, nod or keyframes.
+    pub fn placed(self, placement: &RigidTransform) -> HeadMotion {
+        match self {
+            HeadMotion::Still(pose) => HeadMotion::Still(placement.after(&pose)),
+            HeadMotion::Oscillate {
+                base,
+                axis,
+                pivot,
+                amplitude,
+                frequency,
+            } => HeadMotion::Oscillate {
+                base: placement.after(&base),
+                axis,
+                pivot,
+                amplitude,
+                frequency,
+            },
+            HeadMotion::Keyframed(keys) => HeadMotion::Keyframed(
+                keys.into_iter()
+                    .map(|key| HeadKeyframe {
+                        time: key.time,
+                        transform: placement.after(&key.transform),
+                    })
+                    .collect(),
+            ),
+        }
+    }
+
     /// The head's transform at `time` [s].
     pub fn transform_at(&self, time: f64) -> RigidTransform {
         match self {
@@ -207,6 +237,39 @@ mod tests {
         assert!((w - Vec3::Y * 3.0).length() < 1e-2, "{w}");
         let moved = motion.transform_at(0.3).transform_point(NECK_PIVOT);
         assert!((moved - NECK_PIVOT).length() < 1e-6);
+    }
+
+    #[test]
+    fn a_placed_motion_is_the_placement_after_every_pose() {
+        // placed(p)(t)(x) = placement(p(t)(x)) for every motion kind, at any time.
+        let placement = RigidTransform::new(Quat::from_rotation_y(0.7), Vec3::new(1.5, 0.0, -12.0));
+        let keys = vec![
+            HeadKeyframe {
+                time: 0.0,
+                transform: RigidTransform::IDENTITY,
+            },
+            HeadKeyframe {
+                time: 1.0,
+                transform: RigidTransform::new(Quat::from_rotation_x(0.3), Vec3::Y * 0.1),
+            },
+        ];
+        let x = Vec3::new(0.05, 0.1, -0.08);
+        for motion in [
+            HeadMotion::Still(RigidTransform::new(Quat::from_rotation_z(0.2), Vec3::X)),
+            HeadMotion::shake(0.4, 5.0),
+            HeadMotion::nod(0.2, 1.5),
+            HeadMotion::keyframed(keys.clone()).unwrap(),
+        ] {
+            let placed = motion.clone().placed(&placement);
+            for t in [0.0, 0.13, 0.5, 2.0] {
+                let expected = placement.transform_point(motion.transform_at(t).transform_point(x));
+                let got = placed.transform_at(t).transform_point(x);
+                assert!(
+                    (got - expected).length() < 1e-5,
+                    "{motion:?} at {t}: {got} vs {expected}"
+                );
+            }
+        }
     }
 
     #[test]

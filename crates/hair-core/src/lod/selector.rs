@@ -313,6 +313,10 @@ impl LodSelector {
     /// stay patches. Each section's cost comes from `model` for its `work` (one per section). A
     /// section keeps a finer current level unless the coarser one's error, raised by the
     /// hysteresis band, is still worth the cost saved. Returns the choices and the outcome.
+    ///
+    /// The same as [`budget_options`](Self::budget_options), [`refine_within_budget`] over them,
+    /// then [`choose_levels`](Self::choose_levels); a crowd runs the refinement once over the
+    /// options of every character's sections, so that one budget is shared.
     pub fn select_within_budget(
         &mut self,
         observations: &[SectionObservation],
@@ -322,6 +326,29 @@ impl LodSelector {
         model: &CostModel,
         work: &[SectionWork],
     ) -> Result<(&[SectionChoice], BudgetOutcome)> {
+        self.budget_options(observations, camera, head, model, work)?;
+        let scratch = &mut self.budget_scratch;
+        scratch.levels.resize(scratch.options.len(), Level::Patch);
+        let outcome = refine_within_budget(&scratch.options, budget, &mut scratch.levels);
+        let levels = std::mem::take(&mut self.budget_scratch.levels);
+        let chosen = self.choose_levels(&levels).map(|_| ());
+        self.budget_scratch.levels = levels;
+        chosen?;
+        Ok((&self.choices, outcome))
+    }
+
+    /// Every section's options for a budgeted choice: its estimated error [pixels] at each level
+    /// (0 when hidden; finer levels than its current one raised by the hysteresis band), its cost
+    /// [s] at each level from `model` for its `work`, and its floor (motion and the part/face rule
+    /// for a visible section, patch for a hidden one). Kept for [`choose_levels`](Self::choose_levels).
+    pub fn budget_options(
+        &mut self,
+        observations: &[SectionObservation],
+        camera: &Camera,
+        head: &RigidTransform,
+        model: &CostModel,
+        work: &[SectionWork],
+    ) -> Result<&[SectionOptions]> {
         if work.len() != self.choices.len() {
             return Err(HairError::SizeMismatch {
                 what: "section work",
@@ -385,10 +412,27 @@ impl LodSelector {
             scratch.hidden.push(hidden);
             scratch.motion.push(motion);
         }
-        scratch.levels.resize(scratch.options.len(), Level::Patch);
-        let outcome = refine_within_budget(&scratch.options, budget, &mut scratch.levels);
+        Ok(&scratch.options)
+    }
+
+    /// Takes `levels` (one per section, each at or above its floor) for the sections whose
+    /// options [`budget_options`](Self::budget_options) made last, with the reasons: hidden
+    /// sections keep theirs; a visible one is at `Distance` when above its floor (or a patch),
+    /// else at `Motion` or `Rule`, whichever set the floor. Returns the choices.
+    pub fn choose_levels(&mut self, levels: &[Level]) -> Result<&[SectionChoice]> {
+        let scratch = &self.budget_scratch;
+        if levels.len() != self.choices.len() || scratch.options.len() != self.choices.len() {
+            return Err(HairError::SizeMismatch {
+                what: "budgeted levels (make the options first)",
+                actual: levels.len().min(scratch.options.len()),
+                expected: self.choices.len(),
+            });
+        }
         for (section, choice) in self.choices.iter_mut().enumerate() {
-            let (level, option) = (scratch.levels[section], &scratch.options[section]);
+            let (level, option) = (
+                levels[section].max(scratch.options[section].floor),
+                &scratch.options[section],
+            );
             *choice = match scratch.hidden[section] {
                 Some(reason) => SectionChoice {
                     level,
@@ -408,7 +452,7 @@ impl LodSelector {
                 },
             };
         }
-        Ok((&self.choices, outcome))
+        Ok(&self.choices)
     }
 }
 

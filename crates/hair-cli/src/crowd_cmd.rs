@@ -1,0 +1,304 @@
+//! Crowd scenes (scene files with `[[character]]` tables) in `hairlod render` and `hairlod
+//! bench`: every character simulated, collided and drawn in one frame, levels chosen across the
+//! crowd. The bench runs LODs, all-strands, all-clusters and all-patches in the paper's table
+//! layout, then the frame budget (greedy and tolerance controller) at a tenth of the all-strands
+//! cost, with SSIM and luma error of every mode against the all-strands frames.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use hairlod::benchmark::paper_modes;
+use hairlod::core::lod::{BudgetMethod, BudgetReport, BudgetSettings};
+use hairlod::crowd::{CrowdModel, CrowdRenderer, run_crowd};
+use hairlod::metrics::{luma, luma_difference, ssim};
+use hairlod::pipeline::{LodMode, PipelineSettings};
+use hairlod::render::{RendererOptions, output};
+use hairlod::run::{ModeRun, View};
+use hairlod::shot::Shot;
+use serde::Serialize;
+
+use crate::bench_cmd::{print_table, progress_bar, write_json};
+
+/// Builds the crowd, saying how big it is.
+fn build(shot: &Shot) -> Result<CrowdModel> {
+    let started = Instant::now();
+    let model = CrowdModel::build(shot).context("could not build the crowd's grooms")?;
+    let sections: usize = model
+        .members
+        .iter()
+        .map(|m| m.scene.groom.section_count())
+        .sum();
+    eprintln!(
+        "crowd: {} characters, {sections} sections, {} strands (built in {:.1} s)",
+        model.members.len(),
+        model.strand_count(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(model)
+}
+
+/// `hairlod render` on a crowd scene: every frame of the shot, in each view asked for, to
+/// `out` (one folder per view when there are several), with a contact sheet and JSON report when
+/// asked.
+pub fn render(
+    shot: &Shot,
+    out: &Path,
+    json: Option<PathBuf>,
+    options: &RendererOptions,
+) -> Result<()> {
+    anyhow::ensure!(
+        !(shot.outputs.hair || shot.outputs.usd),
+        "crowd scenes write images only: leave out --hair / --usd (output.hair, output.usd)"
+    );
+    let model = build(shot)?;
+    let views = View::of_outputs(&shot.outputs);
+    let folders: Vec<PathBuf> = if views.len() == 1 {
+        vec![out.to_path_buf()]
+    } else {
+        views.iter().map(|v| out.join(v.name())).collect()
+    };
+    for folder in &folders {
+        std::fs::create_dir_all(folder)
+            .with_context(|| format!("cannot create output folder {}", folder.display()))?;
+    }
+    let mut renderer = CrowdRenderer::new(options, &model)?;
+    eprintln!("adapter: {}", renderer.renderer().adapter_report());
+    let bar = progress_bar(shot.frames, shot.settings.lod.column_name());
+    let mut thumbnails = Vec::new();
+    let result = run_crowd(
+        &model,
+        shot.settings,
+        shot.budget,
+        Some((&mut renderer, &views)),
+        |frame| {
+            let index = frame.report.frame as u64;
+            for (image, folder) in frame.images.iter().zip(&folders) {
+                let path = output::frame_path(folder, index, shot.frames as u64);
+                output::write_png_atomic(image, &path)?;
+            }
+            if shot.outputs.contact_sheet
+                && let Some(image) = frame.images.first()
+            {
+                let width = 320.min(image.width());
+                let height = (image.height() * width / image.width()).max(1);
+                thumbnails.push(image::imageops::thumbnail(image, width, height));
+            }
+            let [p, c, s] = frame.report.sections_at;
+            bar.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));
+            bar.inc(1);
+            Ok(())
+        },
+    )
+    .context("the crowd run stopped")?;
+    bar.finish();
+    if let Some(first) = thumbnails.first() {
+        let (width, height) = first.dimensions();
+        let sheet =
+            output::contact_sheet(&thumbnails, (thumbnails.len() as u32).min(6), width, height)?;
+        let path = out.join("contact_sheet.png");
+        output::write_png_atomic(&sheet, &path)?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = json {
+        write_json(&path, &serde_json::to_value(&result.run)?)?;
+    }
+    let mean = &result.run.mean;
+    eprintln!(
+        "wrote {} frame(s) to {}; per frame: lod {:.1} ms, dynamics {:.1} ms, collision {:.1} \
+         ms, render {:.1} ms",
+        result.run.frames.len(),
+        out.display(),
+        1e3 * mean.lod,
+        1e3 * mean.dynamics,
+        1e3 * mean.collision,
+        1e3 * mean.rendering
+    );
+    Ok(())
+}
+
+/// One mode's frames against the all-strands frames.
+#[derive(Debug, Clone, Serialize)]
+struct AgainstStrands {
+    mode: String,
+    /// Mean cost per frame [s] (level selection, dynamics, collision, rendering).
+    mean_cost: f64,
+    /// Median cost per frame [s].
+    median_cost: f64,
+    /// Mean SSIM of the luma against the all-strands frame.
+    mean_ssim: f64,
+    /// Mean absolute luma difference from the all-strands frame, in [0, 1].
+    mean_luma_error: f64,
+}
+
+#[derive(Serialize)]
+struct CrowdReport<'a> {
+    shot: &'a Shot,
+    adapter: String,
+    characters: Vec<String>,
+    strands: usize,
+    modes: &'a [ModeRun],
+    against_strands: &'a [AgainstStrands],
+    budgets: Vec<(BudgetReport, AgainstStrands)>,
+}
+
+/// Mean cost per frame [s] of a run, all stages.
+fn mean_cost(run: &ModeRun) -> f64 {
+    run.frames.iter().map(|f| f.times.total()).sum::<f64>() / run.frames.len().max(1) as f64
+}
+
+/// `hairlod bench` on a crowd scene.
+pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result<()> {
+    let model = build(shot)?;
+    let options = RendererOptions::from_env()?;
+    let mut renderer = CrowdRenderer::new(&options, &model)?;
+    let adapter = renderer.renderer().adapter_report().to_string();
+    println!("rendering on {adapter}");
+    let views = [View::Shaded];
+    let lod = shot.lod_settings();
+    let [lods, strands, clusters, patches] = paper_modes(lod);
+    let mut strand_frames: Vec<image::GrayImage> = Vec::new();
+    let mut runs: Vec<(ModeRun, AgainstStrands)> = Vec::new();
+    // The all-strands frames first: every other mode is measured against them.
+    for mode in [strands, lods, clusters, patches] {
+        let (run, against) = run_against(
+            shot,
+            &model,
+            &mut renderer,
+            &views,
+            PipelineSettings {
+                lod: mode,
+                ..shot.settings
+            },
+            None,
+            &mut strand_frames,
+        )?;
+        runs.push((run.run, against));
+    }
+    // Back to the paper's column order: LODs, Strands, Clusters, Patches.
+    runs.swap(0, 1);
+    let (modes, against): (Vec<ModeRun>, Vec<AgainstStrands>) = runs.into_iter().unzip();
+    print_table("The crowd in each mode", &modes, None, shot);
+    println!();
+    println!(
+        "{:<28}{:>12}{:>12}{:>12}{:>14}",
+        "mode", "mean [ms]", "median [ms]", "SSIM", "luma error"
+    );
+    for a in &against {
+        println!(
+            "{:<28}{:>12.1}{:>12.1}{:>12.4}{:>14.5}",
+            a.mode,
+            1e3 * a.mean_cost,
+            1e3 * a.median_cost,
+            a.mean_ssim,
+            a.mean_luma_error
+        );
+    }
+    let strands_cost = against[1].mean_cost;
+    println!(
+        "LODs: {:.1}× cheaper than all-strands at mean SSIM {:.4}; against all-clusters: cost \
+         {:.2}×, SSIM {:.4} vs {:.4}",
+        strands_cost / against[0].mean_cost.max(1e-12),
+        against[0].mean_ssim,
+        against[0].mean_cost / against[2].mean_cost.max(1e-12),
+        against[0].mean_ssim,
+        against[2].mean_ssim
+    );
+    let budget = budget_ms.map_or(strands_cost / 10.0, |ms| ms / 1e3);
+    let mut budgets = Vec::new();
+    if let LodMode::Auto(lod) = lods {
+        for method in [BudgetMethod::Greedy, BudgetMethod::Tolerance] {
+            let frame_time = shot.settings.dynamics.time_step;
+            let settings = BudgetSettings {
+                hold_frames: (lod.blend_time / frame_time).round() as usize,
+                method,
+                ..BudgetSettings::new(budget)
+            };
+            settings.validate()?;
+            let (result, against) = run_against(
+                shot,
+                &model,
+                &mut renderer,
+                &views,
+                PipelineSettings {
+                    lod: lods,
+                    ..shot.settings
+                },
+                Some(settings),
+                &mut strand_frames,
+            )?;
+            let report = result.budget.context("a budgeted run keeps its tally")?;
+            println!(
+                "frame budget {:.1} ms ({method}): met in {} of {} frames, mean cost {:.1} ms, \
+                 mean SSIM {:.4}, mean luma error {:.5}",
+                1e3 * budget,
+                report.met,
+                report.frames,
+                1e3 * against.mean_cost,
+                against.mean_ssim,
+                against.mean_luma_error
+            );
+            budgets.push((report, against));
+        }
+    }
+    if let Some(path) = json {
+        let report = CrowdReport {
+            shot,
+            adapter,
+            characters: model
+                .members
+                .iter()
+                .map(|m| m.character.name.clone())
+                .collect(),
+            strands: model.strand_count(),
+            modes: &modes,
+            against_strands: &against,
+            budgets,
+        };
+        write_json(path, &serde_json::to_value(&report)?)?;
+    }
+    Ok(())
+}
+
+/// Runs one mode of the crowd and measures its frames against `strand_frames` (which an
+/// all-strands run fills when it is empty).
+fn run_against(
+    shot: &Shot,
+    model: &CrowdModel,
+    renderer: &mut CrowdRenderer,
+    views: &[View],
+    settings: PipelineSettings,
+    budget: Option<BudgetSettings>,
+    strand_frames: &mut Vec<image::GrayImage>,
+) -> Result<(hairlod::run::RunResult<hairlod::Crowd>, AgainstStrands)> {
+    let label = match budget {
+        Some(budget) => format!("LODs, budget ({})", budget.method),
+        None => settings.lod.column_name().to_string(),
+    };
+    let reference = strand_frames.is_empty();
+    let bar = progress_bar(shot.frames, &label);
+    let (mut ssim_sum, mut luma_sum) = (0.0, 0.0);
+    let result = run_crowd(model, settings, budget, Some((renderer, views)), |frame| {
+        let gray = luma(&frame.images[0]);
+        if reference {
+            strand_frames.push(gray);
+            ssim_sum += 1.0;
+        } else if let Some(strands) = strand_frames.get(frame.report.frame) {
+            ssim_sum += ssim(strands, &gray);
+            luma_sum += luma_difference(strands, &gray);
+        }
+        bar.inc(1);
+        Ok(())
+    })
+    .with_context(|| format!("the crowd's {label} run failed"))?;
+    bar.finish();
+    let frames = shot.frames.max(1) as f64;
+    let against = AgainstStrands {
+        mode: label,
+        mean_cost: mean_cost(&result.run),
+        median_cost: result.run.median_total,
+        mean_ssim: ssim_sum / frames,
+        mean_luma_error: luma_sum / frames,
+    };
+    Ok((result, against))
+}

@@ -1,0 +1,45 @@
+//! A crowd: several characters in one frame, each with its own groom, place, head motion and
+//! wind, simulated, collided and drawn together, with level selection across all of them under
+//! one tolerance or one frame budget.
+//!
+//! Each character is a [`Pipeline`] of its own (its groom on its own head, the head placed in the
+//! world through its motion, [`HeadMotion::placed`](hair_core::dynamics::HeadMotion::placed)),
+//! so dynamics, collision and hand-over are exactly one character's. What the crowd adds:
+//! - **one budget**: with a frame budget, every character's sections offer their options
+//!   ([`Pipeline::budget_options`]) and one greedy refinement
+//!   ([`refine_within_budget`](hair_core::lod::refine_within_budget)) chooses all their levels,
+//!   so detail goes to whichever character's sections buy the most error per second, near or
+//!   far;
+//! - **one frame**: the characters' reports are summed into one [`FrameReport`], so the frame
+//!   loop, the budget controller, the cost model and the benchmark tables treat a crowd as one
+//!   scene;
+//! - **one picture**: [`CrowdRenderer`] draws every character's groom and head in one pass.
+//!
+//! Characters with the same groom parameters share one built groom and one deviation
+//! measurement ([`CrowdModel`]).
+//!
+//! ```no_run
+//! use hairlod::crowd::{Crowd, CrowdModel};
+//! use hairlod::scene_file::SceneFile;
+//!
+//! let shot = SceneFile::read("scenes/crowd.toml".as_ref())?.resolve()?;
+//! let model = CrowdModel::build(&shot)?;
+//! let mut crowd = Crowd::new(&model, shot.settings)?;
+//! let report = crowd.advance(&shot.camera(0))?;
+//! println!("{} sections at each level", report.sections_at.iter().sum::<usize>());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod frame;
+mod model;
+mod render;
+mod run;
+
+pub use frame::Crowd;
+pub use frame::sum_reports;
+pub use model::{CrowdMember, CrowdModel};
+pub use render::{CrowdRenderer, concatenated_geometry};
+pub use run::run_crowd;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,75 @@
+//! [`CrowdModel`]: the built characters of a crowd shot (each groom built, hung and measured once
+//! however many characters wear it), from which each mode's [`Crowd`](super::Crowd) starts.
+
+use hair_core::Scene;
+use hair_core::lod::{LevelDeviation, level_deviations};
+
+use crate::pipeline::{PipelineError, Result};
+use crate::shot::{Character, Shot};
+
+/// One built character: its description, its scene (groom and head) and its sections' level
+/// deviations [m].
+#[derive(Debug, Clone)]
+pub struct CrowdMember {
+    /// What the shot says of it.
+    pub character: Character,
+    /// Its groom on the procedural head (head space).
+    pub scene: Scene,
+    /// Its sections' level deviations [m] ([`level_deviations`]), shared by characters with the
+    /// same groom.
+    pub deviations: Vec<LevelDeviation>,
+}
+
+/// The built characters of a crowd shot.
+#[derive(Debug, Clone)]
+pub struct CrowdModel {
+    /// The shot (camera, frames, settings; its characters are the members').
+    pub shot: Shot,
+    /// One per character, in the shot's order.
+    pub members: Vec<CrowdMember>,
+}
+
+impl CrowdModel {
+    /// Builds every character of `shot` ([`Shot::build_scene_with`]), each distinct groom once;
+    /// errors for a shot without characters.
+    pub fn build(shot: &Shot) -> Result<CrowdModel> {
+        if !shot.is_crowd() {
+            return Err(PipelineError::State(
+                "the shot has no characters: a crowd needs [[character]] tables".into(),
+            ));
+        }
+        let mut built: Vec<(usize, Scene, Vec<LevelDeviation>)> = Vec::new();
+        let mut members = Vec::with_capacity(shot.characters.len());
+        for (k, character) in shot.characters.iter().enumerate() {
+            let same = built
+                .iter()
+                .find(|(first, _, _)| shot.characters[*first].groom == character.groom);
+            let (scene, deviations) = match same {
+                Some((_, scene, deviations)) => (scene.clone(), deviations.clone()),
+                None => {
+                    let scene = shot.build_scene_with(&character.groom)?;
+                    let deviations = level_deviations(&scene.groom)?;
+                    built.push((k, scene.clone(), deviations.clone()));
+                    (scene, deviations)
+                }
+            };
+            members.push(CrowdMember {
+                character: character.clone(),
+                scene,
+                deviations,
+            });
+        }
+        Ok(CrowdModel {
+            shot: shot.clone(),
+            members,
+        })
+    }
+
+    /// Strands in the whole crowd.
+    pub fn strand_count(&self) -> usize {
+        self.members
+            .iter()
+            .map(|m| m.scene.groom.strands.strand_count())
+            .sum()
+    }
+}

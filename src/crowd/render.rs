@@ -1,0 +1,231 @@
+//! [`CrowdRenderer`]: every character's groom and head drawn in one pass. The grooms' static
+//! data are uploaded once, one after the other (each character's chains numbered after the
+//! characters before it); each frame gathers every character's skeletons in that order and
+//! draws the heads at their simulated poses as one mesh.
+
+use std::time::Instant;
+
+use hair_core::{Camera, RigidTransform, TriangleMesh};
+use hair_render::{
+    ActiveSkeletons, FrameSettings, GroomGeometry, LineShading, Renderer, RendererOptions,
+    ShadingMode,
+};
+
+use super::frame::Crowd;
+use super::model::CrowdModel;
+use crate::pipeline::Result;
+use crate::run::{Runnable, View};
+
+/// A renderer bound to a crowd's grooms and heads.
+pub struct CrowdRenderer {
+    renderer: Renderer,
+    active: ActiveSkeletons,
+    /// Each character's head mesh in head space.
+    heads: Vec<TriangleMesh>,
+    /// The poses the uploaded heads have (empty before the first frame).
+    poses: Vec<RigidTransform>,
+    line_shading: LineShading,
+}
+
+impl CrowdRenderer {
+    /// A renderer from `options` with every character of `model` uploaded.
+    pub fn new(options: &RendererOptions, model: &CrowdModel) -> Result<Self> {
+        let renderer = Renderer::new(options)?;
+        let mut crowd_renderer = CrowdRenderer {
+            renderer,
+            active: ActiveSkeletons::new(),
+            heads: Vec::new(),
+            poses: Vec::new(),
+            line_shading: LineShading::default(),
+        };
+        crowd_renderer.bind(model)?;
+        Ok(crowd_renderer)
+    }
+
+    /// Uploads the grooms of `model`'s characters, one after the other, and keeps their heads.
+    pub fn bind(&mut self, model: &CrowdModel) -> Result<()> {
+        let geometry = concatenated_geometry(model);
+        self.renderer
+            .upload_strands_with_shapes(&geometry.strands(), &geometry.strand_shapes())?;
+        self.renderer.upload_clusters(&geometry.clusters())?;
+        self.renderer.upload_patches(&geometry.patches())?;
+        self.heads = model
+            .members
+            .iter()
+            .map(|m| m.scene.head.mesh.clone())
+            .collect();
+        self.poses.clear();
+        Ok(())
+    }
+
+    /// The wgpu renderer (adapter report, settings).
+    pub fn renderer(&self) -> &Renderer {
+        &self.renderer
+    }
+
+    /// Gathers every character's skeletons and poses the heads where the simulation has them.
+    fn prepare(&mut self, crowd: &mut Crowd) -> Result<()> {
+        self.active.clear();
+        for pipeline in crowd.pipelines_mut() {
+            pipeline.append_drawn(&mut self.active)?;
+        }
+        let poses: Vec<RigidTransform> = crowd.pipelines().iter().map(|p| p.head_pose()).collect();
+        if poses != self.poses {
+            let mesh = merged_heads(&self.heads, &poses);
+            self.renderer.set_head_mesh(Some(&mesh))?;
+            self.poses = poses;
+        }
+        Ok(())
+    }
+
+    /// Renders the crowd through `camera` into a `width`×`height` image (shaded or colour-coded
+    /// by level); returns the image and the time it took [s].
+    pub fn render(
+        &mut self,
+        crowd: &mut Crowd,
+        camera: &Camera,
+        (width, height): (u32, u32),
+        mode: ShadingMode,
+    ) -> Result<(image::RgbaImage, f64)> {
+        let started = Instant::now();
+        self.prepare(crowd)?;
+        let settings = FrameSettings {
+            mode,
+            line_shading: self.line_shading,
+            ..FrameSettings::new(width, height, *camera)
+        };
+        let image = self.renderer.render(&self.active.frame(), &settings)?;
+        Ok((image, started.elapsed().as_secs_f64()))
+    }
+
+    /// Renders shaded and colour-coded side by side (`2·width`×`height`); returns the image and
+    /// the time it took [s].
+    pub fn render_side_by_side(
+        &mut self,
+        crowd: &mut Crowd,
+        camera: &Camera,
+        (width, height): (u32, u32),
+    ) -> Result<(image::RgbaImage, f64)> {
+        let started = Instant::now();
+        self.prepare(crowd)?;
+        let settings = FrameSettings {
+            line_shading: self.line_shading,
+            ..FrameSettings::new(width, height, *camera)
+        };
+        let image = self
+            .renderer
+            .render_side_by_side(&self.active.frame(), &settings)?;
+        Ok((image, started.elapsed().as_secs_f64()))
+    }
+}
+
+impl Runnable for Crowd {
+    type Renderer = CrowdRenderer;
+
+    fn pixel_tolerance(&self) -> Option<f32> {
+        Crowd::pixel_tolerance(self)
+    }
+
+    fn set_pixel_tolerance(&mut self, pixel_tolerance: f32) -> Result<()> {
+        Crowd::set_pixel_tolerance(self, pixel_tolerance)
+    }
+
+    fn set_frame_budget(&mut self, budget: Option<(f64, hair_core::lod::CostModel)>) -> Result<()> {
+        Crowd::set_frame_budget(self, budget)
+    }
+
+    fn advance(&mut self, camera: &Camera) -> Result<crate::pipeline::FrameReport> {
+        Crowd::advance(self, camera)
+    }
+
+    fn observe_frame(&mut self, report: &crate::pipeline::FrameReport) {
+        Crowd::observe_frame(self, report);
+    }
+
+    fn render_view(
+        &mut self,
+        renderer: &mut CrowdRenderer,
+        camera: &Camera,
+        size: (u32, u32),
+        view: View,
+    ) -> Result<(image::RgbaImage, f64)> {
+        match view {
+            View::Shaded => renderer.render(self, camera, size, ShadingMode::Shaded),
+            View::LevelColors => renderer.render(self, camera, size, ShadingMode::LevelColors),
+            View::SideBySide => renderer.render_side_by_side(self, camera, size),
+        }
+    }
+
+    fn mode_name(&self) -> &'static str {
+        self.settings().lod.column_name()
+    }
+}
+
+/// Every character's strands, clusters and patches, one groom after the other, with chain
+/// numbers offset by the chains of the grooms before.
+pub fn concatenated_geometry(model: &CrowdModel) -> GroomGeometry {
+    let mut all = GroomGeometry::default();
+    let mut chains = 0u32;
+    for member in &model.members {
+        let groom = &member.scene.groom;
+        let one = GroomGeometry::new(groom);
+        let shift = |c: &u32| c + chains;
+        let strands = one.strand_chain.len();
+        all.strand_chain.extend(one.strand_chain.iter().map(shift));
+        all.strand_root_offsets.extend(&one.strand_root_offsets);
+        all.strand_shades.extend(&one.strand_shades);
+        // Lengths and tip scales are all-or-nothing per upload: fill the defaults (1) where a
+        // groom has none.
+        let pad = |values: &mut Vec<f32>, own: &[f32], before: usize| {
+            if own.is_empty() && values.is_empty() {
+                return;
+            }
+            values.resize(before, 1.0);
+            if own.is_empty() {
+                values.resize(before + strands, 1.0);
+            } else {
+                values.extend_from_slice(own);
+            }
+        };
+        let before = all.strand_chain.len() - strands;
+        pad(&mut all.strand_lengths, &one.strand_lengths, before);
+        pad(&mut all.strand_tip_scales, &one.strand_tip_scales, before);
+        all.cluster_chain
+            .extend(one.cluster_chain.iter().map(shift));
+        all.cluster_root_radii.extend(&one.cluster_root_radii);
+        all.cluster_tip_radii.extend(&one.cluster_tip_radii);
+        all.patch_chain.extend(one.patch_chain.iter().map(shift));
+        all.patch_widths.extend(&one.patch_widths);
+        chains += groom.skeletons.chain_count() as u32;
+    }
+    let strands = all.strand_chain.len();
+    for values in [&mut all.strand_lengths, &mut all.strand_tip_scales] {
+        if !values.is_empty() {
+            values.resize(strands, 1.0);
+        }
+    }
+    all
+}
+
+/// The heads (head space) moved to their `poses` and joined into one mesh.
+fn merged_heads(heads: &[TriangleMesh], poses: &[RigidTransform]) -> TriangleMesh {
+    let mut merged = TriangleMesh::default();
+    let normals = heads
+        .iter()
+        .all(|mesh| mesh.normals.len() == mesh.positions.len());
+    for (mesh, pose) in heads.iter().zip(poses) {
+        let base = merged.positions.len() as u32;
+        merged
+            .positions
+            .extend(mesh.positions.iter().map(|&p| pose.transform_point(p)));
+        if normals {
+            merged
+                .normals
+                .extend(mesh.normals.iter().map(|&n| pose.transform_vector(n)));
+        }
+        merged
+            .triangles
+            .extend(mesh.triangles.iter().map(|t| t.map(|i| i + base)));
+    }
+    merged
+}

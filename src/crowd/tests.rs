@@ -1,0 +1,234 @@
+//! Crowd tests: a crowd of one is its pipeline bit for bit, one budget sends detail to the
+//! character that needs it, the grooms are drawn on offset chains, and every character shows in
+//! the picture.
+
+use glam::Vec3;
+use hair_core::lod::{CostModel, CostRates};
+use hair_core::{Camera, Level};
+
+use super::render::concatenated_geometry;
+use super::*;
+use crate::pipeline::{LodMode, Pipeline, PipelineSettings};
+use crate::scene_file::SceneFile;
+use crate::shot::Shot;
+
+/// A small groom (grown, not hung: quick to build) for every character.
+const GROOM: &str = "[groom]\npreset = \"straight\"\nsection_count = 8\nstrands_per_group = 4\n\
+                     rest_pose = \"grown\"\n[dynamics]\nsettle_seconds = 0.0\n";
+
+fn shot(characters: &str) -> Shot {
+    SceneFile::parse(&format!("{GROOM}{characters}"))
+        .and_then(|file| file.resolve())
+        .unwrap()
+}
+
+fn camera_at(position: Vec3, target: Vec3) -> Camera {
+    let mut camera = Camera::orbit(Vec3::ZERO, 1.0, 0.0, 0.0, 35f32.to_radians());
+    camera.position = position;
+    camera.target = target;
+    camera
+}
+
+#[test]
+fn a_crowd_of_one_is_its_pipeline_bit_for_bit() {
+    let shot = shot("[[character]]\nposition = [0.0, 0.0, 0.0]\nmotion = { kind = \"shake\" }\n");
+    let model = CrowdModel::build(&shot).unwrap();
+    let member = &model.members[0];
+    let mut crowd = Crowd::new(&model, shot.settings).unwrap();
+    let mut alone = Pipeline::new(
+        member.scene.clone(),
+        member.character.environment.clone(),
+        shot.settings,
+    )
+    .unwrap();
+    let camera = shot.camera(0);
+    for _ in 0..4 {
+        let summed = crowd.advance(&camera).unwrap();
+        let own = alone.advance(&camera).unwrap();
+        assert_eq!(summed.sections_at, own.sections_at);
+        assert_eq!(summed.simulated_nodes, own.simulated_nodes);
+        assert_eq!(summed.drawn_at, own.drawn_at);
+    }
+    let pipeline = &crowd.pipelines()[0];
+    for level in Level::ALL {
+        assert_eq!(
+            pipeline.block(level).state.node_positions,
+            alone.block(level).state.node_positions,
+            "{} block",
+            level.name()
+        );
+    }
+}
+
+#[test]
+fn one_budget_sends_detail_to_the_near_character() {
+    // Two characters with the same groom, one 0.8 m from the camera and one 12 m away, both
+    // facing it. The near one's sections project ~15× larger, so each pixel of error it saves
+    // costs the same as the far one's: the greedy choice refines it first.
+    let shot = shot(
+        "[[character]]\nposition = [0.0, 0.0, 0.0]\n\
+         [[character]]\nposition = [0.2, 0.0, -11.2]\n",
+    );
+    let model = CrowdModel::build(&shot).unwrap();
+    assert!(matches!(shot.settings.lod, LodMode::Auto(_)));
+    let camera = camera_at(Vec3::new(0.0, 0.05, 0.8), Vec3::new(0.0, 0.0, -1.0));
+    let rates = CostRates::default();
+    let mean_rank = |pipeline: &Pipeline| {
+        let levels = pipeline.section_levels();
+        levels.iter().map(|&l| l as usize as f64).sum::<f64>() / levels.len() as f64
+    };
+    // Budgets from the floors' cost up to all strands (a section's strands cost ~0.3 ms under
+    // the priors): wherever the two differ, the near character is the finer.
+    let mut differed = 0;
+    for k in 1..=16 {
+        let budget = rates.overhead + f64::from(k) * 3e-4;
+        let mut crowd = Crowd::new(&model, shot.settings).unwrap();
+        crowd
+            .set_frame_budget(Some((budget, CostModel::new(rates).unwrap())))
+            .unwrap();
+        crowd.advance(&camera).unwrap();
+        let outcome = crowd.budget_outcome().expect("a budgeted frame");
+        assert!(
+            outcome.over_budget || outcome.cost <= budget - rates.overhead + 1e-12,
+            "{outcome:?} over {budget}"
+        );
+        let (near, far) = (
+            mean_rank(&crowd.pipelines()[0]),
+            mean_rank(&crowd.pipelines()[1]),
+        );
+        assert!(
+            near >= far,
+            "budget {budget}: near {near} coarser than far {far}"
+        );
+        differed += usize::from(near > far);
+        crowd.set_frame_budget(None).unwrap();
+        assert!(crowd.budget_outcome().is_none());
+    }
+    assert!(
+        differed >= 4,
+        "the budgets hardly separated the two: {differed}"
+    );
+}
+
+#[test]
+fn grooms_are_drawn_on_chains_after_the_characters_before() {
+    let shot = shot(
+        "[[character]]\nposition = [0.0, 0.0, 0.0]\n\
+         [[character]]\nposition = [1.0, 0.0, 0.0]\ngroom = { preset = \"curly\", section_count = 5, \
+         strands_per_group = 3, rest_pose = \"grown\" }\n",
+    );
+    let model = CrowdModel::build(&shot).unwrap();
+    let [first, second] = [&model.members[0].scene.groom, &model.members[1].scene.groom];
+    let geometry = concatenated_geometry(&model);
+    let strands = first.strands.strand_count();
+    assert_eq!(
+        geometry.strand_chain.len(),
+        strands + second.strands.strand_count()
+    );
+    let offset = first.skeletons.chain_count() as u32;
+    let own = hair_render::GroomGeometry::new(second);
+    assert_eq!(
+        geometry.strand_chain[strands..],
+        own.strand_chain
+            .iter()
+            .map(|c| c + offset)
+            .collect::<Vec<_>>()[..]
+    );
+    assert_eq!(
+        geometry.patch_chain[first.section_count()..],
+        own.patch_chain
+            .iter()
+            .map(|c| c + offset)
+            .collect::<Vec<_>>()[..]
+    );
+    for values in [&geometry.strand_lengths, &geometry.strand_tip_scales] {
+        assert!(values.is_empty() || values.len() == geometry.strand_chain.len());
+    }
+}
+
+#[test]
+fn scene_file_characters_are_placed_and_their_errors_named() {
+    let shot =
+        shot("[[character]]\nname = \"left\"\nposition = [-1.0, 0.0, -3.0]\nyaw_degrees = 90.0\n");
+    let character = &shot.characters[0];
+    assert_eq!(character.name, "left");
+    // The head's centre (head-space origin) stands at the position at every time.
+    let centre = character
+        .environment
+        .head
+        .transform_at(0.3)
+        .transform_point(Vec3::ZERO);
+    assert!(
+        (centre - Vec3::new(-1.0, 0.0, -3.0)).length() < 1e-6,
+        "{centre}"
+    );
+    let facing = character.placement.transform_vector(Vec3::Z);
+    assert!((facing - Vec3::X).length() < 1e-6, "{facing}");
+    let error = SceneFile::parse(
+        "[[character]]\nposition = [0.0, 0.0, 0.0]\n[[character]]\nposition = [1.0, 0.0, 0.0]\n\
+         groom = { preset = \"mohawk\" }\n",
+    )
+    .unwrap_err();
+    assert!(
+        error.to_string().contains("character[1].groom.preset"),
+        "{error}"
+    );
+    let error = SceneFile::parse("[[character]]\nposition = [0.0, 0.0, 0.0]\nyaw_degrees = nan\n")
+        .unwrap_err();
+    assert!(
+        error.to_string().contains("character[0].yaw_degrees"),
+        "{error}"
+    );
+}
+
+#[test]
+fn every_character_shows_in_the_picture() {
+    // Two characters side by side seen from the front; the same crowd without the right one
+    // leaves the right half of the picture as empty as the background.
+    let both = shot(
+        "[[character]]\nposition = [-0.3, 0.0, 0.0]\n[[character]]\nposition = [0.3, 0.0, 0.0]\n",
+    );
+    let left = shot("[[character]]\nposition = [-0.3, 0.0, 0.0]\n");
+    let camera = camera_at(Vec3::new(0.0, 0.0, 1.6), Vec3::ZERO);
+    let settings = PipelineSettings {
+        lod: LodMode::Fixed(Level::Cluster),
+        ..both.settings
+    };
+    let options = hair_render::RendererOptions::from_env().unwrap();
+    let right_half_changed = |shot: &Shot| {
+        let model = CrowdModel::build(shot).unwrap();
+        let mut crowd = Crowd::new(&model, settings).unwrap();
+        crowd.advance(&camera).unwrap();
+        let mut renderer = CrowdRenderer::new(&options, &model).unwrap();
+        let (image, _) = renderer
+            .render(
+                &mut crowd,
+                &camera,
+                (128, 72),
+                hair_render::ShadingMode::Shaded,
+            )
+            .unwrap();
+        let background = *image.get_pixel(127, 0);
+        let changed = |x0: u32, x1: u32| {
+            (x0..x1)
+                .flat_map(|x| (0..72).map(move |y| (x, y)))
+                .filter(|&(x, y)| *image.get_pixel(x, y) != background)
+                .count()
+        };
+        (changed(0, 64), changed(64, 128))
+    };
+    let (both_left, both_right) = right_half_changed(&both);
+    let (only_left, only_right) = right_half_changed(&left);
+    assert!(
+        both_left > 200 && only_left > 200,
+        "{both_left} {only_left}"
+    );
+    assert!(
+        both_right > 200,
+        "the right character is drawn: {both_right} pixels"
+    );
+    assert!(
+        only_right < both_right / 4,
+        "{only_right} against {both_right}"
+    );
+}
