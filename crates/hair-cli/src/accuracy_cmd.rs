@@ -92,6 +92,10 @@ pub struct AccuracyArgs {
     /// Chart error against cost with the Pareto fronts to FILE.png and FILE.svg.
     #[arg(long, value_name = "FILE")]
     pub chart: Option<PathBuf>,
+    /// Measure a crowd scene instead (for example scenes/crowd.toml): the fixed levels and the
+    /// LODs at each of --tolerances against the crowd's all-strands frames.
+    #[arg(long, value_name = "SCENE.toml")]
+    pub crowd: Option<PathBuf>,
 }
 
 /// One configuration to run.
@@ -175,6 +179,15 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
 
 /// Runs `hairlod accuracy`.
 pub fn run(args: &AccuracyArgs) -> Result<()> {
+    if let Some(path) = &args.crowd {
+        let shot = hairlod::scene_file::SceneFile::read(path)?.resolve()?;
+        anyhow::ensure!(
+            shot.is_crowd(),
+            "{}: not a crowd (it has no [[character]] tables)",
+            path.display()
+        );
+        return crate::crowd_cmd::accuracy(&shot, &args.tolerances, args.json.as_deref());
+    }
     anyhow::ensure!(
         args.frames >= 2,
         "--frames must be at least 2 (got {})",

@@ -302,3 +302,67 @@ fn run_against(
     };
     Ok((result, against))
 }
+
+/// `hairlod accuracy --crowd SCENE`: the crowd's speed against accuracy. The all-strands run is
+/// the reference; every fixed level and the LODs at each of `tolerances` [pixels] are measured
+/// against it frame by frame (mean SSIM loss and luma error), with their median cost per frame.
+pub fn accuracy(shot: &Shot, tolerances: &[f32], json: Option<&Path>) -> Result<()> {
+    let model = build(shot)?;
+    let options = RendererOptions::from_env()?;
+    let mut renderer = CrowdRenderer::new(&options, &model)?;
+    println!("rendering on {}", renderer.renderer().adapter_report());
+    let views = [View::Shaded];
+    let lod = shot.lod_settings();
+    let [_, strands, clusters, patches] = paper_modes(lod);
+    let mut modes: Vec<(String, LodMode)> = vec![
+        ("Strands (reference)".into(), strands),
+        ("Clusters".into(), clusters),
+        ("Patches".into(), patches),
+    ];
+    for &tolerance in tolerances {
+        let lod = hairlod::core::lod::LodSettings {
+            pixel_tolerance: tolerance,
+            ..lod
+        };
+        lod.validate()?;
+        modes.push((format!("LODs {tolerance} px"), LodMode::Auto(lod)));
+    }
+    let mut strand_frames = Vec::new();
+    let mut points = Vec::new();
+    for (label, mode) in modes {
+        let (_, mut against) = run_against(
+            shot,
+            &model,
+            &mut renderer,
+            &views,
+            PipelineSettings {
+                lod: mode,
+                ..shot.settings
+            },
+            None,
+            &mut strand_frames,
+        )?;
+        against.mode = label;
+        points.push(against);
+    }
+    println!();
+    println!(
+        "{:<24}{:>14}{:>14}{:>12}{:>14}",
+        "configuration", "median [ms]", "cost ratio", "SSIM loss", "luma error"
+    );
+    let reference_cost = points[0].median_cost;
+    for point in &points {
+        println!(
+            "{:<24}{:>14.1}{:>13.3}×{:>12.4}{:>14.5}",
+            point.mode,
+            1e3 * point.median_cost,
+            point.median_cost / reference_cost.max(1e-12),
+            1.0 - point.mean_ssim,
+            point.mean_luma_error
+        );
+    }
+    if let Some(path) = json {
+        write_json(path, &serde_json::to_value(&points)?)?;
+    }
+    Ok(())
+}
