@@ -22,6 +22,7 @@
 
 pub mod accuracy;
 pub mod benchmark;
+pub mod loaded;
 pub mod metrics;
 pub mod pipeline;
 pub mod popping;
