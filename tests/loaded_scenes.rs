@@ -188,3 +188,33 @@ fn loaded_rest_poses_fit_their_files() {
         assert!(errors.drawn_strands.is_finite());
     }
 }
+
+/// The mohawk fitted as a groom of guides: one file strand per strand group (5 per section),
+/// each with child strands around it. Each strand group's skeleton is its file strand, so the
+/// strands as drawn follow the file up to the skeleton's resampling and the NURBS through its
+/// nodes. Slow in a debug build (446 sections): `cargo test --test loaded_scenes -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore]
+fn mohawk_as_guides_fits_within_the_issue_bounds() {
+    let text = std::fs::read_to_string(repo("scenes/tressfx-ratboy.toml"))
+        .unwrap()
+        .replace("strands_per_section = 50", "strands_per_section = 5\nchildren_per_strand = 8");
+    let file = SceneFile::parse_in(&text, Some(&repo("scenes"))).unwrap();
+    let shot = file.resolve().unwrap();
+    let started = std::time::Instant::now();
+    let (scene, loaded) = shot.build_loaded_scene().unwrap();
+    let loaded = loaded.unwrap();
+    eprintln!("built in {:.1} s", started.elapsed().as_secs_f64());
+    let errors =
+        hairlod::loaded::rest_errors(&scene.groom, &loaded.fit, &loaded.curves).unwrap();
+    eprintln!("guides: fit\n{}", loaded.report.fit);
+    eprintln!("guides: rest pose, strands as drawn: {}", errors.drawn_strands);
+    for level in Level::ALL {
+        eprintln!("guides: rest pose, {level:?}: {}", errors.levels[level]);
+    }
+    let curves = 2228 - loaded.report.short_curves;
+    assert_eq!(scene.groom.strands.strand_count(), 9 * curves);
+    assert!(errors.drawn_strands.mean <= 0.5e-3, "{}", errors.drawn_strands);
+    assert!(errors.drawn_strands.p95 <= 2e-3, "{}", errors.drawn_strands);
+}

@@ -136,6 +136,8 @@ pub struct LoadReport {
     pub curves: usize,
     /// Curves the reader skipped (fewer than two points, a zero-length segment).
     pub skipped_curves: usize,
+    /// Curves left out as shorter than [`MIN_CURVE_LENGTH`].
+    pub short_curves: usize,
     /// The fit's counts and errors.
     pub fit: FitReport,
     /// How far the strand roots lie from the body's surface [m] (with a body file).
@@ -155,6 +157,45 @@ pub struct LoadedScene {
     pub fit: FittedHierarchy,
     /// What loading measured.
     pub report: LoadReport,
+}
+
+/// Curves shorter than this [m] are left out of a loaded groom: stubs that show as nothing, and
+/// that would make skeletons whose segments (a skeleton's node count is the groom's) are too short
+/// for the integrator (a 7.5 µm strand of the mohawk, as its strand group's only strand, made the
+/// first step non-finite).
+pub const MIN_CURVE_LENGTH: f32 = 0.005;
+
+/// `curves` without those shorter than [`MIN_CURVE_LENGTH`], and how many were left out.
+fn drop_short_curves(curves: Curves) -> (Curves, usize) {
+    let keep: Vec<bool> = (0..curves.curve_count())
+        .map(|c| {
+            let range = curves.offsets[c] as usize..curves.offsets[c + 1] as usize;
+            hair_core::fit::curve_length(&curves.points[range]) >= MIN_CURVE_LENGTH
+        })
+        .collect();
+    let dropped = keep.iter().filter(|&&k| !k).count();
+    if dropped == 0 {
+        return (curves, 0);
+    }
+    let mut out = Curves {
+        offsets: vec![0],
+        widths: curves.widths.as_ref().map(|_| Vec::new()),
+        colors: curves.colors.as_ref().map(|_| Vec::new()),
+        skipped: curves.skipped.clone(),
+        ..Curves::default()
+    };
+    for (c, _) in keep.iter().enumerate().filter(|(_, k)| **k) {
+        let range = curves.offsets[c] as usize..curves.offsets[c + 1] as usize;
+        out.points.extend_from_slice(&curves.points[range.clone()]);
+        if let (Some(all), Some(kept)) = (&curves.widths, &mut out.widths) {
+            kept.extend_from_slice(&all[range.clone()]);
+        }
+        if let (Some(all), Some(kept)) = (&curves.colors, &mut out.colors) {
+            kept.extend_from_slice(&all[range]);
+        }
+        out.offsets.push(out.points.len() as u32);
+    }
+    (out, dropped)
 }
 
 /// Roots farther than this from the body [m] (the median over strands) mean the groom and the
@@ -204,6 +245,15 @@ pub fn load_scene(
             .map_err(|error| file_error("reading groom.file", path, error.kind))?;
         append_curves(&mut curves, part);
     }
+    let (curves, short_curves) = drop_short_curves(curves);
+    if curves.curve_count() == 0 {
+        return Err(file_error(
+            "reading groom.file",
+            first,
+            format!("every curve is shorter than {MIN_CURVE_LENGTH} m (check groom.scale)"),
+        )
+        .into());
+    }
     check_extent(&curves, groom, first)?;
     let fit = fit_hierarchy(&curves, &groom.fit_settings())
         .map_err(|error| file_error("fitting groom.file", first, error))?;
@@ -244,6 +294,7 @@ pub fn load_scene(
     let report = LoadReport {
         curves: curves.curve_count(),
         skipped_curves: curves.skipped.len(),
+        short_curves,
         fit: fit.report.clone(),
         roots,
         occluder_boxes: boxes,
