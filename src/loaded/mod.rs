@@ -22,7 +22,9 @@ use hair_core::fit::{
     FitReport, FitSettings, FittedHierarchy, NodeCountScope, SectionCount, Smoothness,
     fit_hierarchy,
 };
-use hair_core::formats::{Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file};
+use hair_core::formats::{
+    Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file,
+};
 use hair_core::groom::ChildStrands;
 use hair_core::{Groom, GroomParams, HairError, Head, HeadParams, Scene, TriangleMesh};
 use serde::Serialize;
@@ -217,9 +219,8 @@ fn file_error(field: &'static str, path: &std::path::Path, message: impl ToStrin
 
 /// Reads the body mesh of `body` in scene axes. Errors name the field (`body.file`) and the file.
 pub fn load_body_mesh(body: &BodyFile) -> Result<TriangleMesh> {
-    read_mesh_file(&body.path, &body.axes.import_options()).map_err(|error| {
-        file_error("reading body.file", &body.path, error.kind).into()
-    })
+    read_mesh_file(&body.path, &body.axes.import_options())
+        .map_err(|error| file_error("reading body.file", &body.path, error.kind).into())
 }
 
 /// Reads `groom`'s curves, fits the paper's hierarchy to them and builds the groom with the
@@ -233,9 +234,10 @@ pub fn load_scene(
     body: Option<&BodyFile>,
     params: &GroomParams,
 ) -> Result<LoadedScene> {
-    let first = groom.paths.first().ok_or_else(|| {
-        HairError::invalid("groom.file", "no file", "at least one groom file")
-    })?;
+    let first = groom
+        .paths
+        .first()
+        .ok_or_else(|| HairError::invalid("groom.file", "no file", "at least one groom file"))?;
     let mut curves = Curves {
         offsets: vec![0],
         ..Curves::default()

@@ -78,7 +78,10 @@ pub fn occluder_boxes(
         .map(|index| clear[index] && !outside[index])
         .collect();
 
-    let near = (region.0 - Vec3::splat(settings.margin), region.1 + Vec3::splat(settings.margin));
+    let near = (
+        region.0 - Vec3::splat(settings.margin),
+        region.1 + Vec3::splat(settings.margin),
+    );
     let mut seeds: Vec<usize> = (0..grid.len())
         .filter(|&index| {
             let centre = grid.centre(grid.cell_of(index));
@@ -166,7 +169,8 @@ fn flood_from_boundary(grid: &Grid, clear: &[bool]) -> Vec<bool> {
     let mut queue = VecDeque::new();
     for index in 0..grid.len() {
         let c = grid.cell_of(index);
-        let on_boundary = c.cmpeq(IVec3::ZERO).any() || (c + IVec3::ONE).as_uvec3().cmpeq(grid.dims).any();
+        let on_boundary =
+            c.cmpeq(IVec3::ZERO).any() || (c + IVec3::ONE).as_uvec3().cmpeq(grid.dims).any();
         if on_boundary && clear[index] {
             reached[index] = true;
             queue.push_back(c);
@@ -211,9 +215,8 @@ fn grow_box(grid: &Grid, solid: &[bool], seed: IVec3) -> (IVec3, IVec3) {
             let all_solid = grid.contains(lo)
                 && grid.contains(hi)
                 && (lo.z..=hi.z).all(|z| {
-                    (lo.y..=hi.y).all(|y| {
-                        (lo.x..=hi.x).all(|x| solid[grid.index(IVec3::new(x, y, z))])
-                    })
+                    (lo.y..=hi.y)
+                        .all(|y| (lo.x..=hi.x).all(|x| solid[grid.index(IVec3::new(x, y, z))]))
                 });
             if all_solid {
                 min = min.min(lo);
@@ -289,7 +292,10 @@ mod tests {
         let cell = 0.3 / 30.0;
         let (lo, hi) = boxes[0];
         for (b_lo, b_hi) in &boxes {
-            assert!(b_lo.cmpge(min).all() && b_hi.cmple(max).all(), "{b_lo} {b_hi}");
+            assert!(
+                b_lo.cmpge(min).all() && b_hi.cmple(max).all(),
+                "{b_lo} {b_hi}"
+            );
         }
         // A convex body's deepest cell grows to fill it but for the surface cells (a cell whose
         // centre lies within its half diagonal of a face, and the cell of grid rounding).

@@ -30,11 +30,17 @@ pub struct LevelRestErrors {
 /// The rest errors of `groom` (built by [`Groom::from_fit_with_children`] from `fit` of
 /// `curves`, its rest shapes possibly changed since) against `curves` (the file strands only,
 /// not their children).
-pub fn rest_errors(groom: &Groom, fit: &FittedHierarchy, curves: &Curves) -> Result<LevelRestErrors> {
+pub fn rest_errors(
+    groom: &Groom,
+    fit: &FittedHierarchy,
+    curves: &Curves,
+) -> Result<LevelRestErrors> {
     let head = RigidTransform::IDENTITY;
     let positions = groom.skeletons.rest_positions(&head);
     let mut frames = vec![Frame::default(); positions.len()];
-    groom.skeletons.node_frames_into(&head, &positions, &mut frames);
+    groom
+        .skeletons
+        .node_frames_into(&head, &positions, &mut frames);
     let curve_of = |curve: usize| -> &[Vec3] {
         &curves.points[curves.offsets[curve] as usize..curves.offsets[curve + 1] as usize]
     };
@@ -84,7 +90,10 @@ pub fn rest_errors(groom: &Groom, fit: &FittedHierarchy, curves: &Curves) -> Res
             for &curve in fit.group_members(group) {
                 let file = curve_of(curve as usize);
                 let offset = file[0] - root;
-                let (x, y) = (offset.dot(root_frame.normal), offset.dot(root_frame.binormal));
+                let (x, y) = (
+                    offset.dot(root_frame.normal),
+                    offset.dot(root_frame.binormal),
+                );
                 model.clear();
                 model.extend(
                     nodes

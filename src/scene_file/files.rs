@@ -20,7 +20,12 @@ const GENERATED_ONLY: [&str; 4] = [
 ];
 
 /// `table.scale`, `table.up_axis`, `table.mirror` as axes; errors name `{table}.{key}`.
-fn axes(table: &str, scale: Option<f32>, up: Option<&str>, mirror: Option<bool>) -> Result<FileAxes> {
+fn axes(
+    table: &str,
+    scale: Option<f32>,
+    up: Option<&str>,
+    mirror: Option<bool>,
+) -> Result<FileAxes> {
     let scale_to_metres = positive(&format!("{table}.scale"), scale.unwrap_or(1.0))?;
     let up = up.unwrap_or("y");
     one_of(&format!("{table}.up_axis"), up, &["y", "z"])?;
@@ -96,12 +101,7 @@ impl SceneFile {
             .map(|name| self.existing_file("groom.file", name))
             .collect::<Result<Vec<_>>>()?;
         let mut groom = GroomFile::new(paths);
-        groom.axes = axes(
-            "groom",
-            table.scale,
-            table.up_axis.as_deref(),
-            table.mirror,
-        )?;
+        groom.axes = axes("groom", table.scale, table.up_axis.as_deref(), table.mirror)?;
         groom.sections = match (table.section_count, table.strands_per_section) {
             (Some(_), Some(_)) => {
                 return Err(SceneFileError::new(
@@ -109,12 +109,9 @@ impl SceneFile {
                 ));
             }
             (Some(n), None) => SectionCount::Fixed(count("groom.section_count", n, 1, 10_000)?),
-            (None, Some(n)) => SectionCount::StrandsPerSection(count(
-                "groom.strands_per_section",
-                n,
-                1,
-                100_000,
-            )?),
+            (None, Some(n)) => {
+                SectionCount::StrandsPerSection(count("groom.strands_per_section", n, 1, 100_000)?)
+            }
             (None, None) => groom.sections,
         };
         if let Some(v) = table.smoothness {
@@ -138,10 +135,11 @@ impl SceneFile {
     /// `[body] file` and its settings, or `None` (the procedural head).
     pub(super) fn body_file(&self, groom_file: bool) -> Result<Option<BodyFile>> {
         let table = &self.body;
-        let kind = table
-            .kind
-            .as_deref()
-            .unwrap_or(if table.file.is_some() { "mesh" } else { "procedural-head" });
+        let kind = table.kind.as_deref().unwrap_or(if table.file.is_some() {
+            "mesh"
+        } else {
+            "procedural-head"
+        });
         one_of("body.kind", kind, &["procedural-head", "mesh"])?;
         let Some(file) = &table.file else {
             if kind == "mesh" {

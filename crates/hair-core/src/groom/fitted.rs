@@ -202,3 +202,125 @@ impl Groom {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use super::*;
+    use crate::fit::{FitSettings, NodeCountScope, SectionCount, fit_hierarchy};
+
+    /// 60 straight strands on a 10 × 6 grid of roots 5 mm apart, hanging down, 10 cm to 15 cm
+    /// long.
+    fn grid_curves() -> Curves {
+        let mut curves = Curves {
+            offsets: vec![0],
+            ..Curves::default()
+        };
+        for i in 0..60 {
+            let root = Vec3::new((i % 10) as f32 * 0.005, 0.0, (i / 10) as f32 * 0.005);
+            let length = 0.10 + 0.05 * (i % 7) as f32 / 6.0;
+            for k in 0..8 {
+                curves.points.push(root - Vec3::Y * length * k as f32 / 7.0);
+            }
+            curves.offsets.push(curves.points.len() as u32);
+        }
+        curves
+    }
+
+    fn fit(curves: &Curves) -> FittedHierarchy {
+        let settings = FitSettings {
+            sections: SectionCount::Fixed(2),
+            node_counts: NodeCountScope::Uniform,
+            ..FitSettings::default()
+        };
+        fit_hierarchy(curves, &settings).unwrap()
+    }
+
+    /// The groom of a fit has its sections, chains and strands, each strand drawn to its own
+    /// length (the longest at most its skeleton's) and sizes enclosing its strands.
+    #[test]
+    fn a_fitted_groom_has_the_fits_counts_lengths_and_sizes() {
+        let curves = grid_curves();
+        let fit = fit(&curves);
+        let groom = Groom::from_fit(&fit, &curves, &GroomParams::straight()).unwrap();
+        let counts = groom.counts();
+        assert_eq!((counts.sections, counts.strands), (2, 60));
+        assert_eq!(groom.skeletons.chain_count(), 18);
+        assert_eq!(groom.params.section_count, 2);
+        assert!(
+            (groom.params.hair_length - 0.125).abs() < 0.01,
+            "{}",
+            groom.params.hair_length
+        );
+        // Lengths are fractions of the skeleton's; the 10 cm strands are shorter than their
+        // skeleton (a mean of 10 to 15 cm strands), and none is longer than 1.
+        assert!(groom.strands.lengths.iter().all(|&l| l > 0.5 && l <= 1.0));
+        assert!(groom.strands.lengths.iter().any(|&l| l < 0.95));
+        for (group, &radius) in groom.strand_group_radii.iter().enumerate() {
+            for strand in groom.strands.strands(group) {
+                assert!(groom.strands.root_offsets[strand].length() <= radius + 1e-6);
+            }
+        }
+        assert!(groom.cluster_root_radii.iter().all(|&r| r > 0.0));
+        assert!(
+            groom
+                .patch_widths
+                .iter()
+                .zip(&groom.sections)
+                .all(|(w, s)| *w >= s.width)
+        );
+        assert_eq!(
+            Groom::from_fit(&fit, &grid_curves_short(), &GroomParams::straight()).err(),
+            Some(HairError::SizeMismatch {
+                what: "fitted curves",
+                actual: 59,
+                expected: 60
+            })
+        );
+    }
+
+    fn grid_curves_short() -> Curves {
+        let mut curves = grid_curves();
+        curves.offsets.pop();
+        curves
+            .points
+            .truncate(*curves.offsets.last().unwrap() as usize);
+        curves
+    }
+
+    /// Children follow their guide: `per_strand` after each file strand, their roots within the
+    /// spread of its offset, their tip scale the clump; the file strands keep theirs.
+    #[test]
+    fn child_strands_follow_their_guides() {
+        let curves = grid_curves();
+        let fit = fit(&curves);
+        let children = ChildStrands {
+            per_strand: 3,
+            spread: 0.001,
+            clump: 0.25,
+        };
+        let plain = Groom::from_fit(&fit, &curves, &GroomParams::straight()).unwrap();
+        let groom =
+            Groom::from_fit_with_children(&fit, &curves, &GroomParams::straight(), &children)
+                .unwrap();
+        assert_eq!(groom.strands.strand_count(), 4 * 60);
+        assert_eq!(groom.strands.group_count(), plain.strands.group_count());
+        for (k, &guide) in plain.strands.root_offsets.iter().enumerate() {
+            assert_eq!(groom.strands.root_offsets[4 * k], guide);
+            assert_eq!(groom.strands.tip_scales[4 * k], 1.0);
+            for child in 4 * k + 1..4 * k + 4 {
+                let offset: Vec2 = groom.strands.root_offsets[child];
+                assert!(offset.distance(guide) <= 0.001 + 1e-6);
+                assert_eq!(groom.strands.tip_scales[child], 0.25);
+                assert_eq!(groom.strands.lengths[child], plain.strands.lengths[k]);
+            }
+        }
+        let bad = ChildStrands {
+            clump: 2.0,
+            ..children
+        };
+        let error = Groom::from_fit_with_children(&fit, &curves, &GroomParams::straight(), &bad);
+        assert!(error.unwrap_err().to_string().contains("clump"));
+    }
+}

@@ -88,7 +88,11 @@ impl Head {
     /// whose `min` exceeds its `max`.
     pub fn from_mesh(mesh: TriangleMesh, occluder_boxes: Vec<(Vec3, Vec3)>) -> Result<Head> {
         mesh.validate_surface().map_err(|error| {
-            HairError::invalid("body mesh", error, "a valid mesh with a triangle of some area")
+            HairError::invalid(
+                "body mesh",
+                error,
+                "a valid mesh with a triangle of some area",
+            )
         })?;
         if let Some((min, max)) = occluder_boxes
             .iter()
