@@ -587,11 +587,15 @@ mod tests {
                 "at least one",
             ),
             ("version = 1", "version", "2"),
+            ("[groom]\nfile = \"x.tfx\"", "groom.file", "no such file"),
             (
-                "[groom]\nfile = \"x.tfx\"",
+                "[groom]\nfile = \"x.tfx\"\nscale = 0.0",
                 "groom.file",
-                "not supported yet",
+                "no such file",
             ),
+            ("[groom]\nscale = 0.01", "groom.scale", "groom.file"),
+            ("[body]\nkind = \"mesh\"", "body.kind", "body.file"),
+            ("[body]\nkind = \"sphere\"", "body.kind", "mesh"),
         ] {
             let error = error_of(text);
             assert!(
