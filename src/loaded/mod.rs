@@ -84,6 +84,10 @@ pub struct GroomFile {
     pub sections: SectionCount,
     /// The longest skeleton segment [m] (the smoothness rule's, [`Smoothness`]).
     pub max_segment_length: f32,
+    /// How much larger than the mean a section may grow, as a fraction
+    /// ([`FitSettings::section_size_slack`]; 0: sizes within one strand, so that at 5 strands
+    /// per section each strand group holds one file strand).
+    pub section_size_slack: f32,
     /// Seed of the fit's clustering.
     pub seed: u64,
     /// Child strands grown around each file strand (none by default; for grooms of guides).
@@ -101,6 +105,7 @@ impl GroomFile {
             axes: FileAxes::default(),
             sections: fit.sections,
             max_segment_length: fit.smoothness.max_segment_length,
+            section_size_slack: fit.section_size_slack,
             seed: fit.seed,
             children: ChildStrands::default(),
         }
@@ -116,6 +121,7 @@ impl GroomFile {
                 ..Smoothness::default()
             },
             node_counts: NodeCountScope::Uniform,
+            section_size_slack: self.section_size_slack,
             seed: self.seed,
             ..FitSettings::default()
         }

@@ -66,6 +66,7 @@ impl SceneFile {
                 ("up_axis", table.up_axis.is_some()),
                 ("mirror", table.mirror.is_some()),
                 ("strands_per_section", table.strands_per_section.is_some()),
+                ("section_size_slack", table.section_size_slack.is_some()),
                 ("children_per_strand", table.children_per_strand.is_some()),
                 ("child_spread", table.child_spread.is_some()),
                 ("child_clump", table.child_clump.is_some()),
@@ -119,6 +120,15 @@ impl SceneFile {
         }
         if let Some(seed) = table.seed {
             groom.seed = seed;
+        }
+        if let Some(v) = table.section_size_slack {
+            groom.section_size_slack = within(
+                "groom.section_size_slack",
+                v,
+                0.0,
+                10.0,
+                "a fraction in 0..=10",
+            )?;
         }
         if let Some(n) = table.children_per_strand {
             groom.children.per_strand = count("groom.children_per_strand", n, 0, 1000)?;

@@ -115,6 +115,10 @@ pub struct GroomTable {
     /// With `file`: about this many strands per fitted section, 1..=100000 (default 50; give
     /// this or `section_count`).
     pub strands_per_section: Option<usize>,
+    /// With `file`: how much larger than the mean a fitted section may grow, as a fraction,
+    /// 0..=10 (default 0.25; 0 with `strands_per_section = 5` gives every strand group one file
+    /// strand).
+    pub section_size_slack: Option<f32>,
     /// With `file`: child strands grown around each file strand, 0..=1000 (default 0; for a
     /// groom of guides, with few strands per strand group).
     pub children_per_strand: Option<usize>,
