@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use hairlod::core::dynamics::{Environment, HeadMotion, WindField};
-use hairlod::loaded::MAX_MEDIAN_ROOT_DISTANCE;
+use hairlod::loaded::{LevelRestErrors, MAX_MEDIAN_ROOT_DISTANCE, rest_errors};
 use hairlod::pipeline::LodMode;
 use hairlod::{Level, SceneFile};
 
@@ -204,6 +204,27 @@ fn loaded_grooms_stay_within_5_mm_after_2_s_at_rest() {
     }
 }
 
+/// Builds `shot`'s loaded scene and measures its rest pose against its file, printing the fit
+/// report and the errors under `name`; returns the errors and the strand counts (groom, file).
+fn rest_errors_of(name: &str, shot: &hairlod::Shot) -> (LevelRestErrors, usize, usize) {
+    let (scene, loaded) = shot.build_loaded_scene().unwrap();
+    let loaded = loaded.unwrap();
+    let errors = rest_errors(&scene.groom, &loaded.fit, &loaded.curves).unwrap();
+    eprintln!("{name}: fit\n{}", loaded.report.fit);
+    eprintln!(
+        "{name}: rest pose, strands as drawn: {}",
+        errors.drawn_strands
+    );
+    for level in Level::ALL {
+        eprintln!("{name}: rest pose, {level:?}: {}", errors.levels[level]);
+    }
+    (
+        errors,
+        scene.groom.strands.strand_count(),
+        loaded.curves.curve_count(),
+    )
+}
+
 /// The rest pose of each loaded groom against its file: each curve against the strand drawn for
 /// it and against its strand group's, cluster's and patch's models (printed with
 /// `-- --nocapture`).
@@ -211,19 +232,12 @@ fn loaded_grooms_stay_within_5_mm_after_2_s_at_rest() {
 fn loaded_rest_poses_fit_their_files() {
     for example in EXAMPLES {
         let shot = SceneFile::read(&repo(example)).unwrap().resolve().unwrap();
-        let (scene, loaded) = shot.build_loaded_scene().unwrap();
-        let loaded = loaded.unwrap();
-        let errors =
-            hairlod::loaded::rest_errors(&scene.groom, &loaded.fit, &loaded.curves).unwrap();
-        eprintln!("{example}: fit\n{}", loaded.report.fit);
-        eprintln!(
-            "{example}: rest pose, strands as drawn: {}",
-            errors.drawn_strands
-        );
-        for level in Level::ALL {
-            eprintln!("{example}: rest pose, {level:?}: {}", errors.levels[level]);
-        }
+        let (errors, strands, curves) = rest_errors_of(example, &shot);
+        assert_eq!(strands, curves);
         assert!(errors.drawn_strands.is_finite());
+        for level in Level::ALL {
+            assert!(errors.levels[level].is_finite(), "{example} {level:?}");
+        }
     }
 }
 
@@ -243,27 +257,13 @@ fn mohawk_as_guides_fits_much_closer_than_fifty_strands_per_section() {
         "strands_per_section = 5\nchildren_per_strand = 8",
     );
     let mut means = Vec::new();
-    for (name, text) in [
-        ("50 per section", text.as_str()),
-        ("guides", guides.as_str()),
+    for (name, text, per) in [
+        ("50 per section", text.as_str(), 1),
+        ("guides", guides.as_str(), 9),
     ] {
         let file = SceneFile::parse_in(text, Some(&repo("scenes"))).unwrap();
-        let shot = file.resolve().unwrap();
-        let (scene, loaded) = shot.build_loaded_scene().unwrap();
-        let loaded = loaded.unwrap();
-        let errors =
-            hairlod::loaded::rest_errors(&scene.groom, &loaded.fit, &loaded.curves).unwrap();
-        eprintln!("{name}: fit\n{}", loaded.report.fit);
-        eprintln!(
-            "{name}: rest pose, strands as drawn: {}",
-            errors.drawn_strands
-        );
-        for level in Level::ALL {
-            eprintln!("{name}: rest pose, {level:?}: {}", errors.levels[level]);
-        }
-        let per = if name == "guides" { 9 } else { 1 };
-        let curves = 2228 - loaded.report.short_curves;
-        assert_eq!(scene.groom.strands.strand_count(), per * curves, "{name}");
+        let (errors, strands, curves) = rest_errors_of(name, &file.resolve().unwrap());
+        assert_eq!(strands, per * curves, "{name}");
         means.push(errors.drawn_strands.mean);
     }
     assert!(means[1] < 0.5 * means[0], "{means:?}");
