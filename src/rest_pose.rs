@@ -55,17 +55,22 @@ pub enum RestPose {
     /// The shape the groom was grown in, its springs at rest: not an equilibrium under gravity
     /// (the hair falls at first; a run settles it before its first frame).
     Grown,
+    /// The shape a groom file gives, kept, and made an equilibrium there ([`hang_groom`] with
+    /// [`HangSettings::fall`] off): only a level whose springs cannot hold it alone sinks onto
+    /// the body. For grooms read from files (a generated groom's grown shape is no hairstyle).
+    Loaded,
 }
 
 impl RestPose {
     /// The names used in scene files and on the command line.
-    pub const NAMES: [&'static str; 2] = ["hanging", "grown"];
+    pub const NAMES: [&'static str; 3] = ["hanging", "grown", "loaded"];
 
     /// The name of this pose.
     pub fn name(self) -> &'static str {
         match self {
             RestPose::Hanging => "hanging",
             RestPose::Grown => "grown",
+            RestPose::Loaded => "loaded",
         }
     }
 
@@ -74,6 +79,7 @@ impl RestPose {
         match name {
             "hanging" => Some(RestPose::Hanging),
             "grown" => Some(RestPose::Grown),
+            "loaded" => Some(RestPose::Loaded),
             _ => None,
         }
     }
@@ -94,11 +100,15 @@ pub struct HangSettings {
     /// that it comes to rest in the time given. Drag vanishes at rest, so it does not move the
     /// equilibrium; the runs after use the style's drag.
     pub drag_rate: f32,
+    /// Let the strand groups fall into their hanging shape first (stage 1 of the module docs).
+    /// Off, every level keeps the rest shape it has (a groom file's shape) and is only balanced;
+    /// a level whose springs had to be clamped still sinks onto the body in the rounds after.
+    pub fall: bool,
 }
 
 impl Default for HangSettings {
     /// Two seconds of the default integrator at its recommended step, collision on, standard
-    /// gravity, drag 6/s.
+    /// gravity, drag 6/s, falling first.
     fn default() -> Self {
         HangSettings {
             seconds: 2.0,
@@ -106,6 +116,7 @@ impl Default for HangSettings {
             collision: true,
             gravity: STANDARD_GRAVITY,
             drag_rate: 6.0,
+            fall: true,
         }
     }
 }
@@ -130,7 +141,8 @@ pub struct HangReport {
 }
 
 /// Makes the rest shape of every level of `scene`'s groom its hanging shape on the body, and a
-/// static equilibrium there (see the module docs). The groom's head space is the world during the
+/// static equilibrium there (see the module docs; with [`HangSettings::fall`] off, the shape it
+/// has is kept where the springs can hold it). The groom's head space is the world during the
 /// fall: the head stands still in its rest pose. Fails, leaving `scene` as it was, when a level's
 /// simulation fails or a shape cannot be held by its springs.
 pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangReport> {
@@ -154,9 +166,9 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
     for level in [Level::StrandGroup, Level::Cluster, Level::Patch] {
         for round in 1..=MAX_ROUNDS {
             rounds[level] = round;
-            if level == Level::StrandGroup || round > 1 {
+            if round > 1 || (settings.fall && level == Level::StrandGroup) {
                 settle_level(&mut hung, level, &environment, settings)?;
-            } else {
+            } else if settings.fall {
                 hand_down_shapes(&mut hung.groom, level)?;
             }
             let contact_forces = if settings.collision {

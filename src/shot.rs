@@ -1,7 +1,7 @@
 //! [`Shot`]: a whole run resolved from a scene file (or built in code): the model to build (groom
 //! and head parameters), the control inputs (head motion, wind, the camera path), the pipeline
 //! settings, the frames and the outputs. Cheap to hold and clone; [`Shot::build_scene`] builds the
-//! groom.
+//! groom (or reads it and its body from files).
 
 use std::f32::consts::TAU;
 
@@ -11,6 +11,7 @@ use hair_core::lod::{BudgetSettings, LodSettings};
 use hair_core::{Camera, GroomParams, HeadParams, Scene};
 use serde::Serialize;
 
+use crate::loaded::{BodyFile, GroomFile, LoadedScene, load_scene};
 use crate::pipeline::{Checkpoint, LodMode, Pipeline, PipelineSettings, Result};
 use crate::rest_pose::{HangSettings, RestPose, hang_groom};
 
@@ -154,6 +155,11 @@ pub struct Shot {
     pub groom: GroomParams,
     /// The procedural head's parameters.
     pub head: HeadParams,
+    /// A groom read from a file and fitted, in place of the generated one (`groom` then gives
+    /// its material: the style's stiffness).
+    pub groom_file: Option<GroomFile>,
+    /// A body mesh read from a file, in place of the procedural head (only with `groom_file`).
+    pub body_file: Option<BodyFile>,
     /// Head motion, wind and gravity.
     #[serde(skip)]
     pub environment: Environment,
@@ -211,27 +217,50 @@ impl Shot {
         !self.characters.is_empty()
     }
 
-    /// Builds the scene: the procedural head and the groom on it, hung on the head under this
-    /// shot's gravity (with collision as the shot has it) when [`Shot::rest_pose`] is
-    /// [`RestPose::Hanging`] (see [`hang_groom`]).
+    /// Builds the scene: the procedural head and the groom on it, or the groom and body read
+    /// from [`Shot::groom_file`] and [`Shot::body_file`] ([`load_scene`]); then, as
+    /// [`Shot::rest_pose`] says, hung on the body under this shot's gravity (with collision as
+    /// the shot has it; [`RestPose::Hanging`]), or kept in the file's shape and made an
+    /// equilibrium there ([`RestPose::Loaded`]), see [`hang_groom`].
     pub fn build_scene(&self) -> Result<Scene> {
-        self.build_scene_with(&self.groom)
+        Ok(self.build_loaded_scene()?.0)
     }
 
-    /// [`Shot::build_scene`] with `groom` instead of the shot's own (a crowd character's).
+    /// [`Shot::build_scene`] with `groom` (a preset with overrides) on the procedural head
+    /// instead of the shot's own groom: a crowd character's.
     pub fn build_scene_with(&self, groom: &GroomParams) -> Result<Scene> {
-        let mut scene = Scene::new(&self.head, groom)?;
-        if self.rest_pose == RestPose::Hanging {
+        let shot = Shot {
+            groom: groom.clone(),
+            groom_file: None,
+            body_file: None,
+            characters: Vec::new(),
+            ..self.clone()
+        };
+        shot.build_scene()
+    }
+
+    /// [`Shot::build_scene`], with what loading the files measured (`None` for a generated
+    /// groom).
+    pub fn build_loaded_scene(&self) -> Result<(Scene, Option<LoadedScene>)> {
+        let (mut scene, loaded) = match &self.groom_file {
+            Some(groom) => {
+                let loaded = load_scene(groom, self.body_file.as_ref(), &self.groom)?;
+                (loaded.scene.clone(), Some(loaded))
+            }
+            None => (Scene::new(&self.head, &self.groom)?, None),
+        };
+        if matches!(self.rest_pose, RestPose::Hanging | RestPose::Loaded) {
             hang_groom(
                 &mut scene,
                 &HangSettings {
                     collision: self.settings.collision,
                     gravity: self.environment.gravity,
+                    fall: self.rest_pose == RestPose::Hanging,
                     ..HangSettings::default()
                 },
             )?;
         }
-        Ok(scene)
+        Ok((scene, loaded))
     }
 
     /// A pipeline on `scene` (built from this shot) with `settings`, settled for

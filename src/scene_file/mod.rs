@@ -18,9 +18,10 @@
 //! # Ok::<(), hairlod::scene_file::SceneFileError>(())
 //! ```
 
+mod files;
 mod resolve;
 
-pub use resolve::parse_size;
+pub use resolve::{DEFAULT_FILE_MATERIAL, parse_size};
 
 use std::path::{Path, PathBuf};
 
@@ -86,6 +87,10 @@ pub struct SceneFile {
     /// `[bench]`: what `hairlod bench` compares with.
     #[serde(default)]
     pub bench: BenchTable,
+    /// The folder relative file paths (`groom.file`, `body.file`) resolve against: the scene
+    /// file's folder when read with [`SceneFile::read`] (`None`: the working directory).
+    #[serde(skip)]
+    pub base_dir: Option<PathBuf>,
     /// `[[character]]`: the characters of a crowd, each with its own groom, place, motion and
     /// wind (none: one character, the scene's groom on a head at the origin).
     #[serde(default)]
@@ -117,9 +122,37 @@ pub struct CharacterTable {
 pub struct GroomTable {
     /// Preset: `paper-curly` (default), `straight`, `wavy` or `curly`.
     pub preset: Option<String>,
-    /// Reserved for grooms read from files (the real-groom issue); an error for now.
-    pub file: Option<String>,
-    /// Number of sections (each 1 patch = 3 clusters = 5 strand groups), 1..=10000.
+    /// A groom file (`.tfx`, `.hair`, `.data`, `.obj` polylines, `.usda`; the extension picks
+    /// the reader), relative to the scene file's folder, or a list of them (the parts of one
+    /// hairstyle, read with the same units and axes): their curves, fitted with the paper's
+    /// hierarchy, replace the preset's groom; `preset` then gives only the material (the style's
+    /// stiffness). The keys that shape a generated groom (`strands_per_group`, `hair_length`,
+    /// `style_factor_degrees`, `style_size`) are errors beside it.
+    pub file: Option<FileList>,
+    /// With `file`: metres per file unit, > 0 (default 1; 0.01 for centimetres).
+    pub scale: Option<f32>,
+    /// With `file`: the file's up axis, `y` (default) or `z` (turned to +Y up).
+    pub up_axis: Option<String>,
+    /// With `file`: negate x (a file from a left-handed tool), default false.
+    pub mirror: Option<bool>,
+    /// With `file`: about this many strands per fitted section, 1..=100000 (default 50; give
+    /// this or `section_count`).
+    pub strands_per_section: Option<usize>,
+    /// With `file`: how much larger than the mean a fitted section may grow, as a fraction,
+    /// 0..=10 (default 0.25; 0 with `strands_per_section = 5` gives every strand group one file
+    /// strand).
+    pub section_size_slack: Option<f32>,
+    /// With `file`: child strands grown around each file strand, 0..=1000 (default 0; for a
+    /// groom of guides, with few strands per strand group).
+    pub children_per_strand: Option<usize>,
+    /// With `file`: radius [m] of the disc around its guide a child's root is drawn in, ≥ 0
+    /// (default 0.002).
+    pub child_spread: Option<f32>,
+    /// With `file`: a child's offset at the tip as a fraction of that at the root, 0..=1
+    /// (default 0.5; smaller gathers children to their guide's skeleton).
+    pub child_clump: Option<f32>,
+    /// Number of sections (each 1 patch = 3 clusters = 5 strand groups), 1..=10000; with `file`,
+    /// the sections the fit makes (fewer where some would hold fewer than 5 strands).
     pub section_count: Option<usize>,
     /// Strands per strand group, 1..=10000.
     pub strands_per_group: Option<usize>,
@@ -129,24 +162,55 @@ pub struct GroomTable {
     pub style_factor_degrees: Option<f32>,
     /// Wave amplitude or curl radius [m], > 0.
     pub style_size: Option<f32>,
-    /// Longest skeleton segment [m], > 0 (smaller: more nodes, smoother hair).
+    /// Longest skeleton segment [m], > 0 (smaller: more nodes, smoother hair); with `file`, the
+    /// fit's (default 0.025).
     pub smoothness: Option<f32>,
-    /// Random seed of strand placement and shades.
+    /// Random seed of strand placement and shades (with `file`: of the fit's clustering and the
+    /// shades).
     pub seed: Option<u64>,
-    /// The shape the groom starts in: `hanging` (default: fallen onto the body and made an
-    /// equilibrium there, see [`hang_groom`](crate::rest_pose::hang_groom)) or `grown` (the
-    /// generated shape, which falls at first).
+    /// The shape the groom starts in: `hanging` (the default without `file`: fallen onto the
+    /// body and made an equilibrium there, see [`hang_groom`](crate::rest_pose::hang_groom)),
+    /// `grown` (the generated or loaded shape with its springs at rest, which falls at first) or
+    /// `loaded` (the default with `file`: the file's shape kept and made an equilibrium).
     pub rest_pose: Option<String>,
+}
+
+/// One file path or a list of them, as a scene file gives `groom.file`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum FileList {
+    /// One file.
+    One(String),
+    /// Several files, read one after the other.
+    Many(Vec<String>),
+}
+
+impl FileList {
+    /// The paths as given.
+    pub fn paths(&self) -> Vec<&str> {
+        match self {
+            FileList::One(path) => vec![path.as_str()],
+            FileList::Many(paths) => paths.iter().map(String::as_str).collect(),
+        }
+    }
 }
 
 /// `[body]`.
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodyTable {
-    /// `procedural-head` (the default and, for now, the only body).
+    /// `procedural-head` (the default without `file`) or `mesh` (the default with `file`).
     pub kind: Option<String>,
-    /// Reserved for body meshes read from files (the real-groom issue); an error for now.
+    /// A body mesh file (`.tfxmesh` or `.obj`), relative to the scene file's folder, drawn and
+    /// collided with in place of the procedural head. Needs `groom.file` (the presets grow on
+    /// the procedural head).
     pub file: Option<String>,
+    /// With `file`: metres per file unit, > 0 (default 1).
+    pub scale: Option<f32>,
+    /// With `file`: the file's up axis, `y` (default) or `z`.
+    pub up_axis: Option<String>,
+    /// With `file`: negate x, default false.
+    pub mirror: Option<bool>,
 }
 
 /// `[motion]`.
@@ -313,24 +377,42 @@ pub struct BenchTable {
 
 impl SceneFile {
     /// Reads and parses the file at `path`; errors name the file.
+    /// Relative file paths in it resolve against its folder.
     pub fn read(path: &Path) -> Result<SceneFile, SceneFileError> {
         let text = std::fs::read_to_string(path).map_err(|error| SceneFileError {
             path: Some(path.to_path_buf()),
             message: format!("cannot read it: {error}"),
         })?;
-        SceneFile::parse(&text).map_err(|error| SceneFileError {
+        let folder = path.parent().unwrap_or(Path::new(""));
+        SceneFile::parse_in(&text, Some(folder)).map_err(|error| SceneFileError {
             path: Some(path.to_path_buf()),
             message: error.message,
         })
     }
 
     /// Parses TOML text; syntax errors, unknown keys and wrong types name the place, and values
-    /// are checked ([`SceneFile::resolve`] does the checking).
+    /// are checked ([`SceneFile::resolve`] does the checking). Relative file paths resolve
+    /// against the working directory.
     pub fn parse(text: &str) -> Result<SceneFile, SceneFileError> {
-        let file: SceneFile =
+        SceneFile::parse_in(text, None)
+    }
+
+    /// [`SceneFile::parse`] with relative file paths resolved against `base_dir` (`None`: the
+    /// working directory).
+    pub fn parse_in(text: &str, base_dir: Option<&Path>) -> Result<SceneFile, SceneFileError> {
+        let mut file: SceneFile =
             toml::from_str(text).map_err(|error| SceneFileError::new(error.to_string()))?;
+        file.base_dir = base_dir.map(Path::to_path_buf);
         file.resolve()?;
         Ok(file)
+    }
+
+    /// `path` (a scene-file field's value) resolved against [`SceneFile::base_dir`].
+    pub fn resolve_path(&self, path: &str) -> PathBuf {
+        match &self.base_dir {
+            Some(base) if Path::new(path).is_relative() => base.join(path),
+            _ => PathBuf::from(path),
+        }
     }
 
     /// The JSON report's file name, if asked for.

@@ -15,8 +15,11 @@ use crate::shot::{CameraKeyframe, CameraMotion, CameraPath, Outputs, Shot};
 
 type Result<T> = std::result::Result<T, SceneFileError>;
 
+/// The preset whose material (stiffness) a groom file gets when `groom.preset` is not given.
+pub const DEFAULT_FILE_MATERIAL: &str = "straight";
+
 /// `value` checked to be finite and within `range` (inclusive), else an error naming `field`.
-fn within(field: &str, value: f32, low: f32, high: f32, range: &str) -> Result<f32> {
+pub(super) fn within(field: &str, value: f32, low: f32, high: f32, range: &str) -> Result<f32> {
     if value.is_finite() && (low..=high).contains(&value) {
         Ok(value)
     } else {
@@ -27,7 +30,7 @@ fn within(field: &str, value: f32, low: f32, high: f32, range: &str) -> Result<f
 }
 
 /// `value` checked to be finite and > 0.
-fn positive(field: &str, value: f32) -> Result<f32> {
+pub(super) fn positive(field: &str, value: f32) -> Result<f32> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
@@ -38,7 +41,7 @@ fn positive(field: &str, value: f32) -> Result<f32> {
 }
 
 /// A count checked to be within `low..=high`.
-fn count(field: &str, value: usize, low: usize, high: usize) -> Result<usize> {
+pub(super) fn count(field: &str, value: usize, low: usize, high: usize) -> Result<usize> {
     if (low..=high).contains(&value) {
         Ok(value)
     } else {
@@ -60,7 +63,7 @@ fn vector(field: &str, value: [f32; 3]) -> Result<Vec3> {
 }
 
 /// One of `names`, or an error listing them.
-fn one_of<'a>(field: &str, value: &'a str, names: &[&str]) -> Result<&'a str> {
+pub(super) fn one_of<'a>(field: &str, value: &'a str, names: &[&str]) -> Result<&'a str> {
     if names.contains(&value) {
         Ok(value)
     } else {
@@ -97,16 +100,9 @@ impl SceneFile {
                  {SCENE_FILE_VERSION}"
             )));
         }
-        let groom = self.groom_params()?;
-        if let Some(file) = &self.body.file {
-            return Err(SceneFileError::new(format!(
-                "body.file = {file:?}: body meshes from files are not supported yet (they come \
-                 with real grooms); leave it out for the procedural head"
-            )));
-        }
-        if let Some(kind) = &self.body.kind {
-            one_of("body.kind", kind, &["procedural-head"])?;
-        }
+        let groom_file = self.groom_file()?;
+        let body_file = self.body_file(groom_file.is_some())?;
+        let groom = self.groom_params(groom_file.is_some())?;
         let frames = &self.frames;
         let frame_count = count("frames.count", frames.count.unwrap_or(12), 1, 1_000_000)?;
         let fps = within(
@@ -156,11 +152,11 @@ impl SceneFile {
                 })
             }
         };
-        let rest_pose = self.rest_pose()?;
+        let rest_pose = self.rest_pose(groom_file.is_some())?;
         let settle_seconds = within(
             "dynamics.settle_seconds",
             self.dynamics.settle_seconds.unwrap_or(match rest_pose {
-                RestPose::Hanging => 0.0,
+                RestPose::Hanging | RestPose::Loaded => 0.0,
                 RestPose::Grown => 1.0,
             }),
             0.0,
@@ -195,6 +191,8 @@ impl SceneFile {
         Ok(Shot {
             groom,
             head: HeadParams::default(),
+            groom_file,
+            body_file,
             environment,
             settings,
             budget,
@@ -227,7 +225,13 @@ impl SceneFile {
                 character: Vec::new(),
                 ..self.clone()
             };
-            let groom = own.groom_params().map_err(within_character)?;
+            if own.groom.file.is_some() {
+                return Err(within_character(SceneFileError::new(
+                    "groom.file: crowd characters wear preset grooms for now (give the character \
+                     its own groom table with a preset)",
+                )));
+            }
+            let groom = own.groom_params(false).map_err(within_character)?;
             let position = vector("position", table.position).map_err(within_character)?;
             let yaw = within(
                 "yaw_degrees",
@@ -259,27 +263,45 @@ impl SceneFile {
         Ok(characters)
     }
 
-    fn rest_pose(&self) -> Result<RestPose> {
-        let name = self.groom.rest_pose.as_deref().unwrap_or("hanging");
+    /// `groom.rest_pose`: `hanging` by default, `loaded` by default for a groom file (and only
+    /// for one).
+    fn rest_pose(&self, groom_file: bool) -> Result<RestPose> {
+        let default = if groom_file { "loaded" } else { "hanging" };
+        let name = self.groom.rest_pose.as_deref().unwrap_or(default);
         one_of("groom.rest_pose", name, &RestPose::NAMES)?;
-        Ok(RestPose::from_name(name).unwrap_or_default())
+        let pose = RestPose::from_name(name).unwrap_or_default();
+        if pose == RestPose::Loaded && !groom_file {
+            return Err(SceneFileError::new(
+                "groom.rest_pose = \"loaded\": needs groom.file (a generated groom's shape is \
+                 grown, not a hairstyle; use hanging or grown)",
+            ));
+        }
+        Ok(pose)
     }
 
-    fn groom_params(&self) -> Result<GroomParams> {
+    /// The groom's parameters: the preset with overrides (with a groom file, the preset gives
+    /// the material; the default is then `straight`, the softest).
+    fn groom_params(&self, groom_file: bool) -> Result<GroomParams> {
         let table = &self.groom;
-        if let Some(file) = &table.file {
-            return Err(SceneFileError::new(format!(
-                "groom.file = {file:?}: grooms from files are not supported yet (they come with \
-                 the real-groom readers); use groom.preset"
-            )));
-        }
-        let preset = table.preset.as_deref().unwrap_or("paper-curly");
+        let default = if groom_file {
+            DEFAULT_FILE_MATERIAL
+        } else {
+            "paper-curly"
+        };
+        let preset = table.preset.as_deref().unwrap_or(default);
         let mut params = GroomParams::preset(preset).map_err(|_| {
             SceneFileError::new(format!(
                 "groom.preset = {preset:?}: expected one of {}",
                 hair_core::PRESET_NAMES.join(", ")
             ))
         })?;
+        if let Some(v) = table.seed {
+            params.seed = v;
+        }
+        if groom_file {
+            // The fit counts sections and shapes the strands (checked in `groom_file`).
+            return Ok(params);
+        }
         if let Some(v) = table.section_count {
             params.section_count = count("groom.section_count", v, 1, 10_000)?;
         }
@@ -620,11 +642,15 @@ mod tests {
                 "at least one",
             ),
             ("version = 1", "version", "2"),
+            ("[groom]\nfile = \"x.tfx\"", "groom.file", "no such file"),
             (
-                "[groom]\nfile = \"x.tfx\"",
+                "[groom]\nfile = \"x.tfx\"\nscale = 0.0",
                 "groom.file",
-                "not supported yet",
+                "no such file",
             ),
+            ("[groom]\nscale = 0.01", "groom.scale", "groom.file"),
+            ("[body]\nkind = \"mesh\"", "body.kind", "body.file"),
+            ("[body]\nkind = \"sphere\"", "body.kind", "mesh"),
         ] {
             let error = error_of(text);
             assert!(

@@ -5,6 +5,7 @@
 //! section-major, so section `s` owns chains `s`, `S + 3s .. S + 3s + 3` and `4S + 5s .. 4S + 5s + 5`.
 
 mod build;
+mod fitted;
 mod params;
 mod placement;
 mod section;
@@ -14,6 +15,7 @@ use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
 
+pub use fitted::ChildStrands;
 pub use params::{GroomParams, PRESET_NAMES};
 pub use section::Section;
 pub use strands::StrandSet;

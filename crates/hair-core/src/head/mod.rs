@@ -26,13 +26,21 @@ use glam::{DVec3, Vec3};
 pub use params::HeadParams;
 pub use roots::{MAX_ROOT_COUNT, ScalpRoot};
 
-use crate::error::Result;
+use crate::error::{HairError, Result};
 use crate::mesh::TriangleMesh;
 
 /// Fraction of the largest box inscribed in the cranium ellipsoid that [`Head::inner_box`] keeps.
 const INNER_BOX_SCALE: f64 = 0.95;
 
-/// A procedural head: its mesh and the analytic surface the mesh was tessellated from.
+/// The body hair grows on and collides with: the procedural head (its mesh and the analytic
+/// surface the mesh was tessellated from, [`Head::procedural`]) or a mesh read from a file
+/// ([`Head::from_mesh`]).
+///
+/// The scalp queries ([`Head::surface_point`], [`Head::is_scalp`], [`Head::part_distance`],
+/// [`Head::crown`], [`Head::part_line`], [`Head::hairline`], [`Head::scalp_roots`]) describe the
+/// procedural surface; they generate the preset grooms and mean nothing for a mesh from a file
+/// ([`Head::is_procedural`] tells which). [`Head::mesh`] and [`Head::occluder_boxes`], what the
+/// pipeline draws, collides with and occludes by, are the body's own either way.
 #[derive(Debug, Clone)]
 pub struct Head {
     /// The closed mesh [m]: counter-clockwise triangles seen from outside, exact unit vertex normals;
@@ -50,6 +58,8 @@ pub struct Head {
     hairline: Vec<Vec3>,
     /// The hairline in front of the ears [m], one polyline from the right temple to the left.
     front_hairline: Vec<Vec3>,
+    /// For a mesh from a file: its occluder boxes `(min, max)` [m] (`None`: the procedural head).
+    loaded_occluders: Option<Vec<(Vec3, Vec3)>>,
 }
 
 impl Head {
@@ -66,7 +76,44 @@ impl Head {
             part_line: scalp::part_line(params),
             hairline,
             front_hairline,
+            loaded_occluders: None,
         })
+    }
+
+    /// A body from a mesh (a file's, in the scene's frame [m]: see
+    /// [`formats::read_mesh_file`](crate::formats::read_mesh_file)) with `occluder_boxes`
+    /// `(min, max)` [m] that lie inside it (none is allowed: nothing is then hidden by the body).
+    /// The mesh is drawn and collided with in place of the procedural head. Fails on a mesh that
+    /// fails [`TriangleMesh::validate_surface`], and on a box that is not finite or
+    /// whose `min` exceeds its `max`.
+    pub fn from_mesh(mesh: TriangleMesh, occluder_boxes: Vec<(Vec3, Vec3)>) -> Result<Head> {
+        mesh.validate_surface().map_err(|error| {
+            HairError::invalid(
+                "body mesh",
+                error,
+                "a valid mesh with a triangle of some area",
+            )
+        })?;
+        if let Some((min, max)) = occluder_boxes
+            .iter()
+            .find(|(min, max)| !(min.is_finite() && max.is_finite() && min.cmple(*max).all()))
+        {
+            return Err(HairError::invalid(
+                "occluder box",
+                format!("{min}..{max}"),
+                "finite corners with min <= max",
+            ));
+        }
+        let mut head = Head::procedural(&HeadParams::default())?;
+        head.mesh = mesh;
+        head.loaded_occluders = Some(occluder_boxes);
+        Ok(head)
+    }
+
+    /// Whether this is the procedural head (its scalp queries describe it), not a mesh from a
+    /// file.
+    pub fn is_procedural(&self) -> bool {
+        self.loaded_occluders.is_none()
     }
 
     /// The point of the analytic surface along `direction` from the head's centre [m], and the unit
@@ -132,7 +179,18 @@ impl Head {
     /// It is the largest axis-aligned box inscribed in the cranium ellipsoid (half-extents equal to
     /// the semi-axes divided by √3, corners on the ellipsoid), shrunk about its centre to 95 %. The
     /// head's surface encloses the cranium, so every point of the box is inside the head.
+    ///
+    /// For a mesh from a file: the largest of its occluder boxes (a point at the mesh's first
+    /// vertex when it has none, which hides nothing).
     pub fn inner_box(&self) -> (Vec3, Vec3) {
+        if let Some(boxes) = &self.loaded_occluders {
+            let volume = |(min, max): &(Vec3, Vec3)| (*max - *min).element_product();
+            return boxes
+                .iter()
+                .copied()
+                .max_by(|a, b| volume(a).total_cmp(&volume(b)))
+                .unwrap_or((self.mesh.positions[0], self.mesh.positions[0]));
+        }
         let half = shape::CRANIUM_SEMI_AXES * (INNER_BOX_SCALE / 3f64.sqrt());
         (
             (shape::CRANIUM_CENTRE - half).as_vec3(),
@@ -146,7 +204,12 @@ impl Head {
     /// some order, so `0.81 + 0.09 + 0.09 < 1` puts their corners inside it), shrunk to 95 %; and
     /// the square inscribed in the neck's cross-section (half side `r/√2`, 95 %) from near its
     /// bottom to the cranium. Every point of every box is inside the head.
+    ///
+    /// For a mesh from a file: the boxes it was given ([`Head::from_mesh`]).
     pub fn occluder_boxes(&self) -> Vec<(Vec3, Vec3)> {
+        if let Some(boxes) = &self.loaded_occluders {
+            return boxes.clone();
+        }
         let mut boxes = vec![self.inner_box()];
         for stretched in [
             DVec3::new(0.9, 0.3, 0.3),

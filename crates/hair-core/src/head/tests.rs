@@ -334,3 +334,23 @@ fn neck_is_a_vertical_cylinder() {
     );
     assert!(n.y.abs() < 1e-4, "{n}");
 }
+
+/// A mesh from a file takes the head's place: its occluder boxes are the ones given, the largest
+/// is the inner box, and a bad box or an empty mesh is refused.
+#[test]
+fn a_head_from_a_mesh_keeps_its_mesh_and_boxes() {
+    let procedural = Head::procedural(&HeadParams::default()).unwrap();
+    assert!(procedural.is_procedural());
+    let small = (Vec3::splat(-0.01), Vec3::splat(0.01));
+    let large = (Vec3::splat(-0.03), Vec3::splat(0.02));
+    let head = Head::from_mesh(procedural.mesh.clone(), vec![small, large]).unwrap();
+    assert!(!head.is_procedural());
+    assert_eq!(head.occluder_boxes(), vec![small, large]);
+    assert_eq!(head.inner_box(), large);
+    assert_eq!(head.mesh, procedural.mesh);
+    let inverted = (Vec3::splat(0.01), Vec3::splat(-0.01));
+    let error = Head::from_mesh(procedural.mesh.clone(), vec![inverted]).unwrap_err();
+    assert!(error.to_string().contains("occluder box"), "{error}");
+    let error = Head::from_mesh(crate::TriangleMesh::default(), Vec::new()).unwrap_err();
+    assert!(error.to_string().contains("body mesh"), "{error}");
+}

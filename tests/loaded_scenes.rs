@@ -1,0 +1,270 @@
+//! Scenes that read their groom and body from files (`scenes/tressfx-*.toml`, data from
+//! `../shared/data`): they resolve, load, fit and run through the pipeline with collision and
+//! automatic levels; and every way a scene can name a bad file gets an error naming the field and
+//! the file.
+
+use std::path::{Path, PathBuf};
+
+use hairlod::core::dynamics::{Environment, HeadMotion, WindField};
+use hairlod::loaded::{LevelRestErrors, MAX_MEDIAN_ROOT_DISTANCE, rest_errors};
+use hairlod::pipeline::LodMode;
+use hairlod::{Level, SceneFile};
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// The example scenes that read files.
+const EXAMPLES: [&str; 2] = ["scenes/tressfx-ratboy.toml", "scenes/tressfx-ponytail.toml"];
+
+/// Each example scene builds (the groom fitted, the body in the head's place) and runs 6 frames of
+/// its own motion with collision and automatic levels: every node stays finite, every section
+/// has a level every frame, and the mohawk's roots lie on its body.
+#[test]
+fn example_scenes_load_and_run_with_collision_and_automatic_levels() {
+    for example in EXAMPLES {
+        let file = SceneFile::read(&repo(example)).unwrap_or_else(|e| panic!("{e}"));
+        let mut shot = file.resolve().unwrap();
+        assert!(shot.groom_file.is_some(), "{example}");
+        assert!(shot.settings.collision, "{example}");
+        assert!(matches!(shot.settings.lod, LodMode::Auto(_)), "{example}");
+        shot.frames = 6;
+        let (scene, loaded) = shot.build_loaded_scene().unwrap_or_else(|e| panic!("{e}"));
+        let loaded = loaded.expect("a groom file was loaded");
+        let sections = scene.groom.section_count();
+        assert_eq!(sections, loaded.report.fit.sections);
+        assert_eq!(
+            scene.groom.strands.strand_count(),
+            loaded.curves.curve_count()
+        );
+        if shot.body_file.is_some() {
+            assert!(!scene.head.is_procedural());
+            let roots = loaded
+                .report
+                .roots
+                .expect("roots measured against the body");
+            assert!(roots.median <= MAX_MEDIAN_ROOT_DISTANCE, "{roots:?}");
+            // The body mesh is drawn and collided with: the file's, not the procedural head's.
+            assert_eq!(scene.head.mesh.triangles.len(), 25_814);
+            assert!(
+                loaded.report.occluder_boxes > 0,
+                "{example}: no box inside the body"
+            );
+        }
+        let mut pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
+        for frame in 0..shot.frames {
+            let report = pipeline.advance(&shot.camera(frame)).unwrap();
+            assert_eq!(
+                report.sections_at.iter().sum::<usize>(),
+                sections,
+                "{example}"
+            );
+            for level in Level::ALL {
+                let positions = &pipeline.block(level).state.node_positions;
+                assert!(
+                    positions.iter().all(|p| p.is_finite()),
+                    "{example} {level:?}"
+                );
+            }
+        }
+        eprintln!("{example}: {sections} sections, {:?}", loaded.report.roots);
+    }
+}
+
+/// The error of resolving `text` as a scene file in the `scenes/` folder.
+fn scene_error(text: &str) -> String {
+    SceneFile::parse_in(text, Some(&repo("scenes")))
+        .and_then(|file| file.resolve())
+        .expect_err(text)
+        .to_string()
+}
+
+/// The error of building the scene `text` (in the `scenes/` folder), which resolves.
+fn build_error(text: &str) -> String {
+    let file = SceneFile::parse_in(text, Some(&repo("scenes"))).unwrap_or_else(|e| panic!("{e}"));
+    match file.resolve().unwrap().build_scene() {
+        Ok(_) => panic!("{text} built"),
+        Err(error) => error.to_string(),
+    }
+}
+
+const MOHAWK: &str = "../../shared/data/tressfx/ratboy_mohawk.tfx";
+
+#[test]
+fn bad_groom_and_body_files_are_errors_naming_the_field_and_the_file() {
+    // A missing file: the field, the path as given and as resolved.
+    let error = scene_error("[groom]\nfile = \"nowhere.tfx\"");
+    assert!(
+        error.contains("groom.file") && error.contains("nowhere.tfx"),
+        "{error}"
+    );
+    assert!(error.contains("scene file's folder"), "{error}");
+    let error = scene_error(&format!(
+        "[groom]\nfile = \"{MOHAWK}\"\n[body]\nfile = \"nobody.obj\""
+    ));
+    assert!(
+        error.contains("body.file") && error.contains("nobody.obj"),
+        "{error}"
+    );
+    // Bad units and axes.
+    let error = scene_error(&format!("[groom]\nfile = \"{MOHAWK}\"\nscale = -1.0"));
+    assert!(error.contains("groom.scale"), "{error}");
+    let error = scene_error(&format!("[groom]\nfile = \"{MOHAWK}\"\nup_axis = \"x\""));
+    assert!(error.contains("groom.up_axis"), "{error}");
+    // Keys that shape a generated groom, or need a file.
+    let error = scene_error(&format!("[groom]\nfile = \"{MOHAWK}\"\nhair_length = 0.3"));
+    assert!(
+        error.contains("groom.hair_length") && error.contains("groom.file"),
+        "{error}"
+    );
+    let error = scene_error("[groom]\nscale = 0.01");
+    assert!(error.contains("groom.scale"), "{error}");
+    let error = scene_error("[groom]\nrest_pose = \"loaded\"");
+    assert!(error.contains("groom.rest_pose"), "{error}");
+    // A body without a groom file: the presets grow on the procedural head.
+    let error = scene_error("[body]\nfile = \"example.toml\"");
+    assert!(
+        error.contains("body.file") && error.contains("groom.file"),
+        "{error}"
+    );
+
+    // A file the readers do not know, or cannot read: the field, the file and the reader's
+    // message.
+    let error = build_error("[groom]\nfile = \"example.toml\"");
+    assert!(
+        error.contains("groom.file") && error.contains("example.toml") && error.contains(".tfx"),
+        "{error}"
+    );
+    let error = build_error(&format!(
+        "[groom]\nfile = \"{MOHAWK}\"\n[body]\nfile = \"{MOHAWK}\""
+    ));
+    assert!(
+        error.contains("body.file") && error.contains("ratboy_mohawk.tfx"),
+        "{error}"
+    );
+    // Wrong units: centimetres read as metres makes the mohawk 100 times too large.
+    let error = build_error(&format!("[groom]\nfile = \"{MOHAWK}\"\nscale = 100.0"));
+    assert!(
+        error.contains("groom.scale") && error.contains("ratboy_mohawk.tfx"),
+        "{error}"
+    );
+    // A groom on the wrong body (the mohawk mirrored and turned Z-up): its roots lie far from
+    // the surface.
+    let error = build_error(&format!(
+        "[groom]\nfile = \"{MOHAWK}\"\nup_axis = \"z\"\n\
+         [body]\nfile = \"../../shared/data/tressfx/ratboy_body.tfxmesh\""
+    ));
+    assert!(
+        error.contains("groom.file") && error.contains("body.file"),
+        "{error}"
+    );
+}
+
+/// After 2 s with the head still and no wind, each level of the loaded grooms (at that level
+/// everywhere) has moved at most 5 mm on average from its rest shape: the loaded rest pose is
+/// an equilibrium on its body.
+#[test]
+fn loaded_grooms_stay_within_5_mm_after_2_s_at_rest() {
+    for example in EXAMPLES {
+        let file = SceneFile::read(&repo(example)).unwrap();
+        let mut shot = file.resolve().unwrap();
+        shot.environment = Environment {
+            head: HeadMotion::default(),
+            wind: WindField::Calm,
+            ..Environment::default()
+        };
+        let scene = shot.build_scene().unwrap();
+        let rest = scene
+            .groom
+            .skeletons
+            .rest_positions(&hairlod::RigidTransform::IDENTITY);
+        for level in Level::ALL {
+            let mut settings = shot.settings;
+            settings.lod = LodMode::Fixed(level);
+            let mut pipeline = shot.pipeline(&scene, settings, None).unwrap();
+            pipeline.settle(2.0).unwrap();
+            let block = pipeline.block(level);
+            let mut moved = Vec::new();
+            let mut k = 0;
+            for &chain in &block.chains {
+                for node in scene.groom.skeletons.nodes(chain) {
+                    moved.push(rest[node].distance(block.state.node_positions[k]));
+                    k += 1;
+                }
+            }
+            let mean = moved.iter().sum::<f32>() / moved.len() as f32;
+            let max = moved.iter().copied().fold(0.0, f32::max);
+            eprintln!(
+                "{example} {level:?}: mean {:.2} mm, max {:.1} mm after 2 s",
+                mean * 1e3,
+                max * 1e3
+            );
+            assert!(mean <= 0.005, "{example} {level:?}: mean {mean} m");
+        }
+    }
+}
+
+/// Builds `shot`'s loaded scene and measures its rest pose against its file, printing the fit
+/// report and the errors under `name`; returns the errors and the strand counts (groom, file).
+fn rest_errors_of(name: &str, shot: &hairlod::Shot) -> (LevelRestErrors, usize, usize) {
+    let (scene, loaded) = shot.build_loaded_scene().unwrap();
+    let loaded = loaded.unwrap();
+    let errors = rest_errors(&scene.groom, &loaded.fit, &loaded.curves).unwrap();
+    eprintln!("{name}: fit\n{}", loaded.report.fit);
+    eprintln!(
+        "{name}: rest pose, strands as drawn: {}",
+        errors.drawn_strands
+    );
+    for level in Level::ALL {
+        eprintln!("{name}: rest pose, {level:?}: {}", errors.levels[level]);
+    }
+    (
+        errors,
+        scene.groom.strands.strand_count(),
+        loaded.curves.curve_count(),
+    )
+}
+
+/// The rest pose of each loaded groom against its file: each curve against the strand drawn for
+/// it and against its strand group's, cluster's and patch's models (printed with
+/// `-- --nocapture`).
+#[test]
+fn loaded_rest_poses_fit_their_files() {
+    for example in EXAMPLES {
+        let shot = SceneFile::read(&repo(example)).unwrap().resolve().unwrap();
+        let (errors, strands, curves) = rest_errors_of(example, &shot);
+        assert_eq!(strands, curves);
+        assert!(errors.drawn_strands.is_finite());
+        for level in Level::ALL {
+            assert!(errors.levels[level].is_finite(), "{example} {level:?}");
+        }
+    }
+}
+
+/// The strand-level rest error of the mohawk as the example scene fits it (about 50 strands per
+/// section, 10 per strand group) and fitted as a groom of guides (5 strands per section asked,
+/// 1 to 3 per strand group, each with 8 child strands around it). The error of a strand against
+/// its group's skeleton is mostly the spread between the strands of a group (the fit's
+/// per-node-offset floor is 6.9 mm at 10 strands per group); with a few strands per group the
+/// skeleton is one of them or close to them, so the error must fall by far more than half. The
+/// issue's 0.5 mm mean needs exactly one strand per group (the fit merges sections smaller than 5
+/// strands, so some hold up to 16) or per-node offsets.
+#[test]
+fn mohawk_as_guides_fits_much_closer_than_fifty_strands_per_section() {
+    let text = std::fs::read_to_string(repo("scenes/tressfx-ratboy.toml")).unwrap();
+    let guides = text.replace(
+        "strands_per_section = 50",
+        "strands_per_section = 5\nchildren_per_strand = 8",
+    );
+    let mut means = Vec::new();
+    for (name, text, per) in [
+        ("50 per section", text.as_str(), 1),
+        ("guides", guides.as_str(), 9),
+    ] {
+        let file = SceneFile::parse_in(text, Some(&repo("scenes"))).unwrap();
+        let (errors, strands, curves) = rest_errors_of(name, &file.resolve().unwrap());
+        assert_eq!(strands, per * curves, "{name}");
+        means.push(errors.drawn_strands.mean);
+    }
+    assert!(means[1] < 0.5 * means[0], "{means:?}");
+}
