@@ -545,6 +545,15 @@ impl SceneFile {
         if let Some(v) = table.blend_time {
             lod.blend_time = within("lod.blend_time", v, 0.0, 10.0, "seconds in 0..=10")?;
         }
+        if let Some(v) = table.rules_min_pixels {
+            lod.rules_min_pixels = within(
+                "lod.rules_min_pixels",
+                v,
+                0.0,
+                100_000.0,
+                "pixels in 0..=100000",
+            )?;
+        }
         if let Some(name) = table.error_model.as_deref() {
             one_of("lod.error_model", name, &["deviation", "chord"])?;
             lod.error_model = name.parse().expect("checked above");

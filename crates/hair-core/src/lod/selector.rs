@@ -381,11 +381,17 @@ impl LodSelector {
                 &settings,
                 aspect,
             );
-            // Floors: motion and the part/face rule for a visible section, patch for a hidden one.
-            let motion = motion_level(observation, previous, &settings);
+            // Floors: motion and the part/face rule for a visible section large enough on
+            // screen, patch for a hidden one.
+            let rules = hidden.is_none() && rules_apply(observation, camera, &settings);
+            let motion = if rules {
+                motion_level(observation, previous, &settings)
+            } else {
+                Level::Patch
+            };
             let floor = match hidden {
                 Some(_) => Level::Patch,
-                None if constants.keep_clusters => motion.max(Level::Cluster),
+                None if rules && constants.keep_clusters => motion.max(Level::Cluster),
                 None => motion,
             };
             let mut errors = match hidden {
@@ -506,6 +512,13 @@ fn hidden_reason(
     occluded.then_some(Reason::Occluded)
 }
 
+/// Whether the motion criterion and the part/face rule apply to a section seen as in
+/// `observation`: its projected chord spans at least [`LodSettings::rules_min_pixels`].
+fn rules_apply(observation: &SectionObservation, camera: &Camera, settings: &LodSettings) -> bool {
+    settings.rules_min_pixels <= 0.0
+        || chord_pixels(camera, observation, settings) >= settings.rules_min_pixels
+}
+
 /// The level a section's motion asks for (§7.3), with hysteresis around `current`.
 fn motion_level(observation: &SectionObservation, current: Level, settings: &LodSettings) -> Level {
     level_with_hysteresis(
@@ -604,13 +617,18 @@ fn choose(
             level_with_hysteresis(scale, limits, current, band)
         }
     };
-    let by_motion = motion_level(observation, current, settings);
+    let rules = rules_apply(observation, camera, settings);
+    let by_motion = if rules {
+        motion_level(observation, current, settings)
+    } else {
+        Level::Patch
+    };
     let (mut level, mut reason) = if by_motion > by_distance {
         (by_motion, Reason::Motion)
     } else {
         (by_distance, Reason::Distance)
     };
-    if constants.keep_clusters && level < Level::Cluster {
+    if rules && constants.keep_clusters && level < Level::Cluster {
         level = Level::Cluster;
         reason = Reason::Rule;
     }

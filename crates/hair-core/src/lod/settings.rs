@@ -89,6 +89,11 @@ pub struct LodSettings {
     pub blend_time: f32,
     /// How a coarse level's screen-space error is estimated.
     pub error_model: ErrorModel,
+    /// The motion criterion (§7.3) and the part/face rule raise a section's level only while its
+    /// root-to-tip chord projects to at least this many pixels; smaller sections follow their
+    /// screen-space error alone [pixels]. A head 30 m away spans a few pixels: its shaking is
+    /// not worth strands. 0: always (the paper's rule, for one head near the camera).
+    pub rules_min_pixels: f32,
 }
 
 impl Default for LodSettings {
@@ -106,6 +111,7 @@ impl Default for LodSettings {
             occlusion: true,
             blend_time: 0.25,
             error_model: ErrorModel::Deviation,
+            rules_min_pixels: 20.0,
         }
     }
 }
@@ -141,6 +147,7 @@ impl LodSettings {
             ));
         }
         require_non_negative("crown radius (m)", self.crown_radius)?;
+        require_non_negative("rules' smallest section (pixels)", self.rules_min_pixels)?;
         require_non_negative("crown boost", self.crown_boost)?;
         require_non_negative("LOD blend time (s)", self.blend_time)?;
         Ok(())
