@@ -61,6 +61,8 @@ mod tests;
 #[cfg(test)]
 mod tests_sag_free;
 #[cfg(test)]
+mod tests_stability;
+#[cfg(test)]
 mod tests_xpbd;
 #[cfg(test)]
 mod tests_xpbd_lanes;
