@@ -304,7 +304,7 @@ pub(crate) fn add_spring_blocks(joint: &Joint, c: f32, implicit: &mut ImplicitAr
 
 /// The lengths' stiffness in an implicit step, relative to the larger of the inertia `m/h²` and
 /// the bending stiffness `k/l²` at the segment.
-const LENGTH_STIFFNESS: f32 = 100.0;
+pub(crate) const LENGTH_STIFFNESS: f32 = 100.0;
 
 /// The lengths' stiffness κ_j [N/m] in an implicit step:
 /// `κ_j = LENGTH_STIFFNESS·max(m_j/h², k_j/l_j², k_{j+1}/l_j²)`.

@@ -26,13 +26,13 @@ pub(crate) struct SpringScratch<const N: usize> {
     /// Spring forces [N], then (in the position-based step) the shape target's displacements [m].
     pub forces: [LaneVec3; N],
     /// Unit directions of the segments.
-    directions: [LaneVec3; N],
+    pub directions: [LaneVec3; N],
     /// Half curvature binormals `t_{i−1} × d_i / (1 + t_{i−1}·d_i)` of the transports.
-    half_binormals: [LaneVec3; N],
+    pub half_binormals: [LaneVec3; N],
     /// `1/l` of every segment's current length [1/m].
-    inverse_lengths: [Lanes; N],
+    pub inverse_lengths: [Lanes; N],
     /// Twist torque of every spring on its parent frame [N·m].
-    twist: [Lanes; N],
+    pub twist: [Lanes; N],
 }
 
 impl<const N: usize> SpringScratch<N> {
@@ -50,10 +50,14 @@ impl<const N: usize> SpringScratch<N> {
 }
 
 /// What one joint contributes: `Q·g` (on its node, with the opposite on the node before) and
-/// the bend torque `k·(α/sin α)·(d × r)`.
-struct JointTerms {
-    qg: LaneVec3,
-    torque: LaneVec3,
+/// the bend torque `k·(α/sin α)·(d × r)`; and its rest direction `r` in the transported parent
+/// frame (for the XPBD step's blocks).
+pub(crate) struct JointTerms {
+    pub qg: LaneVec3,
+    pub torque: LaneVec3,
+    pub rest: LaneVec3,
+    /// The segment's current length [m] (before clamping at 1e-12 for its inverse).
+    pub length: Lanes,
 }
 
 /// The joint ending at node `i` (≥ 1) with stiffness `k`: stores the segment's direction, inverse
@@ -61,7 +65,7 @@ struct JointTerms {
 /// on return segment `i`'s) along.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn joint<const N: usize>(
+pub(crate) fn joint<const N: usize>(
     s: &mut SpringScratch<N>,
     positions: &[LaneVec3; N],
     rest_local: LaneVec3,
@@ -112,7 +116,12 @@ fn joint<const N: usize>(
         normal,
         tangent: direction,
     };
-    JointTerms { qg, torque }
+    JointTerms {
+        qg,
+        torque,
+        rest,
+        length: raw_length,
+    }
 }
 
 /// Writes the spring forces [N] of nodes `0..n` (`2 ≤ n ≤ N`) into `s.forces` and returns the

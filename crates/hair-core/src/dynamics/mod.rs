@@ -38,8 +38,10 @@ mod error;
 mod forces;
 mod head_motion;
 mod integrators;
+mod lane_blocks;
 mod lane_model;
 mod lane_springs;
+mod lane_xpbd_system;
 mod lanes;
 mod model;
 mod parallel;
@@ -52,13 +54,18 @@ mod state;
 mod strands;
 mod wind;
 mod xpbd;
+mod xpbd_lanes;
 
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_sag_free;
 #[cfg(test)]
+mod tests_stability;
+#[cfg(test)]
 mod tests_xpbd;
+#[cfg(test)]
+mod tests_xpbd_lanes;
 
 pub use banded::solve_block_pentadiagonal;
 pub use constraints::{follow_the_leader, remove_stretch_velocity};

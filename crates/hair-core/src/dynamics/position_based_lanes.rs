@@ -22,8 +22,9 @@ use crate::dynamics::integrators::shape_target_scale;
 use crate::dynamics::lane_model::{LaneModel, LaneNode, LaneRoots, rotate_lanes};
 use crate::dynamics::lane_springs::{LaneFrame, SpringScratch, spring_forces};
 use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
-use crate::dynamics::params::{RootMode, SimulationSettings};
+use crate::dynamics::params::{IntegratorKind, RootMode, SimulationSettings};
 use crate::dynamics::simulation::Environment;
+use crate::dynamics::xpbd_lanes::step_xpbd_lanes;
 use crate::transform::RigidTransform;
 
 use crate::dynamics::lane_model::MAX_LANE_NODES;
@@ -39,6 +40,8 @@ pub(crate) struct BatchStep<'a> {
     pub head_rotations: &'a [Mat3],
     /// Air drag rate γ [1/s].
     pub air_drag_rate: f32,
+    /// Spring damping β [s] (the XPBD step's damping sweep).
+    pub bending_damping: f32,
     /// Time at the start of the step [s].
     pub time: f64,
 }
@@ -64,6 +67,11 @@ pub(crate) struct BatchState<'a> {
 #[allow(unsafe_code)]
 pub(crate) fn step_batch(step: &BatchStep, state: BatchState) -> Option<u32> {
     let (nodes, roots) = step.lanes.batch(state.first_chain)?;
+    // The XPBD lanes take attached roots only (node 0 is not an unknown of their system).
+    if step.settings.integrator == IntegratorKind::Xpbd && step.settings.roots != RootMode::Attached
+    {
+        return None;
+    }
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -92,6 +100,15 @@ fn step_batch_sized(
     nodes: &[LaneNode],
     roots: &LaneRoots,
 ) -> u32 {
+    if step.settings.integrator == IntegratorKind::Xpbd {
+        return if nodes.len() <= 16 {
+            step_xpbd_lanes::<16>(step, state, nodes, roots)
+        } else if nodes.len() <= 32 {
+            step_xpbd_lanes::<32>(step, state, nodes, roots)
+        } else {
+            step_xpbd_lanes::<MAX_LANE_NODES>(step, state, nodes, roots)
+        };
+    }
     if nodes.len() <= 16 {
         step_lanes::<16>(step, state, nodes, roots)
     } else if nodes.len() <= 32 {
@@ -112,7 +129,7 @@ struct LaneState<const N: usize> {
 
 /// A head pose applied to every lane's root: position [m] and frame.
 #[inline(always)]
-fn carried_roots(
+pub(crate) fn carried_roots(
     roots: &LaneRoots,
     pose: &RigidTransform,
     rotation: &Mat3,

@@ -1,6 +1,8 @@
 //! The simulation: a model, settings and solver scratch that advance a [`SimulationState`] one
 //! step at a time, in parallel over chains, detecting failures.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use glam::{Mat3, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
@@ -84,6 +86,9 @@ pub struct Simulation {
     /// Whether the position-based integrator may step chains lane-parallel (tests compare it
     /// with the one-chain step).
     lanes: bool,
+    /// Chains that the lane-parallel steps left to the one-chain step, over the simulation's
+    /// life (tests check that the lanes do the work).
+    lane_redos: AtomicUsize,
 }
 
 impl Simulation {
@@ -95,6 +100,7 @@ impl Simulation {
             scratch: Scratch::default(),
             lane_model: None,
             lanes: true,
+            lane_redos: AtomicUsize::new(0),
         };
         simulation.set_settings(settings)?;
         Ok(simulation)
@@ -104,6 +110,12 @@ impl Simulation {
     #[cfg(test)]
     pub(crate) fn set_lanes(&mut self, lanes: bool) {
         self.lanes = lanes;
+    }
+
+    /// How many chains the lane-parallel steps have left to the one-chain step so far.
+    #[cfg(test)]
+    pub(crate) fn lane_redos(&self) -> usize {
+        self.lane_redos.load(Ordering::Relaxed)
     }
 
     /// The model.
@@ -120,7 +132,11 @@ impl Simulation {
     pub fn set_settings(&mut self, settings: SimulationSettings) -> Result<(), DynamicsError> {
         settings.validate()?;
         self.settings = settings;
-        if settings.integrator == IntegratorKind::PositionBased && self.lane_model.is_none() {
+        if matches!(
+            settings.integrator,
+            IntegratorKind::PositionBased | IntegratorKind::Xpbd
+        ) && self.lane_model.is_none()
+        {
             self.lane_model = Some(LaneModel::new(&self.model));
         }
         let nodes = self.model.node_count();
@@ -260,10 +276,12 @@ impl Simulation {
             *chain_slices.failure = failure;
             *chain_slices.halvings = halvings;
         };
-        let lane_model = self
-            .lane_model
-            .as_ref()
-            .filter(|_| settings.integrator == IntegratorKind::PositionBased && self.lanes);
+        let lane_model = self.lane_model.as_ref().filter(|_| {
+            matches!(
+                settings.integrator,
+                IntegratorKind::PositionBased | IntegratorKind::Xpbd
+            ) && self.lanes
+        });
         let double_buffered = lane_model.is_some();
         if let Some(lane_model) = lane_model {
             // The state stays as it was; the new one is written to the backup arrays and swapped
@@ -275,6 +293,7 @@ impl Simulation {
                 head_poses,
                 head_rotations: &scratch.head_rotations,
                 air_drag_rate: model.params.air_drag_rate,
+                bending_damping: model.params.bending_damping,
                 time,
             };
             for_each_batch(
@@ -304,6 +323,7 @@ impl Simulation {
                     }
                     batch.for_each_chain_here(&model.rest.offsets, end_chain, |chain, mut work| {
                         if redo & (1 << (chain - first_chain)) != 0 {
+                            self.lane_redos.fetch_add(1, Ordering::Relaxed);
                             std::mem::swap(&mut work.arrays.positions, &mut work.backup_positions);
                             std::mem::swap(
                                 &mut work.arrays.velocities,

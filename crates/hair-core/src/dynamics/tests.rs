@@ -15,7 +15,7 @@ const G: f32 = 9.81;
 
 /// A rest model of `count` chains of `style`, `length` [m] long, on a ring of roots, growing
 /// horizontally outwards.
-fn ring_of_chains(style: &HairStyle, length: f32, count: usize) -> SkeletonRest {
+pub(crate) fn ring_of_chains(style: &HairStyle, length: f32, count: usize) -> SkeletonRest {
     let mut rest = SkeletonRest::default();
     let angles = style.chain_angles(length).unwrap();
     for c in 0..count {

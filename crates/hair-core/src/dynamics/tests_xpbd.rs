@@ -67,6 +67,8 @@ fn simulated_cantilever(model: &DynamicsModel, g: f32, substeps: u32) -> f32 {
     let environment = calm(Vec3::new(0.0, -g, 0.0));
     let mut state = simulation.rest_state(&environment, 0.0);
     simulation.run(&mut state, &environment, 6 * 60).unwrap();
+    // The lane-parallel step did the work (no chain left to the one-chain step).
+    assert_eq!(simulation.lane_redos(), 0);
     -state.node_positions[model.node_count() - 1].y
 }
 
@@ -146,6 +148,7 @@ fn small_angle_pendulum_period() {
         "period {period} s vs {expected} s"
     );
     assert!(state.max_length_error(&simulation.model().rest) < 1e-3);
+    assert_eq!(simulation.lane_redos(), 0);
 }
 
 /// Total mechanical energy [J] of one chain: kinetic, gravitational (`−m·g·x`) and bending
@@ -232,6 +235,7 @@ fn no_energy_gain_without_input() {
                     chain.name()
                 );
                 assert!(state.max_length_error(&simulation.model().rest) < 1e-3);
+                assert_eq!(simulation.lane_redos(), 0);
             }
         }
     }
@@ -249,6 +253,7 @@ fn falling_chain(substeps: u32, duration: f32) -> Vec<Vec3> {
     let mut state = simulation.rest_state(&environment, 0.0);
     let steps = (duration * 60.0).round() as usize;
     simulation.run(&mut state, &environment, steps).unwrap();
+    assert_eq!(simulation.lane_redos(), 0);
     state.node_positions
 }
 

@@ -62,23 +62,23 @@ use crate::frame::Frame;
 
 /// Newton iterations of the length projection (it converges quadratically and stops when within
 /// [`LENGTH_TOLERANCE`](crate::dynamics::constraints::LENGTH_TOLERANCE)).
-const LENGTH_ITERATIONS: usize = 3;
+pub(crate) const LENGTH_ITERATIONS: usize = 3;
 
 /// Newton steps per substep at most: a second one only where the first moved a node by more than
 /// [`NEWTON_TOLERANCE`] of its segment (large rotations in one substep, where the objective is far
 /// from quadratic).
-const NEWTON_ITERATIONS: usize = 8;
+pub(crate) const NEWTON_ITERATIONS: usize = 8;
 
 /// A first Newton step that moves no node by more than this fraction of its segment (a turn of
 /// 1e-3 rad) skips the line search.
-const SMALL_STEP: f32 = 1e-3;
+pub(crate) const SMALL_STEP: f32 = 1e-3;
 
 /// A Newton step that moves no node by more than this fraction of its segment ends the iteration.
-const NEWTON_TOLERANCE: f32 = 0.03;
+pub(crate) const NEWTON_TOLERANCE: f32 = 0.03;
 
 /// The relative rounding of `Φ` (sums of a few dozen f32 terms) below which the line search
 /// does not tell a rise from noise.
-const ROUNDING: f32 = 1e-6;
+pub(crate) const ROUNDING: f32 = 1e-6;
 
 /// How many times the line search halves a bending step before dropping it.
 pub const LINE_SEARCH_HALVINGS: usize = 6;

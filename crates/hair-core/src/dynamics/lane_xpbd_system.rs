@@ -1,0 +1,215 @@
+//! The Newton system of the lane-parallel XPBD step ([`xpbd_lanes`](crate::dynamics::xpbd_lanes)):
+//! one walk of [`LANES`](crate::dynamics::lanes::LANES) chains that computes the bending forces
+//! (exact gradient, twist included), the stiff length springs, the inertia, the objective `Φ`
+//! and the Gauss-Newton blocks of `M/h² + H` together, for attached roots (node 0 fixed, unknowns
+//! `1..n`); and the walk that evaluates `Φ` alone for the line search.
+//!
+//! The blocks of one bend (`J = [−S, S − Q, Q]` on nodes `i − 2, i − 1, i`, see
+//! [`forces`](crate::dynamics::forces)) are written from their structure instead of 3×3
+//! products: with `P = I − d·dᵀ`, `Q = P/l`, `c_r = r·d_p`,
+//! `S = (d_p·rᵀ − c_r·I)/l_p`, `Q² = P/l²`,
+//! `SᵀS = (r·rᵀ − c_r·(r·d_pᵀ + d_p·rᵀ) + c_r²·I)/l_p²` and
+//! `Q·S = (a·rᵀ − c_r·P)/(l·l_p)` with `a = P·d_p`; the stiff length spring adds `κ·d·dᵀ`.
+//! (`d`, `l`: the segment's direction and length; `d_p`, `l_p`: its parent's; `r`: the rest
+//! direction in the transported parent frame.)
+
+// Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
+#![allow(clippy::needless_range_loop)]
+
+use crate::dynamics::lane_blocks::{LaneSystem, MatLanes, SymLanes};
+use crate::dynamics::lane_model::LaneNode;
+use crate::dynamics::lane_springs::{LaneFrame, SpringScratch, joint};
+use crate::dynamics::lanes::{LaneVec3, Lanes};
+
+/// What the walks need of a batch besides the positions.
+pub(crate) struct LaneChainTerms<'a, const N: usize> {
+    /// Node constants (`n` of them).
+    pub constants: &'a [LaneNode],
+    /// The lengths' stiffness κ [N/m] per segment (index of its end node).
+    pub kappa: &'a [Lanes; N],
+    /// `m·(1 + h·γ)/h²` per node [kg/s²]: the inertia of the objective.
+    pub inertia: &'a [Lanes; N],
+    /// The prediction's displacements `δ̃` [m].
+    pub predicted: &'a [LaneVec3; N],
+    /// The head-carried root frame at the substep's end.
+    pub root_frame: LaneFrame,
+}
+
+/// Assembles `(M/h² + H)·Δx = −∇Φ` at `x_n + δ` (`here`, with the root at its end position) into
+/// `system` (unknowns `1..n`; the bending scratch in `springs`) and returns the objective
+/// `Φ = E_bend + E_length + ½·Σ m(1+hγ)/h²·|δ − δ̃|²` [J] per lane. Lanes whose transport is
+/// undefined are marked in `degenerate`.
+#[inline(always)]
+pub(crate) fn assemble<const N: usize>(
+    terms: &LaneChainTerms<'_, N>,
+    springs: &mut SpringScratch<N>,
+    system: &mut LaneSystem<N>,
+    here: &[LaneVec3; N],
+    delta: &[LaneVec3; N],
+    n: usize,
+    degenerate: &mut Lanes,
+) -> Lanes {
+    let zero = Lanes::splat(0.0);
+    let half = Lanes::splat(0.5);
+    let mut bend = zero;
+    let mut stretch_energy = zero;
+    let mut inertia_energy = zero;
+    let mut frame = terms.root_frame;
+    system.rhs[0] = LaneVec3::default();
+    for i in 1..n {
+        let c = &terms.constants[i];
+        let k = c.stiffness;
+        // Inertia: rhs = m·(1+hγ)/h²·(δ̃ − δ), its diagonal block and energy.
+        let inertia = terms.inertia[i];
+        let lag = terms.predicted[i] - delta[i];
+        inertia_energy = inertia_energy + half * inertia * lag.length_squared();
+        system.rhs[i] = lag.scale(inertia);
+        system.diagonal[i] = SymLanes::scaled_identity(inertia);
+        system.first[i] = MatLanes::default();
+        system.second[i] = MatLanes::default();
+        let parent = (i >= 2).then(|| (springs.directions[i - 1], springs.inverse_lengths[i - 1]));
+        let joint_terms = joint(
+            springs,
+            here,
+            c.rest_local,
+            i,
+            k,
+            &mut frame,
+            &mut bend,
+            degenerate,
+        );
+        let d = springs.directions[i];
+        let il = springs.inverse_lengths[i];
+        // Bending forces: −Q·g on node i, Q·g − Sᵀg on i − 1, Sᵀg on i − 2, with
+        // Sᵀg = −d_p × torque / l_p (see `lane_springs`).
+        system.rhs[i] -= joint_terms.qg;
+        system.rhs[i - 1] += joint_terms.qg;
+        // Length spring: ½·κ·(l − l₀)², force κ·(l − l₀)·d pulling node i back.
+        let kappa = terms.kappa[i];
+        let stretch = joint_terms.length - c.rest_length;
+        stretch_energy = stretch_energy + half * kappa * stretch * stretch;
+        let pull = d.scale(kappa * stretch);
+        system.rhs[i] -= pull;
+        system.rhs[i - 1] += pull;
+        // Diagonal block of node i: k·Q² + κ·d·dᵀ = (k/l²)·I + (κ − k/l²)·d·dᵀ.
+        let q2 = k * il * il;
+        system.diagonal[i].add_identity_and_outer(q2, kappa - q2, d);
+        let Some((dp, ilp)) = parent else {
+            continue;
+        };
+        let m = dp.cross(joint_terms.torque).scale(ilp);
+        system.rhs[i - 1] += m;
+        if i >= 3 {
+            system.rhs[i - 2] -= m;
+        }
+        let r = joint_terms.rest;
+        let cr = r.dot(dp);
+        let a = dp - d.scale(d.dot(dp));
+        let kp2 = k * ilp * ilp;
+        let kq = k * il * ilp;
+        // The length spring's coupling of nodes i − 1 and i: κ·d·dᵀ on (i−1, i−1), −κ·d·dᵀ on
+        // (i, i−1).
+        // (i−1, i−1) += k·(SᵀS − Q·S − (Q·S)ᵀ + Q²) + κ·d·dᵀ
+        //   = k·(c_r/l_p + 1/l)²·I − k·(2·c_r/(l·l_p) + 1/l²)·d·dᵀ + (k/l_p²)·r·rᵀ
+        //     + sym(r, −(k/l_p²)·c_r·d_p − k/(l·l_p)·a) + κ·d·dᵀ.
+        let sum = cr * ilp + il;
+        let two_cross = (cr + cr) * kq;
+        system.diagonal[i - 1].add_identity_and_outer(k * sum * sum, kappa - two_cross - q2, d);
+        system.diagonal[i - 1].add_identity_and_outer(zero, kp2, r);
+        system.diagonal[i - 1].add_symmetric_outer(
+            Lanes::splat(-1.0),
+            r,
+            dp.scale(kp2 * cr) + a.scale(kq),
+        );
+        // (i, i−1) += k·(Q·S − Q²) − κ·d·dᵀ
+        //   = (k/(l·l_p))·a·rᵀ − e·I + (e − κ)·d·dᵀ, e = k·(c_r/(l·l_p) + 1/l²).
+        let e = cr * kq + q2;
+        system.first[i].add_outer(kq, a, r);
+        system.first[i].add_identity_and_outer(-e, e - kappa, d);
+        if i >= 3 {
+            // (i−2, i−2) += k·SᵀS.
+            system.diagonal[i - 2].add_identity_and_outer(kp2 * cr * cr, kp2, r);
+            system.diagonal[i - 2].add_symmetric_outer(-(kp2 * cr), r, dp);
+            // (i, i−2) += −k·Q·S = −(k/(l·l_p))·(a·rᵀ − c_r·I + c_r·d·dᵀ).
+            let f = kq * cr;
+            system.second[i].add_outer(-kq, a, r);
+            system.second[i].add_identity_and_outer(f, -f, d);
+            // (i−1, i−2) += −k·(SᵀS − Q·S)
+            //   = r·((k/l_p²)·(c_r·d_p − r))ᵀ + ((k/l_p²)·c_r·d_p + (k/(l·l_p))·a)·rᵀ
+            //     − (k/l_p)·c_r·(c_r/l_p + 1/l)·I + (k/(l·l_p))·c_r·d·dᵀ.
+            system.first[i - 1].add_outer(kp2, r, dp.scale(cr) - r);
+            system.first[i - 1].add_outer(Lanes::splat(1.0), dp.scale(kp2 * cr) + a.scale(kq), r);
+            system.first[i - 1].add_identity_and_outer(-(k * ilp * cr * sum), f, d);
+        }
+    }
+    // Twist, tip to root (see `lane_springs::spring_forces`): −∂E/∂d_j = A_j·κb_j/2 +
+    // A_{j+1}·κb_{j+1}/2 on nodes j and j − 1 (both binormals ⟂ d_j, so Q_j is 1/l_j).
+    let mut suffix = zero;
+    let mut next_twist = zero;
+    let mut next_half_binormal = LaneVec3::default();
+    for j in (1..n).rev() {
+        let a_next = suffix;
+        let a_here = suffix + next_twist;
+        let half_binormal = springs.half_binormals[j];
+        let pull = half_binormal.scale(a_here) + next_half_binormal.scale(a_next);
+        let force = pull.scale(springs.inverse_lengths[j]);
+        system.rhs[j] += force;
+        system.rhs[j - 1] -= force;
+        suffix = a_here;
+        next_twist = springs.twist[j];
+        next_half_binormal = half_binormal;
+    }
+    bend + stretch_energy + inertia_energy
+}
+
+/// The objective `Φ` [J] per lane at `x_n + δ` (`here`): the same sums, in the same order and
+/// with the same arithmetic, as [`assemble`] returns (so that the line search compares like
+/// with like), without forces or blocks.
+#[inline(always)]
+pub(crate) fn objective<const N: usize>(
+    terms: &LaneChainTerms<'_, N>,
+    here: &[LaneVec3; N],
+    delta: &[LaneVec3; N],
+    n: usize,
+) -> Lanes {
+    let zero = Lanes::splat(0.0);
+    let half = Lanes::splat(0.5);
+    let one = Lanes::splat(1.0);
+    let tiny = Lanes::splat(1e-12);
+    let mut bend = zero;
+    let mut stretch_energy = zero;
+    let mut inertia_energy = zero;
+    let mut frame = terms.root_frame;
+    for i in 1..n {
+        let c = &terms.constants[i];
+        let lag = terms.predicted[i] - delta[i];
+        inertia_energy = inertia_energy + half * terms.inertia[i] * lag.length_squared();
+        // As `lane_springs::joint`.
+        let segment = here[i] - here[i - 1];
+        let raw_length = segment.length_squared().sqrt();
+        let valid = raw_length.greater(tiny);
+        let inverse_length = one / raw_length.max(tiny);
+        let tangent = frame.tangent;
+        let direction = LaneVec3::select(valid, segment.scale(inverse_length), tangent);
+        let rest = frame.normal.scale(c.rest_local.x)
+            + frame.binormal.scale(c.rest_local.y)
+            + tangent.scale(c.rest_local.z);
+        let one_plus_cos = one + tangent.dot(direction);
+        let inverse_one_plus_cos = one / one_plus_cos.max(Lanes::splat(1e-6));
+        let axis = direction.cross(rest);
+        let sin = axis.length_squared().sqrt();
+        let cos = direction.dot(rest);
+        let (angle, _) = Lanes::bend_angle_and_factor(sin, cos);
+        bend = bend + half * c.stiffness * angle * angle;
+        let sum = tangent + direction;
+        let normal = frame.normal - sum.scale(sum.dot(frame.normal) * inverse_one_plus_cos);
+        frame = LaneFrame {
+            binormal: direction.cross(normal),
+            normal,
+            tangent: direction,
+        };
+        let stretch = raw_length - c.rest_length;
+        stretch_energy = stretch_energy + half * terms.kappa[i] * stretch * stretch;
+    }
+    bend + stretch_energy + inertia_energy
+}
