@@ -4,9 +4,7 @@
 use std::ops::Range;
 use std::time::Instant;
 
-use hair_core::lod::{
-    BudgetOutcome, CostModel, RenderSample, SectionOptions, refine_within_budget,
-};
+use hair_core::lod::{BudgetOutcome, CostModel, SectionOptions, refine_within_budget};
 use hair_core::{Camera, Level};
 
 use super::model::CrowdModel;
@@ -135,12 +133,7 @@ impl Crowd {
     /// Calibrates the shared budget's cost model with a finished frame's summed `report`.
     pub fn observe_frame(&mut self, report: &FrameReport) {
         if let Some((_, model)) = &mut self.budget {
-            let render = (report.times.rendering > 0.0).then_some(RenderSample {
-                seconds: report.times.rendering,
-                drawn_segments: report.drawn_at,
-                pixels: report.pixels_at,
-            });
-            model.observe(report.level_seconds, report.level_nodes, render);
+            report.calibrate(model);
         }
     }
 

@@ -8,9 +8,9 @@ use hair_collide::{
 };
 use hair_core::dynamics::{DynamicsModel, DynamicsParams, Environment, Simulation};
 use hair_core::lod::{
-    CostModel, ErrorModel, LevelDeviation, LodSelector, RenderSample, SectionChoice,
-    SectionObservation, SectionOptions, SectionWork, covered_pixels,
-    head_point_acceleration_from_poses, motion_measure,
+    CostModel, ErrorModel, LevelDeviation, LodSelector, SectionChoice, SectionObservation,
+    SectionOptions, SectionWork, covered_pixels, head_point_acceleration_from_poses,
+    motion_measure,
 };
 use hair_core::skeleton::node_frames;
 use hair_core::{Camera, Frame, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
@@ -478,12 +478,7 @@ impl Pipeline {
     /// time filled in when the frame was drawn). Does nothing without a budget.
     pub fn observe_frame(&mut self, report: &FrameReport) {
         if let Some((_, model)) = &mut self.budget {
-            let render = (report.times.rendering > 0.0).then_some(RenderSample {
-                seconds: report.times.rendering,
-                drawn_segments: report.drawn_at,
-                pixels: report.pixels_at,
-            });
-            model.observe(report.level_seconds, report.level_nodes, render);
+            report.calibrate(model);
         }
     }
 

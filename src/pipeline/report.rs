@@ -77,6 +77,20 @@ pub struct FrameReport {
     pub times: StageTimes,
 }
 
+impl FrameReport {
+    /// Calibrates a frame budget's cost model with this finished frame: each level block's
+    /// dynamics and collision time per node, and the rendering time (when the frame was drawn)
+    /// against the segments drawn and pixels covered at each level.
+    pub fn calibrate(&self, model: &mut hair_core::lod::CostModel) {
+        let render = (self.times.rendering > 0.0).then_some(hair_core::lod::RenderSample {
+            seconds: self.times.rendering,
+            drawn_segments: self.drawn_at,
+            pixels: self.pixels_at,
+        });
+        model.observe(self.level_seconds, self.level_nodes, render);
+    }
+}
+
 /// What the level-of-detail stage of a frame changed ([`crate::pipeline::Pipeline::begin_frame`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub struct LodChanges {
