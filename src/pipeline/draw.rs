@@ -25,11 +25,14 @@ pub struct PipelineRenderer {
 }
 
 impl PipelineRenderer {
-    /// A renderer from `options` (adapter and backend), with `scene`'s groom and head uploaded.
+    /// A renderer from `options` (adapter and backend), with `scene`'s groom and head uploaded
+    /// and its pipelines warmed up ([`Renderer::warm_up`]: the first frame drawn costs what the
+    /// later ones do).
     pub fn new(options: &RendererOptions, scene: &Scene) -> Result<Self> {
         let mut renderer = Renderer::new(options)?;
         renderer.upload_groom(&scene.groom)?;
         renderer.set_head_mesh(Some(&scene.head.mesh))?;
+        renderer.warm_up(&scene.groom)?;
         Ok(PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),

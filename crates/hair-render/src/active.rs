@@ -139,6 +139,15 @@ impl ActiveSkeletons {
         self.gather_level(groom, level, &positions, &frames)
     }
 
+    /// Sets every active chain's coverage to `coverage` (0..=1): the whole frame fading.
+    pub(crate) fn set_coverage(&mut self, coverage: f32) {
+        for (chain, value) in self.chain_coverage.iter_mut().enumerate() {
+            if self.chain_offsets[chain + 1] > self.chain_offsets[chain] {
+                *value = coverage;
+            }
+        }
+    }
+
     /// Number of chains (active or not).
     pub fn chain_count(&self) -> usize {
         self.chain_offsets.len().saturating_sub(1)
