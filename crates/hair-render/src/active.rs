@@ -175,6 +175,18 @@ mod tests {
     use super::*;
 
     #[test]
+    fn set_coverage_fades_only_active_chains() {
+        let mut active = ActiveSkeletons::new();
+        let positions = [Vec3::ZERO, Vec3::NEG_Y];
+        let frames = vec![Frame::default(); 2];
+        active.push_chain(&positions, &frames).unwrap();
+        active.push_inactive_chain();
+        active.push_chain(&positions, &frames).unwrap();
+        active.set_coverage(0.5);
+        assert_eq!(active.frame().chain_coverage, &[0.5, 0.0, 0.5]);
+    }
+
+    #[test]
     fn gather_keeps_only_the_chosen_level() {
         let scene = hair_core::Scene::new(
             &hair_core::HeadParams::default(),
