@@ -25,14 +25,11 @@ pub struct PipelineRenderer {
 }
 
 impl PipelineRenderer {
-    /// A renderer from `options` (adapter and backend), with `scene`'s groom and head uploaded
-    /// and its pipelines warmed up ([`Renderer::warm_up`]: the first frame drawn costs what the
-    /// later ones do).
+    /// A renderer from `options` (adapter and backend), with `scene`'s groom and head uploaded.
     pub fn new(options: &RendererOptions, scene: &Scene) -> Result<Self> {
         let mut renderer = Renderer::new(options)?;
         renderer.upload_groom(&scene.groom)?;
         renderer.set_head_mesh(Some(&scene.head.mesh))?;
-        renderer.warm_up(&scene.groom)?;
         Ok(PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),
@@ -53,6 +50,14 @@ impl PipelineRenderer {
             head_pose: RigidTransform::IDENTITY,
             line_shading: LineShading::default(),
         })
+    }
+
+    /// Draws `scene`'s groom (the one bound) once at every level and throws the frames away
+    /// ([`Renderer::warm_up`]), so that the first frame a benchmark times costs what the later
+    /// ones do (a software rasterizer compiles each pipeline at its first draw). Returns the
+    /// frames drawn.
+    pub fn warm_up(&mut self, scene: &Scene) -> Result<usize> {
+        Ok(self.renderer.warm_up(&scene.groom)?)
     }
 
     /// Shades 1-pixel strand lines per vertex (the default) or per fragment.

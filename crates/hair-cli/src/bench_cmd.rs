@@ -255,6 +255,8 @@ pub fn paper_tables(
         None => shot.budget,
     };
     let mut renderer = PipelineRenderer::new(&options, &scene)?;
+    // The modes run one after another on this renderer: none pays for compiling the pipelines.
+    renderer.warm_up(&scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();
     println!("rendering on {adapter}");
     let mut modes = Vec::new();
