@@ -52,6 +52,14 @@ impl PipelineRenderer {
         })
     }
 
+    /// Draws `scene`'s groom (the one bound) once at every level and throws the frames away
+    /// ([`Renderer::warm_up`]), so that the first frame a benchmark times costs what the later
+    /// ones do (a software rasterizer compiles each pipeline at its first draw). Returns the
+    /// frames drawn.
+    pub fn warm_up(&mut self, scene: &Scene) -> Result<usize> {
+        Ok(self.renderer.warm_up(&scene.groom)?)
+    }
+
     /// Shades 1-pixel strand lines per vertex (the default) or per fragment.
     pub fn set_line_shading(&mut self, line_shading: LineShading) {
         self.line_shading = line_shading;

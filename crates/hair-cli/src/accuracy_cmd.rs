@@ -199,6 +199,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     let scene = shot.build_scene()?;
     let configurations = configurations(args, &shot)?;
     let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &scene)?;
+    renderer.warm_up(&scene)?;
     println!(
         "rendering on {}; {} configurations × {} frames at {width}x{height} of {}",
         renderer.renderer().adapter_report(),

@@ -55,6 +55,9 @@ pub enum BenchKind {
     /// The paper's benchmark (§8.2): paper-curly, camera zooming out; LODs vs Strands, Clusters,
     /// Patches.
     Paper(PaperArgs),
+    /// Where a paper-table frame's time goes, LODs against Strands: each stage, and the frame
+    /// rendered with and without shadows, textures and full-size maps, and empty.
+    Costs(crate::bench_costs::CostsArgs),
     /// Strand-line shading: render cost against image error for per-vertex and per-fragment
     /// shading at several tessellations, against a converged render.
     Shading(crate::bench_shading::ShadingArgs),
@@ -167,6 +170,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     match (&args.which, &args.scene) {
         (Some(BenchKind::Paper(paper)), _) => run_paper(paper),
         (Some(BenchKind::Shading(shading)), _) => crate::bench_shading::run(shading),
+        (Some(BenchKind::Costs(costs)), _) => crate::bench_costs::run(costs),
         (None, Some(path)) => run_scene(path, args),
         (None, None) => anyhow::bail!(
             "bench what? give a scene file (hairlod bench scenes/paper-table1.toml), or `paper` \
@@ -254,6 +258,8 @@ pub fn paper_tables(
         None => shot.budget,
     };
     let mut renderer = PipelineRenderer::new(&options, &scene)?;
+    // The modes run one after another on this renderer: none pays for compiling the pipelines.
+    renderer.warm_up(&scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();
     println!("rendering on {adapter}");
     let mut modes = Vec::new();

@@ -139,6 +139,15 @@ impl ActiveSkeletons {
         self.gather_level(groom, level, &positions, &frames)
     }
 
+    /// Sets every active chain's coverage to `coverage` (0..=1): the whole frame fading.
+    pub(crate) fn set_coverage(&mut self, coverage: f32) {
+        for (chain, value) in self.chain_coverage.iter_mut().enumerate() {
+            if self.chain_offsets[chain + 1] > self.chain_offsets[chain] {
+                *value = coverage;
+            }
+        }
+    }
+
     /// Number of chains (active or not).
     pub fn chain_count(&self) -> usize {
         self.chain_offsets.len().saturating_sub(1)
@@ -164,6 +173,18 @@ impl ActiveSkeletons {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn set_coverage_fades_only_active_chains() {
+        let mut active = ActiveSkeletons::new();
+        let positions = [Vec3::ZERO, Vec3::NEG_Y];
+        let frames = vec![Frame::default(); 2];
+        active.push_chain(&positions, &frames).unwrap();
+        active.push_inactive_chain();
+        active.push_chain(&positions, &frames).unwrap();
+        active.set_coverage(0.5);
+        assert_eq!(active.frame().chain_coverage, &[0.5, 0.0, 0.5]);
+    }
 
     #[test]
     fn gather_keeps_only_the_chosen_level() {

@@ -84,6 +84,7 @@ pub mod shadows;
 pub mod strand_shapes;
 pub mod surfaces;
 pub mod target;
+pub mod timings;
 
 mod batches;
 mod buffers;
@@ -94,6 +95,7 @@ mod scopes;
 mod shadow_maps;
 mod shadow_pipelines;
 mod uniforms;
+mod warm_up;
 
 pub use active::ActiveSkeletons;
 pub use groom::GroomGeometry;
@@ -114,6 +116,7 @@ pub use settings::{
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;
 pub use target::RenderTarget;
+pub use timings::RenderTimings;
 /// The wgpu this renderer is built on (its device, queue and textures), for callers that draw
 /// beside it, such as an interactive viewer.
 pub use wgpu;

@@ -13,10 +13,11 @@ use crate::pipelines::Pipelines;
 use crate::scopes::ErrorScopes;
 use crate::settings::{FrameSettings, LineShading, ShadingMode, StrandStyle};
 use crate::shadow_maps::ShadowMaps;
-use crate::shadows::{bounding_sphere, light_view_projection};
+use crate::shadows::{bounding_sphere, light_view_projection, map_resolution};
 use crate::strand_shapes::StrandShapes;
 use crate::surfaces::{ClusterSet, PatchSet, chain_ring_radii, pack_clusters, pack_patches};
 use crate::target::RenderTarget;
+use crate::timings::RenderTimings;
 use crate::uniforms::{GeometryCounts, Globals, ShadowFrame};
 
 /// Options of [`Renderer::new`].
@@ -114,6 +115,8 @@ pub struct Renderer {
     light_scene_bind_group: Option<wgpu::BindGroup>,
     /// A sphere around this frame's hair [m] (centre, radius), for the light's view.
     hair_bounds: Option<(glam::Vec3, f32)>,
+    /// Where the last frame's time went.
+    timings: RenderTimings,
 }
 
 /// Margin around the active nodes' bounding sphere for the light's view [m]: strands, tubes and
@@ -170,7 +173,14 @@ impl Renderer {
             shadow_maps,
             light_scene_bind_group: None,
             hair_bounds: None,
+            timings: RenderTimings::default(),
         })
+    }
+
+    /// Where the time of the last [`Renderer::render`] (or [`Renderer::render_to_texture`],
+    /// without the wait and the readback) went.
+    pub fn last_timings(&self) -> RenderTimings {
+        self.timings
     }
 
     /// The adapter in use.
@@ -268,8 +278,13 @@ impl Renderer {
         frame: &SkeletonFrame<'_>,
         settings: &FrameSettings,
     ) -> Result<image::RgbaImage> {
+        let started = std::time::Instant::now();
         settings.validate()?;
         let counts = self.upload_frame(frame, settings, 0)?;
+        self.timings = RenderTimings {
+            upload: started.elapsed().as_secs_f64(),
+            ..RenderTimings::default()
+        };
         let scope = ErrorScopes::push(&self.gpu.device);
         let result = self.draw(settings, counts, None);
         let checked = scope.pop("rendering a frame");
@@ -307,7 +322,12 @@ impl Renderer {
                 crate::target::COLOR_FORMAT
             )));
         }
+        let started = std::time::Instant::now();
         let counts = self.upload_frame(frame, settings, 0)?;
+        self.timings = RenderTimings {
+            upload: started.elapsed().as_secs_f64(),
+            ..RenderTimings::default()
+        };
         let scope = ErrorScopes::push(&self.gpu.device);
         let result = self.draw(settings, counts, Some(destination));
         let checked = scope.pop("rendering a frame into a texture");
@@ -467,6 +487,15 @@ impl Renderer {
         let (centre, radius) = self.hair_bounds?;
         let (light_view_proj, depth_range) =
             light_view_projection(centre, radius, settings.light.direction);
+        // The sphere's diameter on screen [pixels] (unbounded with the camera inside it).
+        let distance = centre.distance(settings.camera.position);
+        let focal = settings.camera.focal_length_pixels(settings.height);
+        let screen_diameter = if distance > radius {
+            2.0 * radius * focal / (distance * distance - radius * radius).sqrt()
+        } else {
+            f32::INFINITY
+        };
+        let resolution = map_resolution(&settings.shadows, screen_diameter);
         let strands = self.strand_count() as f32;
         let per = |count: usize| {
             if count > 0 {
@@ -478,7 +507,8 @@ impl Renderer {
         Some(ShadowFrame {
             light_view_proj,
             depth_range,
-            texel_size: 2.0 * radius / settings.shadows.resolution as f32,
+            texel_size: 2.0 * radius / resolution as f32,
+            resolution,
             strands_per_cluster: per(self.cluster_count()),
             strands_per_patch: per(self.patch_count()),
         })
@@ -532,6 +562,7 @@ impl Renderer {
         counts: GeometryCounts,
         destination: Option<&wgpu::Texture>,
     ) -> Result<Option<image::RgbaImage>> {
+        let started = std::time::Instant::now();
         let needs_new_target = self
             .target
             .as_ref()
@@ -556,8 +587,8 @@ impl Renderer {
         self.gpu
             .queue
             .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
-        let maps_group = match shadow {
-            Some(_) => {
+        let maps_group = match &shadow {
+            Some(frame) => {
                 self.gpu.queue.write_buffer(
                     &self.shadow_maps.light_globals,
                     0,
@@ -566,12 +597,12 @@ impl Renderer {
                 self.shadow_maps.prepare(
                     &self.gpu.device,
                     &self.pipelines.shadow_maps_layout,
-                    settings.shadows.resolution,
+                    frame.resolution,
                 )
             }
             None => self.shadow_maps.unshadowed().clone(),
         };
-        let light_scene_group = shadow.map(|_| self.light_scene_bind_group());
+        let light_scene_group = shadow.as_ref().map(|_| self.light_scene_bind_group());
         let scene_group = self.scene_bind_group();
         let curves_group = self
             .gpu
@@ -731,10 +762,15 @@ impl Renderer {
         if let Some(destination) = destination {
             target.encode_copy_to(&mut encoder, destination);
             self.gpu.queue.submit([encoder.finish()]);
+            self.timings.encode = started.elapsed().as_secs_f64();
             return Ok(None);
         }
         target.encode_readback(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
-        target.read_image(&self.gpu.device).map(Some)
+        self.timings.encode = started.elapsed().as_secs_f64();
+        let (image, gpu, readback) = target.read_image_timed(&self.gpu.device)?;
+        self.timings.gpu = gpu;
+        self.timings.readback = readback;
+        Ok(Some(image))
     }
 }

@@ -22,14 +22,18 @@ struct Maps {
     opacity_pass: wgpu::BindGroup,
 }
 
-/// Shadow maps, created at the first shadowed frame and when the resolution changes.
+/// Shadow maps, created at the first shadowed frame of each resolution and kept (a zoom passes
+/// through a few power-of-two sizes, see [`crate::shadows::map_resolution`]).
 #[derive(Debug)]
 pub(crate) struct ShadowMaps {
     sampler: wgpu::Sampler,
     /// 1×1 maps that let no shadow through: group 2 when self-shadowing is off, and in the depth
     /// pass (which writes the real depth map).
     unshadowed: wgpu::BindGroup,
-    maps: Option<Maps>,
+    /// The maps of every resolution used so far.
+    maps: Vec<Maps>,
+    /// Index in `maps` of this frame's.
+    current: Option<usize>,
     /// The globals of the light passes (drawn through the light's view).
     pub light_globals: wgpu::Buffer,
 }
@@ -107,7 +111,8 @@ impl ShadowMaps {
         ShadowMaps {
             sampler,
             unshadowed,
-            maps: None,
+            maps: Vec::new(),
+            current: None,
             light_globals,
         }
     }
@@ -117,52 +122,52 @@ impl ShadowMaps {
         &self.unshadowed
     }
 
-    /// Makes `resolution`² maps (keeping the current ones when they have that size); returns the
-    /// camera pass's group 2 reading them.
+    /// Makes `resolution`² maps the current ones (reusing those of that size when made before);
+    /// returns the camera pass's group 2 reading them.
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
         resolution: u32,
     ) -> wgpu::BindGroup {
-        if self
-            .maps
-            .as_ref()
-            .is_none_or(|m| m.resolution != resolution)
-        {
-            let depth_attachment = texture(
-                device,
-                "hair-render depth map attachment",
-                resolution,
-                DEPTH_FORMAT,
-            );
-            let depth_view = texture(
-                device,
-                "hair-render depth map",
-                resolution,
-                LIGHT_DEPTH_FORMAT,
-            );
-            let opacity_view = texture(
-                device,
-                "hair-render opacity map",
-                resolution,
-                OPACITY_FORMAT,
-            );
-            let unused_opacity = texture(device, "hair-render unused", 1, OPACITY_FORMAT);
-            let lookup = maps_group(device, layout, &depth_view, &opacity_view, &self.sampler);
-            let opacity_pass =
-                maps_group(device, layout, &depth_view, &unused_opacity, &self.sampler);
-            self.maps = Some(Maps {
-                resolution,
-                depth_attachment,
-                depth_view,
-                opacity_view,
-                lookup,
-                opacity_pass,
-            });
-        }
-        let maps = self.maps.as_ref().expect("maps were just made");
-        maps.lookup.clone()
+        let index = match self.maps.iter().position(|m| m.resolution == resolution) {
+            Some(index) => index,
+            None => {
+                let depth_attachment = texture(
+                    device,
+                    "hair-render depth map attachment",
+                    resolution,
+                    DEPTH_FORMAT,
+                );
+                let depth_view = texture(
+                    device,
+                    "hair-render depth map",
+                    resolution,
+                    LIGHT_DEPTH_FORMAT,
+                );
+                let opacity_view = texture(
+                    device,
+                    "hair-render opacity map",
+                    resolution,
+                    OPACITY_FORMAT,
+                );
+                let unused_opacity = texture(device, "hair-render unused", 1, OPACITY_FORMAT);
+                let lookup = maps_group(device, layout, &depth_view, &opacity_view, &self.sampler);
+                let opacity_pass =
+                    maps_group(device, layout, &depth_view, &unused_opacity, &self.sampler);
+                self.maps.push(Maps {
+                    resolution,
+                    depth_attachment,
+                    depth_view,
+                    opacity_view,
+                    lookup,
+                    opacity_pass,
+                });
+                self.maps.len() - 1
+            }
+        };
+        self.current = Some(index);
+        self.maps[index].lookup.clone()
     }
 
     /// Encodes the depth pass and the opacity pass (after [`ShadowMaps::prepare`]) over the
@@ -178,7 +183,7 @@ impl ShadowMaps {
         batches: &[Vec<Batch>; 3],
         stride: u32,
     ) {
-        let Some(maps) = &self.maps else {
+        let Some(maps) = self.current.and_then(|index| self.maps.get(index)) else {
             return;
         };
         let light_batches: [Vec<Batch>; 3] = std::array::from_fn(|kind| {

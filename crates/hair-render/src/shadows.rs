@@ -26,8 +26,13 @@ use crate::error::{Result, invalid};
 pub struct SelfShadowing {
     /// Draw self-shadows (deep opacity maps) at all.
     pub enabled: bool,
-    /// Side of the square depth and opacity maps [texels], 16..=4096.
+    /// Side of the square depth and opacity maps [texels], 16..=4096: the most, with
+    /// [`SelfShadowing::match_screen`].
     pub resolution: u32,
+    /// Shrink the maps to the hair's size on screen: a map texel no smaller than about a screen
+    /// pixel (see [`map_resolution`]). The optical depths are physical (per texel side), so the
+    /// shadow keeps its darkness; only its detail follows the image's.
+    pub match_screen: bool,
     /// Ends of the four opacity layers behind the first hair, `b₁ < b₂ < b₃ < b₄` [m]; beyond
     /// `b₄` a point receives the light left after all four layers.
     pub layer_ends: [f32; 4],
@@ -43,12 +48,13 @@ pub struct SelfShadowing {
 }
 
 impl Default for SelfShadowing {
-    /// On, 512² maps, layers ending 4, 12, 28 and 60 mm behind the first hair, strands stopping
+    /// On, 512² maps at most (matched to the hair's screen size), layers ending 4, 12, 28 and 60 mm behind the first hair, strands stopping
     /// 40 % of the light they cover, 80 µm fibres, every 4th curve point.
     fn default() -> Self {
         SelfShadowing {
             enabled: true,
             resolution: 512,
+            match_screen: true,
             layer_ends: [0.004, 0.012, 0.028, 0.060],
             strand_opacity: 0.4,
             hair_width: 80e-6,
@@ -100,6 +106,23 @@ impl SelfShadowing {
         }
         Ok(())
     }
+}
+
+/// Smallest map side with [`SelfShadowing::match_screen`] [texels].
+pub const MIN_MATCHED_RESOLUTION: u32 = 64;
+
+/// The side of the maps [texels] for hair inside a sphere that spans `screen_diameter` pixels
+/// on screen: `shadows.resolution` without [`SelfShadowing::match_screen`], else the power of two
+/// at or above the diameter (a texel at most about a screen pixel), within
+/// [`MIN_MATCHED_RESOLUTION`]`..=resolution`. Powers of two keep the few map sizes a zoom passes
+/// through reusable.
+pub fn map_resolution(shadows: &SelfShadowing, screen_diameter: f32) -> u32 {
+    let most = shadows.resolution;
+    if !shadows.match_screen || !(screen_diameter.is_finite() && screen_diameter > 0.0) {
+        return most;
+    }
+    let wanted = (screen_diameter.ceil().min(most as f32) as u32).next_power_of_two();
+    wanted.clamp(MIN_MATCHED_RESOLUTION.min(most), most)
 }
 
 /// The light's orthographic view of a sphere: `centre` and `radius` [m] bound the hair,
@@ -187,6 +210,29 @@ mod tests {
             assert!(p.distance(centre) <= radius - 0.1 + 1e-6);
         }
         assert!(bounding_sphere([Vec3::NAN].into_iter(), 0.1).is_none());
+    }
+
+    /// A texel at most about a screen pixel, powers of two, within the bounds; the full
+    /// resolution when not matching or when the hair's screen size is unknown.
+    #[test]
+    fn map_resolution_follows_the_screen_size() {
+        let shadows = SelfShadowing::default();
+        assert_eq!(map_resolution(&shadows, 1000.0), 512);
+        assert_eq!(map_resolution(&shadows, 300.0), 512);
+        assert_eq!(map_resolution(&shadows, 200.0), 256);
+        assert_eq!(map_resolution(&shadows, 100.0), 128);
+        assert_eq!(map_resolution(&shadows, 10.0), MIN_MATCHED_RESOLUTION);
+        assert_eq!(map_resolution(&shadows, f32::INFINITY), 512);
+        let fixed = SelfShadowing {
+            match_screen: false,
+            ..shadows
+        };
+        assert_eq!(map_resolution(&fixed, 10.0), 512);
+        let small = SelfShadowing {
+            resolution: 32,
+            ..shadows
+        };
+        assert_eq!(map_resolution(&small, 10.0), 32);
     }
 
     #[test]

@@ -205,17 +205,30 @@ impl RenderTarget {
     /// Maps the readback buffer (after the commands from [`Self::encode_readback`] were submitted)
     /// and returns the image, rows unpadded; sRGB-encoded RGBA8 as stored in the target.
     pub fn read_image(&self, device: &wgpu::Device) -> Result<image::RgbaImage> {
+        self.read_image_timed(device).map(|(image, _, _)| image)
+    }
+
+    /// [`Self::read_image`], with the time spent waiting for the device and the time spent
+    /// copying the image out [s].
+    pub fn read_image_timed(&self, device: &wgpu::Device) -> Result<(image::RgbaImage, f64, f64)> {
         let row_bytes = (self.width * BYTES_PER_PIXEL) as usize;
+        let started = std::time::Instant::now();
+        let mut waited = 0.0;
         // Rows are copied straight out of the mapped buffer, without their padding.
         let pixels = map_and_with(device, &self.readback, |bytes| {
+            waited = started.elapsed().as_secs_f64();
             let mut pixels = Vec::with_capacity(row_bytes * self.height as usize);
             for row in bytes.chunks_exact(self.padded_bytes_per_row as usize) {
                 pixels.extend_from_slice(&row[..row_bytes]);
             }
             pixels
         })?;
-        image::RgbaImage::from_raw(self.width, self.height, pixels)
-            .ok_or_else(|| RenderError::Gpu("readback returned a buffer of the wrong size".into()))
+        let copied = started.elapsed().as_secs_f64() - waited;
+        let image =
+            image::RgbaImage::from_raw(self.width, self.height, pixels).ok_or_else(|| {
+                RenderError::Gpu("readback returned a buffer of the wrong size".into())
+            })?;
+        Ok((image, waited, copied))
     }
 }
 

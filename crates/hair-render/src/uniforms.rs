@@ -50,6 +50,8 @@ pub(crate) struct ShadowFrame {
     pub depth_range: f32,
     /// Side of a shadow-map texel [m].
     pub texel_size: f32,
+    /// Side of the maps this frame [texels].
+    pub resolution: u32,
     /// Mean strands per cluster and per patch (uploaded strands over uploaded surfaces).
     pub strands_per_cluster: f32,
     pub strands_per_patch: f32,

@@ -31,6 +31,10 @@ struct SurfaceVertex {
     @location(6) @interpolate(flat) coverage: f32,
     // Control radius (clusters) or half width (patches) here [m].
     @location(7) scale: f32,
+    // Fraction of the light that reaches the vertex through the hair (self-shadowing, looked up
+    // per vertex as strand lines do, interpolated between: the opacity map's texels are as
+    // large as the tessellation's spacing; 1 in the light passes and without shadows).
+    @location(8) light: f32,
 }
 
 // Offset direction on the unit control circle [cos(j·90°), sin(j·90°)], j = 0..3, blended by the
@@ -69,6 +73,7 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.seed = 0u;
     out.coverage = 1.0;
     out.scale = 0.0;
+    out.light = 1.0;
     if (index >= arrayLength(&surfaces)) {
         return out;
     }
@@ -133,6 +138,9 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.seed = surface.seed;
     out.coverage = chain.coverage;
     out.scale = mix(surface.root_scale, surface.tip_scale, v);
+    if (globals.shadow.w < 0.5) {
+        out.light = shadow_transmittance(curve.position);
+    }
     return out;
 }
 
@@ -226,7 +234,7 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
     if (globals.shadow.x > 0.5) {
         facing = 1.0;
     }
-    let occlusion = facing * shadow_transmittance(in.world_position);
+    let occlusion = facing * in.light;
     return vec4<f32>(hair_color(base, normalize(in.tangent), in.world_position, occlusion), coverage);
 }
 
