@@ -118,7 +118,7 @@ pub const MIN_MATCHED_RESOLUTION: u32 = 64;
 /// through reusable.
 pub fn map_resolution(shadows: &SelfShadowing, screen_diameter: f32) -> u32 {
     let most = shadows.resolution;
-    if !shadows.match_screen || !(screen_diameter.is_finite() && screen_diameter > 0.0) {
+    if !(shadows.match_screen && screen_diameter.is_finite() && screen_diameter > 0.0) {
         return most;
     }
     let wanted = (screen_diameter.ceil().min(most as f32) as u32).next_power_of_two();
