@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use hair_core::{Camera, RigidTransform, Scene, TriangleMesh};
+use hair_core::{Camera, RigidTransform, Scene};
 use hair_render::{
     ActiveSkeletons, FrameSettings, LineShading, Renderer, RendererOptions, ShadingMode,
 };
@@ -80,7 +80,7 @@ impl PipelineRenderer {
         pipeline.gather_drawn(&mut self.active)?;
         let pose = pipeline.head_pose();
         if pose != self.head_pose {
-            let mesh = posed_mesh(&pipeline.scene().head.mesh, &pose);
+            let mesh = pipeline.scene().head.mesh.posed(&pose);
             self.renderer.set_head_mesh(Some(&mesh))?;
             self.head_pose = pose;
         }
@@ -154,22 +154,5 @@ impl PipelineRenderer {
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
-    }
-}
-
-/// `mesh` moved rigidly by `pose` (positions and normals).
-fn posed_mesh(mesh: &TriangleMesh, pose: &RigidTransform) -> TriangleMesh {
-    TriangleMesh {
-        positions: mesh
-            .positions
-            .iter()
-            .map(|&p| pose.transform_point(p))
-            .collect(),
-        normals: mesh
-            .normals
-            .iter()
-            .map(|&n| pose.transform_vector(n))
-            .collect(),
-        triangles: mesh.triangles.clone(),
     }
 }

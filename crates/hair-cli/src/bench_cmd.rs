@@ -66,15 +66,9 @@ pub enum BenchKind {
 /// Arguments of `hairlod bench paper`.
 #[derive(Debug, Args)]
 pub struct PaperArgs {
-    /// Blow a gusting wind (Table 2) instead of calm air (Table 1).
-    #[arg(long)]
-    pub wind: bool,
-    /// Frames per mode.
-    #[arg(long, default_value_t = 60)]
-    pub frames: usize,
-    /// Image size WIDTHxHEIGHT [pixels].
-    #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
-    pub size: (u32, u32),
+    /// The shot: air, frames, image size.
+    #[command(flatten)]
+    pub shot: PaperShotArgs,
     /// Write every number (per mode, per stage, per frame) as JSON to FILE.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
@@ -98,6 +92,34 @@ pub struct PaperArgs {
     /// camera distance, to FILE.png and FILE.svg.
     #[arg(long, value_name = "FILE")]
     pub chart: Option<PathBuf>,
+}
+
+/// The paper's zoom-out as `bench paper` and `bench costs` take it.
+#[derive(Debug, Args)]
+pub struct PaperShotArgs {
+    /// Blow a gusting wind (Table 2) instead of calm air (Table 1).
+    #[arg(long)]
+    pub wind: bool,
+    /// Frames per mode (at least 2).
+    #[arg(long, default_value_t = 60)]
+    pub frames: usize,
+    /// Image size WIDTHxHEIGHT [pixels].
+    #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
+    pub size: (u32, u32),
+}
+
+impl PaperShotArgs {
+    /// The paper's shot (calm or windy) over `frames` frames at `size`; an error names a frame
+    /// count below 2.
+    pub fn shot(&self) -> Result<Shot> {
+        anyhow::ensure!(
+            self.frames >= 2,
+            "--frames must be at least 2 (got {})",
+            self.frames
+        );
+        let (width, height) = self.size;
+        Ok(resized(&paper_shot(self.wind), self.frames, width, height))
+    }
 }
 
 /// What `bench paper` runs beyond the four modes.
@@ -206,13 +228,7 @@ fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
 }
 
 fn run_paper(args: &PaperArgs) -> Result<()> {
-    anyhow::ensure!(
-        args.frames >= 2,
-        "--frames must be at least 2 (got {})",
-        args.frames
-    );
-    let (width, height) = args.size;
-    let shot = resized(&paper_shot(args.wind), args.frames, width, height);
+    let shot = args.shot.shot()?;
     let extras = PaperExtras {
         budget_ms: args.budget_ms,
         budget_methods: args.budget_method.clone(),

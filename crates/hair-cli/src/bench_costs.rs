@@ -11,8 +11,6 @@ use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
-use hairlod::benchmark::{paper_shot, resized};
-use hairlod::core::TriangleMesh;
 use hairlod::core::lod::{ErrorModel, LodSettings};
 use hairlod::core::{Level, RigidTransform};
 use hairlod::pipeline::{LodMode, PipelineSettings};
@@ -60,22 +58,6 @@ fn settings_of(variant: usize, base: FrameSettings) -> FrameSettings {
     }
 }
 
-fn posed(mesh: &TriangleMesh, pose: &RigidTransform) -> TriangleMesh {
-    TriangleMesh {
-        positions: mesh
-            .positions
-            .iter()
-            .map(|&p| pose.transform_point(p))
-            .collect(),
-        normals: mesh
-            .normals
-            .iter()
-            .map(|&n| pose.transform_vector(n))
-            .collect(),
-        triangles: mesh.triangles.clone(),
-    }
-}
-
 /// Mean per frame of each column [s].
 #[derive(Default)]
 struct Sums {
@@ -93,15 +75,9 @@ struct Sums {
 /// Arguments of `hairlod bench costs`.
 #[derive(Debug, Args)]
 pub struct CostsArgs {
-    /// Blow a gusting wind (Table 2) instead of calm air (Table 1).
-    #[arg(long)]
-    pub wind: bool,
-    /// Frames per mode.
-    #[arg(long, default_value_t = 60)]
-    pub frames: usize,
-    /// Image size WIDTHxHEIGHT [pixels].
-    #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
-    pub size: (u32, u32),
+    /// The shot: air, frames, image size.
+    #[command(flatten)]
+    pub shot: crate::bench_cmd::PaperShotArgs,
     /// Screen-space error tolerance of the LODs [pixels] (the paper's error model, `chord`).
     #[arg(long, default_value_t = 8.0)]
     pub pixel_tolerance: f32,
@@ -109,9 +85,9 @@ pub struct CostsArgs {
 
 /// Runs `hairlod bench costs`.
 pub fn run(args: &CostsArgs) -> Result<()> {
-    let (wind, frames, tolerance) = (args.wind, args.frames, args.pixel_tolerance);
-    let (width, height) = args.size;
-    let shot = resized(&paper_shot(wind), frames, width, height);
+    let (wind, frames, tolerance) = (args.shot.wind, args.shot.frames, args.pixel_tolerance);
+    let (width, height) = args.shot.size;
+    let shot = args.shot.shot()?;
     let scene = shot.build_scene()?;
     let lod = LodSettings {
         pixel_tolerance: tolerance,
@@ -154,7 +130,7 @@ pub fn run(args: &CostsArgs) -> Result<()> {
             pipeline.gather_drawn(&mut active)?;
             let pose = pipeline.head_pose();
             if pose != head_pose {
-                renderer.set_head_mesh(Some(&posed(&scene.head.mesh, &pose)))?;
+                renderer.set_head_mesh(Some(&scene.head.mesh.posed(&pose)))?;
                 head_pose = pose;
                 head_uploads += 1;
             }

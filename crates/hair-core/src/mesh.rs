@@ -5,6 +5,8 @@
 use glam::Vec3;
 use thiserror::Error;
 
+use crate::transform::RigidTransform;
+
 /// What makes a triangle mesh unusable, as found by [`TriangleMesh::validate`] and
 /// [`TriangleMesh::validate_surface`].
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -92,6 +94,24 @@ impl TriangleMesh {
         (b - a).cross(c - a).normalize_or_zero()
     }
 
+    /// The mesh moved rigidly by `pose`: positions transformed as points [m], normals rotated,
+    /// triangles unchanged (a rigid motion keeps the winding).
+    pub fn posed(&self, pose: &RigidTransform) -> TriangleMesh {
+        TriangleMesh {
+            positions: self
+                .positions
+                .iter()
+                .map(|&p| pose.transform_point(p))
+                .collect(),
+            normals: self
+                .normals
+                .iter()
+                .map(|&n| pose.transform_vector(n))
+                .collect(),
+            triangles: self.triangles.clone(),
+        }
+    }
+
     /// Recomputes `normals` as area-weighted averages of the adjacent triangle normals.
     pub fn compute_vertex_normals(&mut self) {
         let mut normals = vec![Vec3::ZERO; self.positions.len()];
@@ -177,6 +197,30 @@ impl TriangleMesh {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+
+    /// A posed mesh is the mesh whose normals are recomputed after the motion: a rigid motion
+    /// keeps lengths and winding, so normals rotate with it.
+    #[test]
+    fn posing_moves_points_and_turns_normals() {
+        let mut mesh = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            normals: Vec::new(),
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        };
+        mesh.compute_vertex_normals();
+        let pose = RigidTransform::new(
+            glam::Quat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.7),
+            Vec3::new(0.1, -0.2, 0.3),
+        );
+        let posed = mesh.posed(&pose);
+        let mut recomputed = posed.clone();
+        recomputed.compute_vertex_normals();
+        assert_eq!(posed.triangles, mesh.triangles);
+        for (a, b) in posed.normals.iter().zip(&recomputed.normals) {
+            assert!(a.distance(*b) < 1e-6, "{a} against {b}");
+        }
+        assert!(posed.positions[0].distance(pose.translation) < 1e-7);
+    }
 
     #[test]
     fn tetrahedron_normals_point_outwards() {
