@@ -102,12 +102,12 @@ fn a_blended_switch_spreads_its_image_change_over_the_blend() {
     }
 
     // Blending: the staged dissolve raises the new level's coverage by 2/15 per frame over the
-    // first half of the blend and lowers the old one's by as much over the second half. Each pixel
-    // the swap changes flips once, when its screen-door threshold (sixteenths) or its strand's
-    // hash passes the coverage: at most 3 of 16 Bayer thresholds per step of 2/15, about 2/15 of
-    // the strands. So no frame of the blend should change more than about 3/16 of the instant
-    // pop; 1/2 leaves room for the hair's motion over the blend, which changes what the swap would
-    // change, and for the hash's spread over a few strands.
+    // first half of the blend and lowers the old one's by 1/15 per frame over the whole blend.
+    // Each pixel the swap changes flips about once, when its screen-door threshold (sixteenths)
+    // or its strand's rank passes the coverage: at most 3 of 16 Bayer thresholds per step of
+    // 2/15, and 1/15 of the strands. So no frame of the blend should change more than about
+    // 3/16 + 1/15 ≈ 1/4 of the instant pop; 1/2 leaves room for the hair's motion over the
+    // blend, which changes what the swap would change.
     let blend = &blended[BEFORE..];
     let peak = blend.iter().map(|f| f.lod_change).fold(0.0, f64::max);
     assert!(

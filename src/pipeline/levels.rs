@@ -102,6 +102,24 @@ impl SectionLevels {
         }
     }
 
+    /// How much of `level` of section `section` is drawn at `time` [s], in `[0, 1]`: the
+    /// section's shown weight times the blend's dissolve, in which the new level's coverage rises
+    /// from 0 to 1 over the first half of the blend while the old one's falls from 1 to 0 over the
+    /// whole blend (no frame shows less hair than either level; the old level's strands, drawn
+    /// only as far as their coverage, cost half as much over the blend as drawing them whole).
+    /// 0 for a level the section does not draw.
+    pub fn coverage(&self, section: usize, level: Level, time: f64) -> f32 {
+        let weight = self.blend_weight(section, time);
+        let dissolve = if level == self.current[section] {
+            (2.0 * weight).min(1.0)
+        } else if self.previous(section) == Some(level) {
+            1.0 - weight
+        } else {
+            return 0.0;
+        };
+        dissolve * self.shown_weight(section, time)
+    }
+
     /// Switches `section` to `level` at `time` [s]; with `blend` > 0 s the old level stays
     /// simulated and drawn (fading) for that long.
     pub fn switch(&mut self, section: usize, level: Level, time: f64, blend: f32) {

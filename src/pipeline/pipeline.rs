@@ -901,8 +901,9 @@ impl Pipeline {
         }
     }
 
-    /// Skeleton segments drawn this frame (strand groups count each of their strands).
-    /// Segments drawn and pixels covered at each level by the sections shown this frame.
+    /// Segments drawn and pixels covered at each level by the sections shown this frame (strand
+    /// groups count each of their strands drawn: a dissolving strand level draws only its
+    /// coverage's share of them; a dissolving surface is drawn whole and screen-doored).
     fn drawn_work(&self) -> ([usize; 3], [f64; 3]) {
         let levels = &self.state.levels;
         let display_time = self.display_time();
@@ -912,7 +913,13 @@ impl Pipeline {
                 continue;
             }
             for level in levels.drawn(section) {
-                segments[level as usize] += work.drawn_segments[level as usize];
+                let whole = work.drawn_segments[level as usize];
+                segments[level as usize] += if level == Level::StrandGroup {
+                    let coverage = levels.coverage(section, level, display_time);
+                    (whole as f32 * coverage).round() as usize
+                } else {
+                    whole
+                };
                 pixels[level as usize] += self.section_pixels[section];
             }
         }
@@ -921,9 +928,10 @@ impl Pipeline {
 
     /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
     /// every visible section at its level (and, while it blends, at its previous level too: the new
-    /// level's coverage rises from 0 to 1 over the first half of the blend, then the old one's falls
-    /// from 1 to 0 over the second half, a dissolve; a section coming into view or leaving it
-    /// dissolves in or out over the blend as a whole), with node frames computed from the simulated
+    /// level's coverage rises from 0 to 1 over the first half of the blend while the old one's
+    /// falls from 1 to 0 over the whole blend, a dissolve, [`SectionLevels::coverage`]; a section coming
+    /// into view or leaving it dissolves in or out over the blend as a whole), with node frames
+    /// computed from the simulated
     /// positions; everything else inactive.
     pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         active.clear();
@@ -960,17 +968,11 @@ impl Pipeline {
             self.frames_scratch.resize(count, Frame::default());
             let root_frame = groom.skeletons.world_root_frame(chain, &head);
             node_frames(&root_frame, positions, &mut self.frames_scratch);
-            // While blending, the new level dissolves in over the first half of the blend on top
-            // of the whole old level, which then dissolves out over the second half: no frame
-            // shows less hair than either level, and the switch frame itself changes little. A
-            // section coming into view or leaving it dissolves in or out as a whole.
-            let weight = levels.blend_weight(section, display_time);
-            let coverage = if level == levels.current()[section] {
-                (2.0 * weight).min(1.0)
-            } else {
-                (2.0 * (1.0 - weight)).min(1.0)
-            };
-            let coverage = coverage * shown;
+            // While blending, the new level dissolves in over the first half of the blend while
+            // the old one dissolves out over the whole blend: no frame shows less hair than
+            // either level, and the switch frame itself changes little. A section coming into
+            // view or leaving it dissolves in or out as a whole.
+            let coverage = levels.coverage(section, level, display_time);
             active.push_chain_with_coverage(positions, &self.frames_scratch, coverage)?;
         }
         Ok(())

@@ -92,6 +92,18 @@ pub(crate) struct ChainOrder {
     pub sorted_to_input: Vec<u32>,
     /// `(chain, first item, end item)` per distinct chain, by chain, in sorted positions.
     pub runs: Vec<(u32, u32, u32)>,
+    /// Dissolve rank in `(0, 1)` of the item at each sorted position, ascending within each run
+    /// (empty when the items dissolve by screen door instead: surfaces). See
+    /// [`ChainOrder::with_dissolve_ranks`].
+    pub ranks: Vec<f32>,
+}
+
+/// A well-mixed hash of an item's input index (PCG's output permutation): the order in which a
+/// chain's strands leave as it dissolves out, spread evenly over the group.
+fn dissolve_hash(index: u32) -> u32 {
+    let x = index.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let x = ((x >> ((x >> 28) + 4)) ^ x).wrapping_mul(277_803_737);
+    (x >> 22) ^ x
 }
 
 impl ChainOrder {
@@ -111,7 +123,49 @@ impl ChainOrder {
         ChainOrder {
             sorted_to_input,
             runs,
+            ranks: Vec::new(),
         }
+    }
+
+    /// Sorts items by chain and, within a chain, by a hash of their input index, and ranks them:
+    /// the `k`-th of a chain's `n` items gets rank `(k + ½)/n`. A chain at coverage `c` draws the
+    /// items ranked below `c`, which are then a prefix of its run, `round(c·n)` of them (halves down) spread
+    /// evenly over the chain's items: a dissolve draws (and costs) only what it shows.
+    pub fn with_dissolve_ranks(item_chains: &[u32]) -> ChainOrder {
+        let mut sorted_to_input: Vec<u32> = (0..item_chains.len() as u32).collect();
+        sorted_to_input.sort_by_key(|&i| (item_chains[i as usize], dissolve_hash(i), i));
+        let mut order = ChainOrder::new(&[]);
+        order.sorted_to_input = sorted_to_input;
+        for (position, &input) in order.sorted_to_input.iter().enumerate() {
+            let chain = item_chains[input as usize];
+            let position = position as u32;
+            match order.runs.last_mut() {
+                Some(run) if run.0 == chain => run.2 = position + 1,
+                _ => order.runs.push((chain, position, position + 1)),
+            }
+        }
+        order.ranks = vec![0.0; order.sorted_to_input.len()];
+        for &(_, start, end) in &order.runs {
+            let n = (end - start) as f32;
+            for (k, rank) in order.ranks[start as usize..end as usize]
+                .iter_mut()
+                .enumerate()
+            {
+                *rank = (k as f32 + 0.5) / n;
+            }
+        }
+        order
+    }
+
+    /// The part of run `(chain, start, end)` drawn at `coverage`: the whole run for items without
+    /// ranks, else the prefix ranked below `coverage` (the shader draws exactly these).
+    fn drawn_run(&self, (chain, start, end): (u32, u32, u32), coverage: f32) -> (u32, u32, u32) {
+        if self.ranks.is_empty() || coverage >= 1.0 {
+            return (chain, start, end);
+        }
+        let ranks = &self.ranks[start as usize..end as usize];
+        let drawn = ranks.partition_point(|&rank| rank < coverage) as u32;
+        (chain, start, start + drawn)
     }
 
     /// Number of items.
@@ -133,11 +187,13 @@ impl ChainOrder {
     }
 
     /// Appends the draw batches of this frame to `out`: runs of consecutive items whose chains
-    /// have at least two nodes, equal tessellation and either all or none fading.
+    /// have at least two nodes, equal tessellation and either all or none fading (of a ranked
+    /// chain fading, only the items its coverage draws).
     pub fn batches(&self, chains: &[GpuChain], out: &mut Vec<Batch>) {
         let first_new = out.len();
         for &run in &self.runs {
-            push_run(chains, run, first_new, out);
+            let coverage = chains.get(run.0 as usize).map_or(1.0, |c| c.coverage);
+            push_run(chains, self.drawn_run(run, coverage), first_new, out);
         }
     }
 
@@ -163,14 +219,16 @@ impl ChainOrder {
         scratch.sort_by(|a, b| a.0.total_cmp(&b.0));
         let first_new = out.len();
         for &(_, index) in scratch.iter() {
-            push_run(chains, self.runs[index as usize], first_new, out);
+            let run = self.runs[index as usize];
+            let coverage = chains.get(run.0 as usize).map_or(1.0, |c| c.coverage);
+            push_run(chains, self.drawn_run(run, coverage), first_new, out);
         }
     }
 }
 
 /// Appends run `(chain, start, end)` to the batches from `first_new` on: merged into the last
 /// batch when it continues it with the same tessellation and fading, skipped when its chain has
-/// fewer than two nodes.
+/// fewer than two nodes or the run no items.
 fn push_run(
     chains: &[GpuChain],
     (chain, start, end): (u32, u32, u32),
@@ -180,7 +238,7 @@ fn push_run(
     let Some(info) = chains.get(chain as usize) else {
         return;
     };
-    if info.node_count < 2 {
+    if info.node_count < 2 || start == end {
         return;
     }
     let (along, around, thin) = (info.along_segments, info.around_segments, info.thin);
@@ -316,6 +374,62 @@ mod tests {
             .map(|b| (b.items.clone(), b.dissolving))
             .collect();
         assert_eq!(fading, vec![(0..1, false), (1..2, true), (2..3, false)]);
+    }
+
+    /// A ranked chain at coverage `c` draws `round(c·n)` of its `n` items (ranks `(k + ½)/n`
+    /// below `c`: `k < c·n − ½`), the same items at every coverage they are drawn at, and a
+    /// chain at coverage 0 none.
+    #[test]
+    fn ranked_chains_draw_only_the_items_their_coverage_shows() {
+        let item_chains: Vec<u32> = (0..83).map(|i| [1, 0, 2][i % 3]).chain([2; 17]).collect();
+        let order = ChainOrder::with_dissolve_ranks(&item_chains);
+        assert_eq!(order.runs, vec![(0, 0, 28), (1, 28, 56), (2, 56, 100)]);
+        for (position, &input) in order.sorted_to_input.iter().enumerate() {
+            let run = order
+                .runs
+                .iter()
+                .find(|r| (r.1..r.2).contains(&(position as u32)));
+            assert_eq!(run.unwrap().0, item_chains[input as usize]);
+        }
+        let chain = |coverage| GpuChain {
+            node_count: 5,
+            along_segments: 8,
+            coverage,
+            ..GpuChain::default()
+        };
+        let mut previous: Vec<Vec<u32>> = vec![Vec::new(); 3];
+        for step in 0..=20 {
+            let coverage = step as f32 / 20.0;
+            let mut batches = Vec::new();
+            order.batches(
+                &[chain(coverage), chain(1.0), chain(coverage)],
+                &mut batches,
+            );
+            let drawn: Vec<u32> = batches.iter().flat_map(|b| b.items.clone()).collect();
+            for &(chain_index, start, end) in &order.runs {
+                let n = (end - start) as f32;
+                let expected = if chain_index == 1 {
+                    n as usize
+                } else {
+                    (coverage * n).round() as usize
+                };
+                let kept: Vec<u32> = drawn
+                    .iter()
+                    .copied()
+                    .filter(|p| (start..end).contains(p))
+                    .collect();
+                assert_eq!(kept.len(), expected, "chain {chain_index} at {coverage}");
+                // Monotone: what a lower coverage draws, a higher one draws too.
+                assert!(kept.starts_with(&previous[chain_index as usize]));
+                previous[chain_index as usize] = kept;
+            }
+        }
+        // Unranked items (surfaces) always draw their whole run.
+        let surfaces = ChainOrder::new(&item_chains);
+        let mut batches = Vec::new();
+        surfaces.batches(&[chain(0.1), chain(0.1), chain(0.1)], &mut batches);
+        let total: u32 = batches.iter().map(|b| b.items.len() as u32).sum();
+        assert_eq!(total, 100);
     }
 
     /// Nearest chain first; runs merge only where they stay consecutive; ties keep chain order;

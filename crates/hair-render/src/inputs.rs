@@ -185,7 +185,7 @@ pub(crate) struct GpuNode {
     pub binormal: [f32; 4],
 }
 
-/// One strand as the shaders read it (`Strand` in `strand_items.wgsl`), 24 bytes.
+/// One strand as the shaders read it (`Strand` in `strand_items.wgsl`), 32 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct GpuStrand {
@@ -196,6 +196,11 @@ pub(crate) struct GpuStrand {
     pub length: f32,
     /// Scale of the offset at the tip, `0..=1`.
     pub tip_scale: f32,
+    /// Rank in `(0, 1)` within its chain: drawn while below the chain's coverage (set at upload,
+    /// see `ChainOrder::with_dissolve_ranks`).
+    pub dissolve_rank: f32,
+    /// Keeps the record a multiple of the `vec2` alignment.
+    pub padding: u32,
 }
 
 /// Packs a (validated) frame's nodes into `out`, reusing its allocation.
@@ -232,6 +237,8 @@ pub(crate) fn pack_strands(
             root_offset: offset.to_array(),
             length: shapes.length(strand),
             tip_scale: shapes.tip_scale(strand),
+            dissolve_rank: 0.0,
+            padding: 0,
         })
         .collect()
 }

@@ -65,9 +65,19 @@ impl Items {
     fn upload<T: bytemuck::Pod>(&mut self, gpu: &GpuContext, chains: &[u32], packed: &[T]) {
         let order = ChainOrder::new(chains);
         let sorted = order.sorted(packed);
+        self.upload_sorted(gpu, order, &sorted);
+    }
+
+    /// Replaces the items with `sorted`, their GPU records already in `order`'s sorted order.
+    fn upload_sorted<T: bytemuck::Pod>(
+        &mut self,
+        gpu: &GpuContext,
+        order: ChainOrder,
+        sorted: &[T],
+    ) {
         if self
             .buffer
-            .write(&gpu.device, &gpu.queue, bytemuck::cast_slice(&sorted))
+            .write(&gpu.device, &gpu.queue, bytemuck::cast_slice(sorted))
         {
             self.bind_group = None;
         }
@@ -228,10 +238,14 @@ impl Renderer {
     ) -> Result<()> {
         strands.validate()?;
         shapes.validate(strands.strand_count())?;
-        let packed = pack_strands(strands, shapes);
+        // Ranked within each chain, so that a dissolving chain draws only the strands it shows.
+        let order = ChainOrder::with_dissolve_ranks(strands.strand_chain);
+        let mut sorted = order.sorted(&pack_strands(strands, shapes));
+        for (strand, &rank) in sorted.iter_mut().zip(&order.ranks) {
+            strand.dissolve_rank = rank;
+        }
         let scope = ErrorScopes::push(&self.gpu.device);
-        self.strands
-            .upload(&self.gpu, strands.strand_chain, &packed);
+        self.strands.upload_sorted(&self.gpu, order, &sorted);
         scope.pop("uploading strands")
     }
 

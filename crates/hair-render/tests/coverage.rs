@@ -1,5 +1,6 @@
-//! Dissolving between levels: a chain's coverage decides which of its strands are drawn (by a
-//! hash of the strand index) and what fraction of a surface's pixels are (screen-door).
+//! Dissolving between levels: a chain's coverage decides which of its strands are drawn (those
+//! ranked below it, `round(c·n)` of a chain's `n`) and what fraction of a surface's pixels are
+//! (screen-door).
 
 mod common;
 
@@ -38,8 +39,10 @@ fn strand_coverage_draws_that_fraction_of_the_strands() {
     let half = lit_pixels(&mut renderer, &chains, 0.5);
     assert_eq!(none, 0, "coverage 0 draws nothing");
     assert!(full > 1000, "{full} lit pixels at full coverage");
-    // Each strand is kept with probability 1/2 (a hash), so the kept count is binomial with
-    // σ = √(150·¼) ≈ 6.1 strands, 0.041 of them; four σ either side: 0.5 ± 0.17.
+    // Exactly 75 of the 150 strands are drawn (ranks (k + ½)/150 below ½), picked by a hash so
+    // they are spread over the row; neighbours' pixels overlap, and fewer neighbours overlap
+    // less, so the lit fraction is not exactly ½. A kept count off by four binomial σ (√(150·¼)
+    // ≈ 6.1 strands each) would leave 0.5 ± 0.17.
     let fraction = half as f32 / full as f32;
     assert!(
         (0.33..0.67).contains(&fraction),

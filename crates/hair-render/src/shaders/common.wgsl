@@ -66,15 +66,6 @@ struct Chain {
 @group(0) @binding(1) var<storage, read> nodes: array<Node>;
 @group(0) @binding(2) var<storage, read> chains: array<Chain>;
 
-// Rank in 0..1 of item `index` for dissolving a level in or out: the item is drawn while its rank
-// is below its chain's coverage (a well-mixed hash, so the drawn items are spread evenly).
-fn dissolve_rank(index: u32) -> f32 {
-    var x = index * 747796405u + 2891336453u;
-    x = ((x >> ((x >> 28u) + 4u)) ^ x) * 277803737u;
-    x = (x >> 22u) ^ x;
-    return f32(x >> 8u) / 16777216.0;
-}
-
 // Screen-door threshold in 0..1 of a pixel (4×4 Bayer matrix): a surface with coverage c keeps the
 // pixels whose threshold is below c.
 fn screen_door_threshold(pixel: vec2<f32>) -> f32 {

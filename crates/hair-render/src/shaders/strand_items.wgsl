@@ -7,6 +7,10 @@ struct Strand {
     length: f32,
     // Scale of the offset at the tip (the offset shrinks linearly in u from 1 at the root).
     tip_scale: f32,
+    // Rank in (0, 1) within its chain (ascending along the chain's run): drawn while below the
+    // chain's coverage, so a dissolving chain's drawn strands are a prefix of its run.
+    dissolve_rank: f32,
+    pad: u32,
 }
 
 @group(1) @binding(0) var<storage, read> strands: array<Strand>;

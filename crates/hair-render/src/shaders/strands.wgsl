@@ -40,7 +40,7 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     }
     let strand = strands[strand_index];
     let chain = chain_at(strand.chain);
-    if (chain.node_count < 2u || dissolve_rank(strand_index) >= chain.coverage) {
+    if (chain.node_count < 2u || strand.dissolve_rank >= chain.coverage) {
         return out;
     }
     // A strand of length l ends at the chain point nearest u = l; later vertices repeat it.
