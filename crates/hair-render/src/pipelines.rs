@@ -296,6 +296,14 @@ impl Pipelines {
             wgpu::PrimitiveTopology::LineStrip,
             None,
         );
+        // With multisampling the screen door goes through alpha-to-coverage (a dropped pixel gets
+        // alpha 0, so no sample), which spares the dropped fragments their shading; single-sampled
+        // targets discard them.
+        let dissolving_entry = if sample_count > 1 {
+            "fs_surface_dissolving_coverage"
+        } else {
+            "fs_surface_dissolving"
+        };
         let surface_pipelines = |kind: &str, vertex_entry: &str, cull_mode| SurfacePipelines {
             opaque: hair_pipeline(
                 &format!("hair-render {kind}"),
@@ -311,7 +319,7 @@ impl Pipelines {
                 &surface_layout,
                 &surfaces_module,
                 vertex_entry,
-                "fs_surface_dissolving",
+                dissolving_entry,
                 strip,
                 cull_mode,
             ),

@@ -1,12 +1,12 @@
 //! Dissolving between levels: a chain's coverage decides which of its strands are drawn (those
 //! ranked below it, `round(c·n)` of a chain's `n`) and what fraction of a surface's pixels are
-//! (screen-door).
+//! (screen-door: by `discard` single-sampled, by alpha-to-coverage with MSAA).
 
 mod common;
 
-use common::{Chains, Strands, is_lit, renderer, settings};
+use common::{Chains, Strands, is_lit, renderer, settings, single_sample_renderer};
 use glam::{Vec2, Vec3};
-use hair_render::SkeletonFrame;
+use hair_render::{PatchSet, SelfShadowing, SkeletonFrame, SurfaceTexture};
 
 /// Lit pixels of a frame of `chains` (one chain, many strands side by side) at `coverage`.
 fn lit_pixels(renderer: &mut hair_render::Renderer, chains: &Chains, coverage: f32) -> usize {
@@ -48,6 +48,63 @@ fn strand_coverage_draws_that_fraction_of_the_strands() {
         (0.33..0.67).contains(&fraction),
         "half coverage lit {fraction} of the pixels"
     );
+}
+
+/// A patch 0.2 m wide and 0.2 m long facing the camera (stripes: solid to its edges), at
+/// coverage 1, 0.5 and 0: the screen door keeps the pixels whose 4×4 Bayer threshold
+/// `(b + ½)/16` lies below the coverage, 8 of every 16 at ½. The patch covers about 120×120
+/// pixels, so whole 4×4 tiles hold all but its border rows and columns: the kept fraction is ½
+/// within the border's share, under 7 % (4 of 120 pixels on each of two axes). Single-sampled the
+/// dropped pixels are discarded; with 4× MSAA they return alpha 0, which alpha-to-coverage turns
+/// into no sample.
+#[test]
+fn surface_coverage_keeps_that_fraction_of_the_pixels() {
+    for (name, mut renderer) in [
+        ("single-sampled", single_sample_renderer(None)),
+        ("4x MSAA", renderer()),
+    ] {
+        renderer
+            .upload_patches(&PatchSet {
+                patch_chain: &[0],
+                patch_widths: &[0.2],
+            })
+            .unwrap();
+        // A vertical chain whose binormal is +X: the strip spans x = ±0.1 m, facing the camera.
+        let mut chains = Chains::default();
+        chains.offsets.push(0);
+        for k in 0..5 {
+            chains
+                .positions
+                .push(Vec3::new(0.0, 0.1 - 0.05 * k as f32, 0.0));
+            chains.normals.push(Vec3::NEG_Z);
+            chains.binormals.push(Vec3::X);
+        }
+        chains.offsets.push(5);
+        let lit = |renderer: &mut hair_render::Renderer, coverage: f32| {
+            let base = chains.frame();
+            let coverages = vec![coverage; base.chain_count()];
+            let frame = SkeletonFrame {
+                chain_coverage: &coverages,
+                ..base
+            };
+            let mut settings = settings(400, 300, 1.0);
+            settings.shadows = SelfShadowing::off();
+            settings.surface_texture = SurfaceTexture::Stripes;
+            settings.light.direction = Vec3::new(0.3, 0.2, 1.0);
+            let image = renderer.render(&frame, &settings).unwrap();
+            image.pixels().filter(|p| is_lit(p)).count()
+        };
+        let full = lit(&mut renderer, 1.0);
+        let half = lit(&mut renderer, 0.5);
+        let none = lit(&mut renderer, 0.0);
+        assert!(full > 5000, "{name}: {full} lit pixels at full coverage");
+        assert_eq!(none, 0, "{name}: coverage 0 draws nothing");
+        let fraction = half as f32 / full as f32;
+        assert!(
+            (fraction - 0.5).abs() < 0.07,
+            "{name}: half coverage lit {fraction} of the pixels"
+        );
+    }
 }
 
 #[test]

@@ -189,6 +189,17 @@ fn fs_surface_dissolving(in: SurfaceVertex) -> @location(0) vec4<f32> {
     return surface_color(in);
 }
 
+// The same screen door without `discard`, for multisampled targets whose surface pipelines turn
+// alpha into coverage: a dropped pixel returns alpha 0 (no sample written, colour nor depth)
+// before any shading, and the fragment stage keeps no `discard`.
+@fragment
+fn fs_surface_dissolving_coverage(in: SurfaceVertex) -> @location(0) vec4<f32> {
+    if (screen_door_threshold(in.clip.xy) >= in.coverage) {
+        return vec4<f32>(0.0);
+    }
+    return surface_color(in);
+}
+
 fn surface_color(in: SurfaceVertex) -> vec4<f32> {
     if (globals.shading.w > 0.5) {
         if (in.kind == 1u) {
