@@ -16,7 +16,9 @@
 //!    measured in a first step from rest). Where a spring would have to turn past
 //!    [`MAX_NATURAL_TURN`](hair_core::dynamics::MAX_NATURAL_TURN) it is clamped, the body has to
 //!    carry the rest, and the level falls again onto it with the new springs (at most
-//!    [`MAX_ROUNDS`] rounds).
+//!    [`MAX_ROUNDS`] rounds). A level still clamped after the last round falls once more and
+//!    keeps the shape it settles in, without another balance: the equilibrium the dynamics
+//!    reaches with the clamped springs and the body.
 //!
 //! The hair then moves as the settled groom would (the same shape, the same stiffness), without
 //! the fall: a still head simulated from t = 0 stays where it is drawn.
@@ -167,7 +169,7 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
         for round in 1..=MAX_ROUNDS {
             rounds[level] = round;
             if round > 1 || (settings.fall && level == Level::StrandGroup) {
-                settle_level(&mut hung, level, &environment, settings)?;
+                settle_level(&mut hung, level, &environment, settings, false)?;
             } else if settings.fall {
                 hand_down_shapes(&mut hung.groom, level)?;
             }
@@ -181,6 +183,13 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
             if sag_free[level].clamped_joints == 0 {
                 break;
             }
+        }
+        if sag_free[level].clamped_joints > 0 {
+            // Still clamped after the last round: the balanced shape is not an equilibrium of
+            // the clamped springs. The level sinks once more with them and keeps the shape it
+            // settles in, unbalanced: the dynamics reached it, so it is an equilibrium of these
+            // springs, gravity and the body (balancing it again would turn the springs anew).
+            settle_level(&mut hung, level, &environment, settings, true)?;
         }
     }
     let hanging = hung.groom.skeletons.rest_positions(&head);
@@ -214,14 +223,23 @@ fn level_settings(level: Level, settings: &HangSettings, collision: bool) -> Pip
     }
 }
 
+/// Node speed [m/s] under which a level's final fall (after its last round) has come to rest.
+pub const STILL_SPEED: f32 = 1e-3;
+
+/// The longest final fall, in multiples of [`HangSettings::seconds`].
+pub const FINAL_FALL_LIMIT: f32 = 4.0;
+
 /// Lets `level`'s skeletons fall from their rest shapes for `settings.seconds` and makes the
 /// shapes they reach their rest shapes (measured in the transported frames; the springs keep
-/// pulling where they did).
+/// pulling where they did). With `until_still`, the fall goes on in half-`seconds` steps until
+/// no node is faster than [`STILL_SPEED`] or it has lasted [`FINAL_FALL_LIMIT`] times
+/// `seconds`: the shape it keeps is then the equilibrium, not a moment of a swing.
 fn settle_level(
     scene: &mut Scene,
     level: Level,
     environment: &Environment,
     settings: &HangSettings,
+    until_still: bool,
 ) -> Result<()> {
     let mut params = DynamicsParams::for_style(&scene.groom.params.style);
     params.air_drag_rate = settings.drag_rate;
@@ -232,6 +250,22 @@ fn settle_level(
         params,
     )?;
     pipeline.settle(settings.seconds)?;
+    if until_still {
+        let fastest = |pipeline: &Pipeline| {
+            pipeline
+                .block(level)
+                .state
+                .node_velocities
+                .iter()
+                .map(|v| v.length())
+                .fold(0.0f32, f32::max)
+        };
+        let mut fallen = settings.seconds;
+        while fastest(&pipeline) > STILL_SPEED && fallen < FINAL_FALL_LIMIT * settings.seconds {
+            pipeline.settle(0.5 * settings.seconds)?;
+            fallen += 0.5 * settings.seconds;
+        }
+    }
     let block = pipeline.block(level);
     set_rest_shapes(
         &mut scene.groom.skeletons,

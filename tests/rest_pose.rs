@@ -81,13 +81,8 @@ fn every_preset_at_every_level_stays_where_it_is_drawn() {
                 "{preset} at {}: moved {mean} m on average",
                 level.name()
             );
-            // The straight preset's crown chains are too soft to hold themselves off the head
-            // (their root springs are clamped at MAX_NATURAL_TURN and rest on it), and the
-            // collision stage's friction does not hold them still there: they keep a slow
-            // sideways swing of up to 3 cm. The 1 cm bound holds for the other presets.
-            let bound = if *preset == "straight" { 3e-2 } else { 1e-2 };
             assert!(
-                max <= bound,
+                max <= 1e-2,
                 "{preset} at {}: moved {max} m at most",
                 level.name()
             );
