@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{Chains, Strands, is_lit, renderer, settings, single_sample_renderer};
+use common::{Chains, Strands, is_lit, renderer, settings, single_sample_renderer, vertical_chain};
 use glam::{Vec2, Vec3};
 use hair_render::{PatchSet, SelfShadowing, SkeletonFrame, SurfaceTexture};
 
@@ -69,17 +69,8 @@ fn surface_coverage_keeps_that_fraction_of_the_pixels() {
                 patch_widths: &[0.2],
             })
             .unwrap();
-        // A vertical chain whose binormal is +X: the strip spans x = ±0.1 m, facing the camera.
-        let mut chains = Chains::default();
-        chains.offsets.push(0);
-        for k in 0..5 {
-            chains
-                .positions
-                .push(Vec3::new(0.0, 0.1 - 0.05 * k as f32, 0.0));
-            chains.normals.push(Vec3::NEG_Z);
-            chains.binormals.push(Vec3::X);
-        }
-        chains.offsets.push(5);
+        // Binormal +X: the strip spans x = ±0.1 m, facing the camera.
+        let chains = vertical_chain(0.1, 5);
         let lit = |renderer: &mut hair_render::Renderer, coverage: f32| {
             let base = chains.frame();
             let coverages = vec![coverage; base.chain_count()];

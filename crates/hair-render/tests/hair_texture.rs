@@ -8,21 +8,6 @@ use common::*;
 use glam::Vec3;
 use hair_render::{ClusterSet, PatchSet, SelfShadowing, SurfaceTexture};
 
-/// A vertical chain from y = 0.15 to y = −0.15 at x = 0, normal −Z, binormal +X.
-fn vertical_chain() -> Chains {
-    let mut chains = Chains::default();
-    chains.offsets.push(0);
-    for k in 0..7 {
-        chains
-            .positions
-            .push(Vec3::new(0.0, 0.15 - 0.05 * k as f32, 0.0));
-        chains.normals.push(Vec3::NEG_Z);
-        chains.binormals.push(Vec3::X);
-    }
-    chains.offsets.push(7);
-    chains
-}
-
 /// Renders one cluster (radius 0.03 m) or one patch (0.08 m wide) on the chain with `texture`
 /// (4× MSAA, no shadows, no highlight, light from the camera's side) and returns the image and settings.
 fn render(
@@ -53,7 +38,7 @@ fn render(
     // No highlight: it moves along the tube with the view direction.
     settings.hair.specular = 0.0;
     let image = renderer
-        .render(&vertical_chain().frame(), &settings)
+        .render(&vertical_chain(0.15, 7).frame(), &settings)
         .unwrap();
     (image, settings)
 }

@@ -11,16 +11,7 @@ use hair_render::{StrandSet, StrandShapes};
 /// 0.04 m along +X, drawn with `length` and `tip_scale`; returns whether the pixels at the given
 /// points are drawn.
 fn drawn_at(length: f32, tip_scale: f32, points: &[Vec3]) -> Vec<bool> {
-    let mut chains = Chains::default();
-    chains.offsets.push(0);
-    for k in 0..9 {
-        chains
-            .positions
-            .push(Vec3::new(0.0, 0.1 - 0.025 * k as f32, 0.0));
-        chains.normals.push(Vec3::NEG_Z);
-        chains.binormals.push(Vec3::X);
-    }
-    chains.offsets.push(9);
+    let chains = vertical_chain(0.1, 9);
     let mut renderer = single_sample_renderer(None);
     renderer
         .upload_strands_with_shapes(

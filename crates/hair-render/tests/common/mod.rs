@@ -117,6 +117,22 @@ impl Chains {
     }
 }
 
+/// One vertical chain of `nodes` nodes from y = `half_length` down to y = −`half_length` at
+/// x = 0 [m], with fixed node frames: normal −Z, binormal +X (a patch on it spans x, facing the
+/// camera).
+pub fn vertical_chain(half_length: f32, nodes: usize) -> Chains {
+    let mut chains = Chains::default();
+    chains.offsets.push(0);
+    for k in 0..nodes {
+        let y = half_length - 2.0 * half_length * k as f32 / (nodes - 1) as f32;
+        chains.positions.push(Vec3::new(0.0, y, 0.0));
+        chains.normals.push(Vec3::NEG_Z);
+        chains.binormals.push(Vec3::X);
+    }
+    chains.offsets.push(nodes as u32);
+    chains
+}
+
 /// Strands, one per chain with zero offset, unless pushed otherwise.
 #[derive(Default, Clone)]
 pub struct Strands {
