@@ -202,12 +202,7 @@ pub(crate) mod tests {
     /// keeps lengths and winding, so normals rotate with it.
     #[test]
     fn posing_moves_points_and_turns_normals() {
-        let mut mesh = TriangleMesh {
-            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
-            normals: Vec::new(),
-            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        };
-        mesh.compute_vertex_normals();
+        let mesh = tetrahedron();
         let pose = RigidTransform::new(
             glam::Quat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.7),
             Vec3::new(0.1, -0.2, 0.3),
@@ -224,12 +219,7 @@ pub(crate) mod tests {
 
     #[test]
     fn tetrahedron_normals_point_outwards() {
-        let mut mesh = TriangleMesh {
-            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
-            normals: Vec::new(),
-            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        };
-        mesh.compute_vertex_normals();
+        let mesh = tetrahedron();
         let centre = Vec3::splat(0.25);
         for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
             assert!((*p - centre).dot(*n) > 0.0);
