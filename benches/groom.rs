@@ -1,12 +1,17 @@
 //! Criterion benches of the model: building the paper-curly groom, evaluating every strand's NURBS
 //! points once (37,765 strands), and importing those strands from a cyHair file and fitting the
-//! paper's hierarchy to them (the real-groom issue's import-speed measure; the fit is not yet
-//! built into a groom).
+//! paper's hierarchy to them (the real-groom issue's import-speed measure): reading alone,
+//! reading and fitting, and the whole import a scene's `[groom] file` goes through
+//! ([`load_scene`]: read, fit, build the groom; with the head's mesh as the body file, roots
+//! attached and occluders found too). The sag-free rest pose is not part of it (`hang_groom`,
+//! measured in `tests/rest_pose.rs`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use hairlod::core::representation::geometry::{evaluate_strands, strand_sampler};
+use hairlod::loaded::{BodyFile, GroomFile, load_scene};
 use hairlod::{Frame, Groom, GroomParams, Head, HeadParams, Level, RigidTransform, Scene};
 use std::hint::black_box;
+use std::io::Write;
 
 fn build_groom(c: &mut Criterion) {
     let head = Head::procedural(&HeadParams::default()).expect("default head");
@@ -81,7 +86,39 @@ fn import_and_fit(c: &mut Criterion) {
             fit_hierarchy(&curves, &settings).expect("a fit")
         })
     });
+    // The whole import of a scene's groom file, with the groom's own head as the body file.
+    let body_path = std::env::temp_dir().join("hairlod-bench-procedural-head.obj");
+    write_mesh_obj(&body_path, &scene.head.mesh);
+    let groom_file = GroomFile {
+        sections: SectionCount::Fixed(91),
+        ..GroomFile::new(vec![path.clone()])
+    };
+    let body = BodyFile {
+        path: body_path,
+        axes: Default::default(),
+    };
+    let params = GroomParams::paper_curly();
+    group.bench_function(
+        "read + fit + build the groom (load_scene, 91 sections)",
+        |b| b.iter(|| load_scene(black_box(&groom_file), None, &params).expect("loads")),
+    );
+    group.bench_function(
+        "read + fit + build the groom on a body file (roots attached, occluders)",
+        |b| b.iter(|| load_scene(black_box(&groom_file), Some(&body), &params).expect("loads")),
+    );
     group.finish();
+}
+
+/// Writes `mesh` as an OBJ triangle mesh (`v` and `f` records) to `path`.
+fn write_mesh_obj(path: &std::path::Path, mesh: &hairlod::core::mesh::TriangleMesh) {
+    let mut file = std::io::BufWriter::new(std::fs::File::create(path).expect("a writable file"));
+    for p in &mesh.positions {
+        writeln!(file, "v {} {} {}", p.x, p.y, p.z).expect("written");
+    }
+    for [a, b, c] in &mesh.triangles {
+        writeln!(file, "f {} {} {}", a + 1, b + 1, c + 1).expect("written");
+    }
+    file.flush().expect("written");
 }
 
 criterion_group!(benches, build_groom, evaluate_all_strands, import_and_fit);

@@ -79,6 +79,10 @@ pub struct PaperArgs {
     /// `deviation` is the library's default).
     #[arg(long, default_value_t = ErrorModel::Chord)]
     pub error_model: ErrorModel,
+    /// Duration of the LODs' blend between levels [s] (default: the library's, 0.25 s; 0 switches
+    /// instantly, as the paper does). The table always adds a row of the LODs switching instantly.
+    #[arg(long, value_name = "SECONDS")]
+    pub blend_time: Option<f32>,
     /// Also run the LODs in frame-budget mode: levels chosen so that a frame costs at most MS
     /// milliseconds (see --budget-method).
     #[arg(long, value_name = "MS")]
@@ -133,6 +137,8 @@ pub struct PaperExtras {
     pub chart: Option<PathBuf>,
     /// Error model of the LODs (`None`: the shot's).
     pub error_model: Option<ErrorModel>,
+    /// Blend duration of the LODs [s] (`None`: the shot's).
+    pub blend_time: Option<f32>,
 }
 
 #[derive(Serialize)]
@@ -141,6 +147,9 @@ struct PaperReport<'a> {
     adapter: String,
     table: &'static str,
     modes: &'a [ModeRun],
+    /// The LODs again with instant switching (the paper's transitions; `blend_time` 0), timed
+    /// like the four modes.
+    lods_instant_switching: &'a ModeRun,
     speedup_lods_over_strands: Speedups,
     popping_blended: Popping,
     popping_instant: Popping,
@@ -167,6 +176,8 @@ struct Budgeted {
 #[derive(Serialize, Clone, Copy)]
 struct SsimAgainstStrands {
     lods: f64,
+    /// The LODs switching instantly (`blend_time` 0, the paper's transitions).
+    lods_instant_switching: f64,
     clusters: f64,
     patches: f64,
 }
@@ -175,6 +186,8 @@ struct SsimAgainstStrands {
 #[derive(Serialize, Clone, Copy)]
 struct MeanPixelError {
     lods: f64,
+    /// The LODs switching instantly (`blend_time` 0, the paper's transitions).
+    lods_instant_switching: f64,
     clusters: f64,
     patches: f64,
 }
@@ -218,6 +231,7 @@ fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
         budget_methods: Vec::new(),
         chart: args.chart.clone(),
         error_model: None,
+        blend_time: None,
     };
     let pixel_tolerance = shot.lod_settings().pixel_tolerance;
     let report = paper_tables(&shot, pixel_tolerance, &extras)?;
@@ -234,6 +248,7 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
         budget_methods: args.budget_method.clone(),
         chart: args.chart.clone(),
         error_model: Some(args.error_model),
+        blend_time: args.blend_time,
     };
     let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
     if let Some(path) = &args.json {
@@ -243,7 +258,7 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
 }
 
 /// Runs `shot` in the four modes (LODs at `pixel_tolerance`, then the fixed levels; and the LODs
-/// again with instant switching for the popping measure), prints the table in the paper's layout
+/// again with instant switching, for the popping measure and a row of its own), prints the table in the paper's layout
 /// (with the paper's figures when the shot is one of its tables) and returns the report.
 pub fn paper_tables(
     shot: &Shot,
@@ -257,6 +272,7 @@ pub fn paper_tables(
         error_model: extras
             .error_model
             .unwrap_or(shot.lod_settings().error_model),
+        blend_time: extras.blend_time.unwrap_or(shot.lod_settings().blend_time),
         ..shot.lod_settings()
     };
     lod.validate()?;
@@ -295,13 +311,15 @@ pub fn paper_tables(
     let mut strand_frames = Vec::new();
     let mut instant_frames = Vec::new();
     let mut instant_switched = Vec::new();
-    let mut ssim_sums = [0.0f64; 4];
+    // Per run (LODs, Strands, Clusters, Patches, LODs with instant switching).
+    let mut ssim_sums = [0.0f64; 5];
     // Hair samples per frame (the strand-group skeletons each mode stands for, 8 per skeleton)
     // for the pixel error against Strands, with which of the Strands samples the viewer sees.
     let (width, height) = (shot.width, shot.height);
     let mut lod_samples = Vec::new();
     let mut strand_samples: Vec<(Vec<glam::Vec3>, Vec<bool>)> = Vec::new();
-    let mut pixel_sums = [0.0f64; 4];
+    let mut pixel_sums = [0.0f64; 5];
+    let mut instant_run = None;
     for (index, (mode, label)) in runs.iter().enumerate() {
         let bar = progress_bar(shot.frames, label);
         let settings = PipelineSettings {
@@ -312,7 +330,8 @@ pub fn paper_tables(
         let run = run_mode(shot, &scene, settings, Some(&mut renderer), |output| {
             let report = output.report;
             let frame = report.frame;
-            if index < 4 {
+            // Every run's hair samples against the Strands run's (the pixel error).
+            {
                 let groom = &output.pipeline.scene().groom;
                 let samples = sample_skeletons(groom, &strand_skeletons(output.pipeline)?, 8);
                 let error = |(reference, visible): &(Vec<glam::Vec3>, Vec<bool>),
@@ -350,7 +369,9 @@ pub fn paper_tables(
                     }
                     2 | 3 => ssim_sums[index] += ssim(&strand_frames[frame], &luma(image)),
                     _ => {
-                        instant_frames.push(luma(image));
+                        let gray = luma(image);
+                        ssim_sums[index] += ssim(&strand_frames[frame], &gray);
+                        instant_frames.push(gray);
                         instant_switched.push(report.level_changes > 0);
                     }
                 }
@@ -367,6 +388,11 @@ pub fn paper_tables(
         }
         if index < 4 {
             modes.push(run);
+        } else {
+            instant_run = Some(ModeRun {
+                mode: "LODs, instant switching".to_string(),
+                ..run
+            });
         }
     }
     let paper = shot.paper_table.and_then(paper_figures);
@@ -414,6 +440,7 @@ pub fn paper_tables(
     let frames = shot.frames as f64;
     let mean_ssim = SsimAgainstStrands {
         lods: ssim_sums[0] / frames,
+        lods_instant_switching: ssim_sums[4] / frames,
         clusters: ssim_sums[2] / frames,
         patches: ssim_sums[3] / frames,
     };
@@ -424,10 +451,18 @@ pub fn paper_tables(
     );
     let mean_pixels = MeanPixelError {
         lods: pixel_sums[0] / frames,
+        lods_instant_switching: pixel_sums[4] / frames,
         clusters: pixel_sums[2] / frames,
         patches: pixel_sums[3] / frames,
     };
-    print_where_lods_sit(&modes, &mean_ssim, &mean_pixels, lod.error_model);
+    let instant_run = instant_run.expect("the instant-switching run is the fifth");
+    print_where_lods_sit(
+        &modes,
+        &instant_run,
+        &mean_ssim,
+        &mean_pixels,
+        lod.error_model,
+    );
     for warning in modes.iter().filter_map(ModeRun::stretch_warning) {
         eprintln!("{warning}");
     }
@@ -468,6 +503,7 @@ pub fn paper_tables(
         adapter,
         table: title,
         modes: &modes,
+        lods_instant_switching: &instant_run,
         speedup_lods_over_strands: speedups,
         popping_blended,
         popping_instant,
@@ -594,6 +630,7 @@ fn model_size_chart(path: &std::path::Path, shot: &Shot, modes: &[ModeRun]) -> R
 /// Strands, Clusters, Patches.
 fn print_where_lods_sit(
     modes: &[ModeRun],
+    instant: &ModeRun,
     ssim: &SsimAgainstStrands,
     pixels: &MeanPixelError,
     error_model: ErrorModel,
@@ -602,11 +639,16 @@ fn print_where_lods_sit(
     println!();
     println!("where the LODs ({error_model} error model) sit, against Strands frame by frame:");
     println!(
-        "{:<10}{:>14}{:>16}{:>14}{:>10}{:>16}",
+        "{:<25}{:>14}{:>16}{:>14}{:>10}{:>16}",
         "mode", "ms/frame mean", "ms/frame median", "vs Strands", "SSIM", "pixel error"
     );
     let rows = [
         (&modes[0], ssim.lods, pixels.lods),
+        (
+            instant,
+            ssim.lods_instant_switching,
+            pixels.lods_instant_switching,
+        ),
         (&modes[1], 1.0, 0.0),
         (&modes[2], ssim.clusters, pixels.clusters),
         (&modes[3], ssim.patches, pixels.patches),
@@ -614,7 +656,7 @@ fn print_where_lods_sit(
     for (run, ssim, pixels) in rows {
         let mean = run.mean.total();
         println!(
-            "{:<10}{:>14.1}{:>16.1}{:>13.2}×{:>10.4}{:>16.2}",
+            "{:<25}{:>14.1}{:>16.1}{:>13.2}×{:>10.4}{:>16.2}",
             run.mode,
             1e3 * mean,
             1e3 * run.median_total,

@@ -35,8 +35,8 @@ pub struct GroomArgs {
     #[arg(long, value_enum, default_value = "hanging")]
     rest_pose: RestPoseArg,
     /// A groom file to fit the paper's hierarchy to instead of a preset (.tfx, .hair, .data,
-    /// .obj, .usda): prints the fitted counts and each level's fit error (the fit is not yet a
-    /// groom that runs; see docs/grooms.md).
+    /// .obj, .usda): prints the fitted counts and each level's fit error. To run a groom
+    /// file, name it in a scene's `[groom] file` (docs/grooms.md).
     #[arg(long, value_name = "FILE")]
     file: Option<PathBuf>,
     /// With --file: metres per file unit (0.01 for centimetres).

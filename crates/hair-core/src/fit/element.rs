@@ -38,24 +38,86 @@ fn mean_curve(prepared: &Prepared, members: &[u32]) -> Vec<Vec3> {
 
 /// The member whose shape (samples minus root) has the smallest summed distance to the other
 /// members' shapes; candidates are at most [`MEDOID_CANDIDATES`] members evenly spread.
+///
+/// The distance between two shapes is the sum of their samples' distances, a metric, so a seed
+/// member `s` (the candidate nearest the mean shape, likely close to the medoid) bounds every
+/// candidate's sum from below by the triangle inequality: `Σₒ |d(c, s) − d(s, o)|`. A candidate
+/// whose bound exceeds the best sum so far (the seed's to begin with, with a margin for rounding)
+/// is skipped; the sum of any other stops as soon as it exceeds that best. The sums that run to
+/// the end add the same terms in the same order as a full evaluation, so the result is the
+/// brute-force medoid's bit for bit (ties go to the earlier candidate).
 fn medoid(prepared: &Prepared, members: &[u32]) -> u32 {
-    let stride = members.len().div_ceil(MEDOID_CANDIDATES).max(1);
-    let shape = |i: u32, k: usize| {
-        let strand = prepared.strand(i as usize);
-        strand[k] - strand[0]
-    };
     let m = prepared.samples_per_strand;
-    let mut best = (members[0], f64::INFINITY);
-    for &candidate in members.iter().step_by(stride) {
-        let total: f64 = members
+    let n = m.saturating_sub(1);
+    if n == 0 || members.len() < 2 {
+        return members[0];
+    }
+    let stride = members.len().div_ceil(MEDOID_CANDIDATES).max(1);
+    // Every member's shape, member-major: samples 1.. minus the root.
+    let shapes: Vec<Vec3> = members
+        .iter()
+        .flat_map(|&i| {
+            let strand = prepared.strand(i as usize);
+            strand[1..].iter().map(move |&p| p - strand[0])
+        })
+        .collect();
+    let shape = |index: usize| &shapes[index * n..(index + 1) * n];
+    let distance = |a: &[Vec3], b: &[Vec3]| -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(a, b)| f64::from(a.distance(*b)))
+            .sum::<f64>()
+    };
+    // The summed distance from member `index` to every member; `None` once it exceeds `bound`.
+    let total_within = |index: usize, bound: f64| {
+        let mine = shape(index);
+        let mut total = 0.0f64;
+        for other in shapes.chunks_exact(n) {
+            total += distance(mine, other);
+            if total > bound {
+                return None;
+            }
+        }
+        Some(total)
+    };
+    let mut mean = vec![Vec3::ZERO; n];
+    for other in shapes.chunks_exact(n) {
+        for (sum, p) in mean.iter_mut().zip(other) {
+            *sum += *p;
+        }
+    }
+    let scale = 1.0 / members.len() as f32;
+    let near_mean = |index: usize| -> f32 {
+        shape(index)
             .iter()
-            .map(|&other| {
-                (1..m)
-                    .map(|k| f64::from(shape(candidate, k).distance(shape(other, k))))
-                    .sum::<f64>()
-            })
-            .sum();
-        if total < best.1 {
+            .zip(&mean)
+            .map(|(p, sum)| p.distance_squared(*sum * scale))
+            .sum()
+    };
+    let seed = (0..members.len())
+        .step_by(stride)
+        .min_by(|&a, &b| near_mean(a).total_cmp(&near_mean(b)))
+        .unwrap_or(0);
+    let from_seed: Vec<f64> = shapes
+        .chunks_exact(n)
+        .map(|other| distance(shape(seed), other))
+        .collect();
+    let seed_total: f64 = from_seed.iter().sum();
+    // Each term of the bound is off by at most a few f32 ulps of `d(c, s) + d(s, o)` (the
+    // samples' distances are f32): `MARGIN · (n·d(c, s) + Σₒ d(s, o))` covers their sum.
+    const MARGIN: f64 = 1e-5;
+    let count = members.len() as f64;
+    let mut best = (members[0], f64::INFINITY);
+    for (index, &candidate) in members.iter().enumerate().step_by(stride) {
+        let bound = best.1.min(seed_total);
+        let to_seed = distance(shape(index), shape(seed));
+        let lower: f64 = from_seed.iter().map(|d| (to_seed - d).abs()).sum();
+        if lower > bound + MARGIN * (count * to_seed + seed_total) {
+            continue;
+        }
+        if let Some(total) = total_within(index, bound)
+            && total < best.1
+        {
             best = (candidate, total);
         }
     }
@@ -250,5 +312,86 @@ pub(crate) fn fit_element(
         root_offsets,
         errors,
         is_medoid: candidates[index].is_medoid,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::SplitMix64 as Rng;
+
+    /// The medoid by its definition: every candidate's full sum, the smallest first one wins.
+    fn brute_force_medoid(prepared: &Prepared, members: &[u32]) -> u32 {
+        let stride = members.len().div_ceil(MEDOID_CANDIDATES).max(1);
+        let shape = |i: u32, k: usize| {
+            let strand = prepared.strand(i as usize);
+            strand[k] - strand[0]
+        };
+        let m = prepared.samples_per_strand;
+        let mut best = (members[0], f64::INFINITY);
+        for &candidate in members.iter().step_by(stride) {
+            let total: f64 = members
+                .iter()
+                .map(|&other| {
+                    (1..m)
+                        .map(|k| f64::from(shape(candidate, k).distance(shape(other, k))))
+                        .sum::<f64>()
+                })
+                .sum();
+            if total < best.1 {
+                best = (candidate, total);
+            }
+        }
+        best.0
+    }
+
+    /// Random wavy strands, some of them repeated (ties), as prepared samples.
+    fn random_strands(rng: &mut Rng, strands: usize, samples: usize) -> Prepared {
+        let mut points = Vec::new();
+        for s in 0..strands {
+            if s % 7 == 3 {
+                // A copy of the previous strand: equal sums, the earlier one must win.
+                let previous = points[(s - 1) * samples..s * samples].to_vec();
+                points.extend(previous);
+                continue;
+            }
+            let root = Vec3::new(rng.range(-0.1, 0.1), 0.0, rng.range(-0.1, 0.1));
+            let bend = Vec3::new(rng.range(-0.05, 0.05), 0.0, rng.range(-0.05, 0.05));
+            for k in 0..samples {
+                let t = k as f32 / (samples - 1) as f32;
+                points.push(root + Vec3::new(0.0, -0.3 * t, 0.0) + bend * (6.0 * t).sin());
+            }
+        }
+        Prepared {
+            samples_per_strand: samples,
+            samples: points,
+            features: vec![Default::default(); strands],
+        }
+    }
+
+    #[test]
+    fn the_pruned_medoid_is_the_brute_force_one() {
+        let mut rng = Rng::new(11);
+        for (strands, samples) in [(1, 8), (2, 8), (40, 16), (300, 12), (700, 9)] {
+            let prepared = random_strands(&mut rng, strands, samples);
+            let all: Vec<u32> = (0..strands as u32).collect();
+            // Every member, a strided subset, and the members in a shuffled order.
+            let mut shuffled = all.clone();
+            for i in (1..shuffled.len()).rev() {
+                let j = (rng.next_u64() % (i as u64 + 1)) as usize;
+                shuffled.swap(i, j);
+            }
+            let odd: Vec<u32> = all.iter().copied().filter(|i| i % 2 == 1).collect();
+            for members in [&all, &shuffled, &odd] {
+                if members.is_empty() {
+                    continue;
+                }
+                assert_eq!(
+                    medoid(&prepared, members),
+                    brute_force_medoid(&prepared, members),
+                    "{strands} strands of {samples} samples"
+                );
+            }
+        }
     }
 }

@@ -146,8 +146,15 @@ fn assign_with_capacity(features: &[Feature], centres: &[Feature], capacity: usi
                 .enumerate()
                 .map(|(c, centre)| (distance_squared(f, centre), i as u32, c as u32))
                 .collect();
-            near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
-            near.truncate(candidates);
+            // The `candidates` nearest in order: the comparison is a total order (centres
+            // differ), so selecting them first and sorting only those is the full sort's prefix.
+            let order =
+                |a: &(f32, u32, u32), b: &(f32, u32, u32)| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2));
+            if candidates < near.len() {
+                near.select_nth_unstable_by(candidates, order);
+                near.truncate(candidates);
+            }
+            near.sort_unstable_by(order);
             near
         })
         .collect();
