@@ -87,11 +87,14 @@ fn medoid(prepared: &Prepared, members: &[u32]) -> u32 {
         }
     }
     let scale = 1.0 / members.len() as f32;
+    for sum in &mut mean {
+        *sum *= scale;
+    }
     let near_mean = |index: usize| -> f32 {
         shape(index)
             .iter()
             .zip(&mean)
-            .map(|(p, sum)| p.distance_squared(*sum * scale))
+            .map(|(p, centre)| p.distance_squared(*centre))
             .sum()
     };
     let seed = (0..members.len())
