@@ -1,6 +1,6 @@
-//! Tessellation around a cluster tube follows its projected ring: a tube drawn with the default
-//! half-pixel chord error covers the pixels of a finely tessellated one but for a band no wider
-//! than the chord error along each silhouette edge, and a coarse chord error visibly does not.
+//! Tessellation around a cluster tube follows its projected ring: a tube drawn with a half-pixel
+//! chord error (half the default) covers the pixels of a finely tessellated one but for a band no
+//! wider than the chord error along each silhouette edge, and a coarse chord error visibly does not.
 
 mod common;
 
