@@ -124,8 +124,8 @@ pub struct Tessellation {
 
 impl Default for Tessellation {
     /// 4 to 32 segments along (full detail within 1 m), 4 to 12 around within one pixel (see
-    /// `docs/render.md`: against 0.5 px, a close-up all-clusters frame costs 8–33 % less at 0.45–2.4 m and its
-    /// SSIM against all-strands is unchanged to 3 decimals).
+    /// `docs/render.md`: against 0.5 px, a close-up all-clusters frame costs 8–33 % less at
+    /// 0.45–2.4 m and its SSIM against all-strands is unchanged to 3 decimals).
     fn default() -> Self {
         Tessellation {
             max_segments: 32,
