@@ -136,15 +136,16 @@ impl Pipeline {
         let sections = groom.section_count();
         let occluders = scene.head.occluder_boxes();
         let (selector, start_level) = match settings.lod {
-            LodMode::Auto(lod) => (
-                Some(match deviations {
+            LodMode::Auto(lod) => {
+                let mut selector = match deviations {
                     Some(deviations) if lod.error_model == ErrorModel::Deviation => {
                         LodSelector::with_deviations(groom, &occluders, lod, deviations)?
                     }
                     _ => LodSelector::new(groom, &occluders, lod)?,
-                }),
-                Level::StrandGroup,
-            ),
+                };
+                selector.set_frame_time(settings.dynamics.time_step)?;
+                (Some(selector), Level::StrandGroup)
+            }
             LodMode::Fixed(level) => (None, level),
         };
         let bodies = if settings.collision {
@@ -177,6 +178,7 @@ impl Pipeline {
             levels: SectionLevels::new(sections, start_level),
             choices: vec![visible_choice; sections],
             pixel_tolerance: selector.as_ref().map(|s| s.settings().pixel_tolerance),
+            selector_depths: Vec::new(),
             blocks: PerLevel::from_fn(|level| LevelBlock::empty(level, 0.0)),
         };
         let mut pipeline = Pipeline {
@@ -304,6 +306,7 @@ impl Pipeline {
             (Some(selector), Some(tolerance)) => {
                 selector.set_pixel_tolerance(tolerance)?;
                 selector.restore_choices(&state.choices)?;
+                selector.restore_depths(&state.selector_depths)?;
             }
             (None, None) => {}
             _ => {
@@ -512,7 +515,11 @@ impl Pipeline {
             LodMode::Auto(lod) => {
                 let mut selector =
                     LodSelector::new(&self.scene.groom, &self.scene.head.occluder_boxes(), lod)?;
+                selector.set_frame_time(self.settings.dynamics.time_step)?;
                 selector.restore_choices(&self.state.choices)?;
+                // Depths from before a fixed spell are stale: the first choice does not look
+                // ahead.
+                self.state.selector_depths.clear();
                 self.state.pixel_tolerance = Some(lod.pixel_tolerance);
                 self.selector = Some(selector);
             }
@@ -843,6 +850,8 @@ impl Pipeline {
         };
         let state = &mut self.state;
         state.choices.copy_from_slice(choices);
+        state.selector_depths.clear();
+        state.selector_depths.extend_from_slice(selector.depths());
         // The first frame picks the starting levels outright: there is nothing on screen to
         // blend from.
         let blend = if state.frame == 0 {

@@ -25,6 +25,12 @@ pub struct PipelineState {
     /// The selector's pixel tolerance [pixels] (a frame-budget controller moves it); `None` at a
     /// fixed level.
     pub pixel_tolerance: Option<f32>,
+    /// Each section's depth [m] at the selector's last choice, what its look ahead compares the
+    /// next frame with ([`LodSelector::depths`](hair_core::lod::LodSelector::depths)); empty at a
+    /// fixed level or before the first choice (and in checkpoints written before it was kept:
+    /// the first frame after resuming then does not look ahead).
+    #[serde(default)]
+    pub selector_depths: Vec<f32>,
     /// The skeletons simulated at each level.
     pub blocks: PerLevel<LevelBlock>,
 }

@@ -315,6 +315,9 @@ pub struct LodTable {
     pub budget_method: Option<String>,
     /// Blend time of a level transition [s], ≥ 0 (default 0.25).
     pub blend_time: Option<f32>,
+    /// How far ahead the level choice looks, as a fraction of the blend time, 0..=1 (default
+    /// 0.5; 0: the current frame only).
+    pub blend_lead: Option<f32>,
     /// The motion criterion and the part/face rule apply only to sections whose chord spans at
     /// least this many pixels [pixels], ≥ 0 (default 20; 0: always, the paper's rule).
     pub rules_min_pixels: Option<f32>,

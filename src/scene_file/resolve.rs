@@ -545,6 +545,15 @@ impl SceneFile {
         if let Some(v) = table.blend_time {
             lod.blend_time = within("lod.blend_time", v, 0.0, 10.0, "seconds in 0..=10")?;
         }
+        if let Some(v) = table.blend_lead {
+            lod.blend_lead = within(
+                "lod.blend_lead",
+                v,
+                0.0,
+                1.0,
+                "a fraction of the blend time in 0..=1",
+            )?;
+        }
         if let Some(v) = table.rules_min_pixels {
             lod.rules_min_pixels = within(
                 "lod.rules_min_pixels",

@@ -83,6 +83,10 @@ pub struct PaperArgs {
     /// instantly, as the paper does). The table always adds a row of the LODs switching instantly.
     #[arg(long, value_name = "SECONDS")]
     pub blend_time: Option<f32>,
+    /// How far ahead the LODs' level choice looks, as a fraction of the blend time, 0..=1
+    /// (default: the library's, 0.5; 0: the current frame only).
+    #[arg(long, value_name = "FRACTION")]
+    pub blend_lead: Option<f32>,
     /// Also run the LODs in frame-budget mode: levels chosen so that a frame costs at most MS
     /// milliseconds (see --budget-method).
     #[arg(long, value_name = "MS")]
@@ -139,6 +143,8 @@ pub struct PaperExtras {
     pub error_model: Option<ErrorModel>,
     /// Blend duration of the LODs [s] (`None`: the shot's).
     pub blend_time: Option<f32>,
+    /// Look ahead of the LODs' choice, a fraction of the blend time (`None`: the shot's).
+    pub blend_lead: Option<f32>,
 }
 
 #[derive(Serialize)]
@@ -232,6 +238,7 @@ fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
         chart: args.chart.clone(),
         error_model: None,
         blend_time: None,
+        blend_lead: None,
     };
     let pixel_tolerance = shot.lod_settings().pixel_tolerance;
     let report = paper_tables(&shot, pixel_tolerance, &extras)?;
@@ -249,6 +256,7 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
         chart: args.chart.clone(),
         error_model: Some(args.error_model),
         blend_time: args.blend_time,
+        blend_lead: args.blend_lead,
     };
     let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
     if let Some(path) = &args.json {
@@ -273,6 +281,7 @@ pub fn paper_tables(
             .error_model
             .unwrap_or(shot.lod_settings().error_model),
         blend_time: extras.blend_time.unwrap_or(shot.lod_settings().blend_time),
+        blend_lead: extras.blend_lead.unwrap_or(shot.lod_settings().blend_lead),
         ..shot.lod_settings()
     };
     lod.validate()?;

@@ -114,6 +114,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             chart: Some(args.out.join("model_size.png")),
             error_model: Some(ErrorModel::Deviation),
             blend_time: None,
+            blend_lead: None,
         };
         let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
         write_json(&args.out.join("bench.json"), &report)?;

@@ -1,6 +1,6 @@
 //! The criteria of §7 as pure functions: occlusion rays against a box inside the head (§7.1),
 //! projected skeleton length and the distance limits that follow from a pixel tolerance (§7.2),
-//! the motion measure (§7.3), and a level with hysteresis.
+//! the motion measure (§7.3), a level with hysteresis, and how far errors change over a look ahead.
 
 use glam::Vec3;
 
@@ -100,6 +100,27 @@ pub fn level_with_hysteresis(value: f32, limits: [f32; 2], current: Level, band:
         }
     }
     Level::ALL[rank]
+}
+
+/// The factor by which a section's screen-space errors will have changed `lead_frames` frames
+/// ahead, from its depth `previous` [m] a frame ago and `now` [m]: errors go as `1/z`, so it is
+/// `z / z_ahead`. A receding depth is extrapolated linearly (`z + k·Δz`: exact at a constant
+/// speed, short of an accelerating one), an approaching one geometrically
+/// (`z·(z/z_prev)^k`: it never reaches the eye, short of a constant-speed approach), so that
+/// the look ahead never foresees more change than a steady motion makes; bounded to `[1/4, 4]`.
+/// 1 (no look ahead) when either depth is unknown, not finite or not beyond `near` [m], or when
+/// `lead_frames` is 0.
+pub fn error_ahead(previous: f32, now: f32, lead_frames: f32, near: f32) -> f32 {
+    let known = |z: f32| z.is_finite() && z > near;
+    if lead_frames <= 0.0 || !known(previous) || !known(now) {
+        return 1.0;
+    }
+    let ahead = if now >= previous {
+        now + lead_frames * (now - previous)
+    } else {
+        now * (now / previous).powf(lead_frames)
+    };
+    (now / ahead).clamp(0.25, 4.0)
 }
 
 /// The motion measure of one skeleton (§7.3): the strongest external force per unit mass on any of

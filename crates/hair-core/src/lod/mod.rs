@@ -2,11 +2,12 @@
 //! skeleton state passes between levels.
 //!
 //! - [`LodSettings`]: the pixel tolerance the distance limits derive from, motion thresholds,
-//!   hysteresis, per-section rules, blend time;
+//!   hysteresis, per-section rules, blend time and how far ahead the choice looks;
 //! - [`level_deviations`]: how far each section's patch and clusters are from its strands [m],
 //!   the estimate behind error-driven selection;
 //! - [`criteria`]: the paper's tests as pure functions (occlusion rays against a box inside the
-//!   head, projected skeleton length, motion measure, a level with hysteresis);
+//!   head, projected skeleton length, motion measure, a level with hysteresis, the change of a
+//!   section's errors over a look ahead);
 //! - [`LodSelector`]: the per-frame choice for every section ([`SectionChoice`]) from what it sees of
 //!   each ([`SectionObservation`]);
 //! - [`hand_over`]: a section's skeleton state from one level to another (split and merge);
@@ -27,12 +28,14 @@ mod transfer;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_lead;
 
 pub use budget::{BudgetController, BudgetMethod, BudgetReport, BudgetSettings};
 pub use cost_model::{CostModel, CostRates, RenderSample, SectionWork};
 pub use criteria::{
-    distance_limits, head_point_acceleration, head_point_acceleration_from_poses, is_occluded,
-    level_with_hysteresis, motion_measure, projected_length, segment_hits_box,
+    distance_limits, error_ahead, head_point_acceleration, head_point_acceleration_from_poses,
+    is_occluded, level_with_hysteresis, motion_measure, projected_length, segment_hits_box,
 };
 pub use deviation::{
     DEVIATION_PERCENTILE, DRAWN_TUBE_RADIUS, LevelDeviation, PointGrid, level_deviations,

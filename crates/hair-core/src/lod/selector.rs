@@ -6,7 +6,9 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::cost_model::{CostModel, SectionWork};
-use super::criteria::{distance_limits, is_occluded, level_with_hysteresis, projected_length};
+use super::criteria::{
+    distance_limits, error_ahead, is_occluded, level_with_hysteresis, projected_length,
+};
 use super::deviation::{LevelDeviation, level_deviations};
 use super::greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
 use super::settings::{ErrorModel, LodSettings};
@@ -125,6 +127,13 @@ pub struct LodSelector {
     choices: Vec<SectionChoice>,
     occluders: Vec<(Vec3, Vec3)>,
     budget_scratch: BudgetScratch,
+    /// Each section's depth [m] at the last choice (of its bound centre, where its errors are
+    /// measured; 0: not seen yet), for looking ahead.
+    depths: Vec<f32>,
+    /// How many frames ahead the tolerance controller looks
+    /// ([`LodSettings::blend_lead`] · blend time / frame time; 0 until
+    /// [`LodSelector::set_frame_time`]).
+    lead_frames: f32,
 }
 
 impl LodSelector {
@@ -197,7 +206,56 @@ impl LodSelector {
             choices,
             occluders: occluders.to_vec(),
             budget_scratch: BudgetScratch::default(),
+            depths: vec![0.0; groom.section_count()],
+            lead_frames: 0.0,
         })
+    }
+
+    /// Tells the selector how long a frame (one [`select`](Self::select) to the next) lasts [s],
+    /// so that it can look [`LodSettings::blend_lead`] of the blend time ahead; errors when
+    /// `frame_time` is not positive and finite.
+    pub fn set_frame_time(&mut self, frame_time: f32) -> Result<()> {
+        if !(frame_time.is_finite() && frame_time > 0.0) {
+            return Err(HairError::invalid(
+                "LOD frame time (s)",
+                frame_time,
+                "positive and finite",
+            ));
+        }
+        self.lead_frames = self.settings.blend_lead * self.settings.blend_time / frame_time;
+        Ok(())
+    }
+
+    /// How many frames ahead the tolerance controller looks (0 until
+    /// [`set_frame_time`](Self::set_frame_time)).
+    pub fn lead_frames(&self) -> f32 {
+        self.lead_frames
+    }
+
+    /// Each section's depth [m] at the last choice (of its bound centre, where its errors are
+    /// measured; 0 where not seen yet or not finite, and negative behind the eye: unknown to the
+    /// look ahead): what looking ahead compares the next frame's depths with. A run resumed from
+    /// a checkpoint restores it with [`restore_depths`](Self::restore_depths).
+    pub fn depths(&self) -> &[f32] {
+        &self.depths
+    }
+
+    /// Restores the depths saved from [`depths`](Self::depths); an empty slice forgets them (the
+    /// next choice does not look ahead); errors when the count is neither 0 nor the section count.
+    pub fn restore_depths(&mut self, depths: &[f32]) -> Result<()> {
+        if depths.is_empty() {
+            self.depths.fill(0.0);
+            return Ok(());
+        }
+        if depths.len() != self.depths.len() {
+            return Err(HairError::SizeMismatch {
+                what: "section depths",
+                actual: depths.len(),
+                expected: self.depths.len(),
+            });
+        }
+        self.depths.copy_from_slice(depths);
+        Ok(())
     }
 
     /// The settings.
@@ -286,12 +344,16 @@ impl LodSelector {
         camera.validate()?;
         let settings = self.settings;
         let aspect = settings.aspect();
-        for ((choice, constants), observation) in self
+        for (((choice, constants), observation), depth) in self
             .choices
             .iter_mut()
             .zip(&self.constants)
             .zip(observations)
+            .zip(&mut self.depths)
         {
+            let now = depth_of(camera, observation.bound_centre);
+            let ahead = error_ahead(*depth, now, self.lead_frames, camera.near);
+            *depth = if now.is_finite() { now } else { 0.0 };
             *choice = choose(
                 choice.level,
                 constants,
@@ -301,6 +363,7 @@ impl LodSelector {
                 &self.occluders,
                 &settings,
                 aspect,
+                ahead,
             );
         }
         Ok(&self.choices)
@@ -371,6 +434,10 @@ impl LodSelector {
         scratch.hidden.clear();
         scratch.motion.clear();
         for (section, (choice, observation)) in self.choices.iter().zip(observations).enumerate() {
+            // A budgeted choice does not look ahead, but keeps the depths current for a later
+            // tolerance-controlled one.
+            let depth = depth_of(camera, observation.bound_centre);
+            self.depths[section] = if depth.is_finite() { depth } else { 0.0 };
             let constants = &self.constants[section];
             let previous = choice.level;
             let hidden = hidden_reason(
@@ -543,11 +610,16 @@ fn chord_pixels(camera: &Camera, observation: &SectionObservation, settings: &Lo
     )
 }
 
+/// The depth [m] of `point` [m] along `camera`'s view direction.
+fn depth_of(camera: &Camera, point: Vec3) -> f32 {
+    let forward = (camera.target - camera.position).normalize_or_zero();
+    (point - camera.position).dot(forward)
+}
+
 /// Pixels a metre covers at the depth of `point` [m] seen by `camera` in the selector's image
 /// (`f / z`, `f` the focal length in pixels); infinite at or behind the near plane.
 fn pixels_per_metre(camera: &Camera, point: Vec3, settings: &LodSettings) -> f32 {
-    let forward = (camera.target - camera.position).normalize_or_zero();
-    let depth = (point - camera.position).dot(forward);
+    let depth = depth_of(camera, point);
     if depth <= camera.near {
         return f32::INFINITY;
     }
@@ -577,7 +649,8 @@ fn scaled_error(deviation: f32, scale: f32) -> f32 {
     }
 }
 
-/// One section's choice (§7.4).
+/// One section's choice (§7.4); `ahead` scales its screen-space errors to where they will be at
+/// the look-ahead ([`error_ahead`]).
 #[allow(clippy::too_many_arguments)]
 fn choose(
     current: Level,
@@ -588,6 +661,7 @@ fn choose(
     occluders: &[(Vec3, Vec3)],
     settings: &LodSettings,
     aspect: f32,
+    ahead: f32,
 ) -> SectionChoice {
     if let Some(reason) = hidden_reason(observation, camera, head, occluders, settings, aspect) {
         return SectionChoice {
@@ -599,7 +673,8 @@ fn choose(
     let band = settings.hysteresis;
     let by_distance = match settings.error_model {
         ErrorModel::Chord => {
-            let length = chord_pixels(camera, observation, settings) * constants.crown_factor;
+            let length =
+                chord_pixels(camera, observation, settings) * constants.crown_factor * ahead;
             level_with_hysteresis(length, constants.limits, current, band)
         }
         ErrorModel::Deviation => {
@@ -607,7 +682,8 @@ fn choose(
             // is good enough while that scale stays below tolerance / deviation. A patch never
             // counts as closer than the clusters.
             let scale = pixels_per_metre(camera, observation.bound_centre, settings)
-                * constants.crown_factor;
+                * constants.crown_factor
+                * ahead;
             let deviation = constants.deviation;
             let limit = |error: f32| settings.pixel_tolerance / error.max(f32::MIN_POSITIVE);
             let limits = [

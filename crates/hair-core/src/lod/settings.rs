@@ -87,6 +87,17 @@ pub struct LodSettings {
     pub occlusion: bool,
     /// Duration of a transition's blend [s] (0: instant switching, as in the paper).
     pub blend_time: f32,
+    /// How far ahead the error-driven choice looks, as a fraction of
+    /// [`blend_time`](Self::blend_time), `0..=1`: each section's screen-space errors are
+    /// extrapolated that far ahead from the change of its depth over the last frame (errors go as
+    /// `1/z`), so that a transition's blend is under way when the tolerance is crossed rather than
+    /// starting then. At 0.5 (the default) a receding section's coarser level has dissolved fully
+    /// in (a new level's coverage reaches 1 at half the blend) by the time its error comes within
+    /// tolerance, and an approaching section's finer level is fully in by the time the coarser
+    /// one's error leaves it. 0: the choice sees the current frame only. Only the tolerance
+    /// controller looks ahead, and only when told the frame time
+    /// ([`LodSelector::set_frame_time`](super::LodSelector::set_frame_time), as the pipeline does).
+    pub blend_lead: f32,
     /// How a coarse level's screen-space error is estimated.
     pub error_model: ErrorModel,
     /// The motion criterion (§7.3) and the part/face rule raise a section's level only while its
@@ -110,6 +121,7 @@ impl Default for LodSettings {
             keep_part_and_face_detailed: true,
             occlusion: true,
             blend_time: 0.25,
+            blend_lead: 0.5,
             error_model: ErrorModel::Deviation,
             rules_min_pixels: 20.0,
         }
@@ -150,6 +162,13 @@ impl LodSettings {
         require_non_negative("rules' smallest section (pixels)", self.rules_min_pixels)?;
         require_non_negative("crown boost", self.crown_boost)?;
         require_non_negative("LOD blend time (s)", self.blend_time)?;
+        if !(0.0..=1.0).contains(&self.blend_lead) {
+            return Err(HairError::invalid(
+                "LOD blend lead (fraction of the blend time)",
+                self.blend_lead,
+                "0..=1",
+            ));
+        }
         Ok(())
     }
 

@@ -1,0 +1,219 @@
+//! Tests of the selector's look ahead ([`LodSettings::blend_lead`]): the extrapolation of a
+//! section's errors against steady motions worked by hand, and the level changes of a selector
+//! that looks `k` frames ahead against one that does not, on a camera receding and approaching
+//! at a constant speed.
+
+use glam::Vec3;
+
+use super::*;
+use crate::camera::Camera;
+use crate::level::Level;
+use crate::scene::Scene;
+use crate::transform::RigidTransform;
+
+/// Frames the selector looks ahead in these tests: `blend_lead · blend_time / frame_time` =
+/// 0.5 · 0.24 s / 0.02 s.
+const LEAD_FRAMES: usize = 6;
+
+fn settings() -> LodSettings {
+    LodSettings {
+        occlusion: false,
+        blend_time: 0.24,
+        blend_lead: 0.5,
+        ..LodSettings::default()
+    }
+}
+
+/// The camera `distance` [m] in front of the head, looking at it: moving `distance` moves the
+/// eye along its view direction, so every point's depth changes by the same amount.
+fn camera(distance: f32) -> Camera {
+    Camera::orbit(
+        Vec3::new(0.0, 0.05, 0.0),
+        distance,
+        0.0,
+        0.1,
+        35f32.to_radians(),
+    )
+}
+
+/// Every section's rest observation (patch skeletons, no motion).
+fn observations(scene: &Scene) -> Vec<SectionObservation> {
+    (0..scene.groom.section_count())
+        .map(|section| {
+            let mut positions = Vec::new();
+            for chain in scene.groom.section_chains(section, Level::Patch) {
+                let mut chain_positions =
+                    vec![Vec3::ZERO; scene.groom.skeletons.chain_node_count(chain)];
+                scene.groom.skeletons.rest_positions_of(
+                    chain,
+                    &RigidTransform::IDENTITY,
+                    &mut chain_positions,
+                );
+                positions.extend(chain_positions);
+            }
+            SectionObservation::of_section(&scene.groom, section, Level::Patch, &positions, 0.0)
+        })
+        .collect()
+}
+
+/// Each section's levels over the frames at camera distances `distances` [m].
+fn levels_over(selector: &mut LodSelector, scene: &Scene, distances: &[f32]) -> Vec<Vec<Level>> {
+    let observed = observations(scene);
+    let mut levels = vec![Vec::new(); scene.groom.section_count()];
+    for &distance in distances {
+        let choices = selector
+            .select(&observed, &camera(distance), &RigidTransform::IDENTITY)
+            .unwrap();
+        for (section, choice) in choices.iter().enumerate() {
+            levels[section].push(choice.level);
+        }
+    }
+    levels
+}
+
+/// The frames at which `levels` changes, with the level it changes to.
+fn changes(levels: &[Level]) -> Vec<(usize, Level)> {
+    levels
+        .windows(2)
+        .enumerate()
+        .filter(|(_, pair)| pair[0] != pair[1])
+        .map(|(frame, pair)| (frame + 1, pair[1]))
+        .collect()
+}
+
+/// The selectors with and without the look ahead.
+fn selectors(scene: &Scene) -> (LodSelector, LodSelector) {
+    let occluders = scene.head.occluder_boxes();
+    let mut ahead = LodSelector::new(&scene.groom, &occluders, settings()).unwrap();
+    ahead.set_frame_time(0.02).unwrap();
+    assert!((ahead.lead_frames() - LEAD_FRAMES as f32).abs() < 1e-4);
+    let now = LodSelector::new(&scene.groom, &occluders, settings()).unwrap();
+    assert_eq!(now.lead_frames(), 0.0, "no look ahead without a frame time");
+    (ahead, now)
+}
+
+#[test]
+fn error_ahead_extrapolates_steady_motions() {
+    let k = 7.5;
+    // Receding at a constant 0.1 m a frame: z_ahead = z + k·Δz exactly, errors go as 1/z.
+    let factor = error_ahead(1.0, 1.1, k, 0.01);
+    assert!((factor - 1.1 / (1.1 + k * 0.1)).abs() < 1e-6, "{factor}");
+    // Approaching: z_ahead = z·(z/z_prev)^k, errors grow by (z_prev/z)^k.
+    let factor = error_ahead(1.1, 1.0, k, 0.01);
+    assert!((factor - 1.1f32.powf(k)).abs() < 1e-4, "{factor}");
+    // A geometric recession z_n = z_0·qⁿ (the paper's zoom-out): the linear extrapolation
+    // foresees no more than the motion makes, the factor stays at or above q^-k.
+    for q in [1.01f32, 1.056, 1.2] {
+        let factor = error_ahead(2.0, 2.0 * q, k, 0.01);
+        assert!(factor >= q.powf(-k) && factor < 1.0, "q {q}: {factor}");
+    }
+    // Bounded, and 1 where a depth is unknown or there is nothing to look ahead.
+    assert_eq!(error_ahead(1.0, 10.0, k, 0.01), 0.25);
+    assert_eq!(error_ahead(10.0, 1.0, k, 0.01), 4.0);
+    for (previous, now) in [
+        (0.0, 1.0),
+        (1.0, 0.0),
+        (-1.0, 1.0),
+        (f32::NAN, 1.0),
+        (0.005, 1.0),
+    ] {
+        assert_eq!(
+            error_ahead(previous, now, k, 0.01),
+            1.0,
+            "{previous} → {now}"
+        );
+    }
+    assert_eq!(error_ahead(1.0, 2.0, 0.0, 0.01), 1.0);
+}
+
+#[test]
+fn a_receding_camera_is_met_k_frames_early() {
+    // The eye recedes 5 cm a frame. Looking k frames ahead, the selector's values at frame n are
+    // the plain selector's at frame n + k (the depth is extrapolated exactly at a constant
+    // speed, and the deviation model's errors go as 1/depth), so each section passes through the
+    // same levels k frames earlier. The first frame cannot look ahead (no depth before it), so
+    // sections with a change in the first k + 1 frames are left out.
+    let scene = Scene::preset("paper-curly").unwrap();
+    let (mut ahead, mut now) = selectors(&scene);
+    let distances: Vec<f32> = (0..120).map(|n| 0.4 + 0.05 * n as f32).collect();
+    let with_lead = levels_over(&mut ahead, &scene, &distances);
+    let without = levels_over(&mut now, &scene, &distances);
+    let mut compared = 0;
+    for (section, (with_lead, without)) in with_lead.iter().zip(&without).enumerate() {
+        let plain = changes(without);
+        if plain.is_empty() || plain[0].0 <= LEAD_FRAMES + 1 {
+            continue;
+        }
+        let expected: Vec<(usize, Level)> = plain
+            .iter()
+            .map(|&(frame, level)| (frame - LEAD_FRAMES, level))
+            .collect();
+        assert_eq!(changes(with_lead), expected, "section {section}");
+        compared += 1;
+    }
+    assert!(
+        compared >= 20,
+        "only {compared} sections changed level late enough"
+    );
+}
+
+#[test]
+fn an_approaching_camera_is_met_early_but_never_late() {
+    // The eye comes 5 cm a frame closer. The geometric extrapolation of an approach falls short
+    // of a constant speed, so a section refines between 0 and k frames earlier than without the
+    // look ahead, through the same levels, and some do refine earlier.
+    let scene = Scene::preset("paper-curly").unwrap();
+    let (mut ahead, mut now) = selectors(&scene);
+    let distances: Vec<f32> = (0..120).map(|n| 6.35 - 0.05 * n as f32).collect();
+    let with_lead = levels_over(&mut ahead, &scene, &distances);
+    let without = levels_over(&mut now, &scene, &distances);
+    let (mut compared, mut earlier) = (0, 0);
+    for (section, (with_lead, without)) in with_lead.iter().zip(&without).enumerate() {
+        let plain = changes(without);
+        if plain.is_empty() || plain[0].0 <= LEAD_FRAMES + 1 {
+            continue;
+        }
+        let led = changes(with_lead);
+        assert_eq!(
+            led.len(),
+            plain.len(),
+            "section {section}: {led:?} {plain:?}"
+        );
+        for (&(led_frame, led_level), &(frame, level)) in led.iter().zip(&plain) {
+            assert_eq!(led_level, level, "section {section}");
+            assert!(
+                led_frame <= frame && led_frame + LEAD_FRAMES >= frame,
+                "section {section}: to {level} at frame {led_frame}, without looking ahead {frame}"
+            );
+            earlier += usize::from(led_frame < frame);
+        }
+        compared += 1;
+    }
+    assert!(
+        compared >= 20,
+        "only {compared} sections refined late enough"
+    );
+    assert!(earlier > 0, "no refinement came earlier");
+}
+
+#[test]
+fn look_ahead_inputs_are_checked() {
+    let scene = Scene::preset("paper-curly").unwrap();
+    let (mut selector, _) = selectors(&scene);
+    for bad in [0.0, -0.01, f32::NAN, f32::INFINITY] {
+        let error = selector.set_frame_time(bad).unwrap_err().to_string();
+        assert!(error.contains("LOD frame time"), "{error}");
+    }
+    let error = selector.restore_depths(&[1.0; 3]).unwrap_err().to_string();
+    assert!(error.contains("section depths"), "{error}");
+    selector.restore_depths(&[]).unwrap();
+    assert!(selector.depths().iter().all(|&z| z == 0.0));
+    for bad in [-0.1, 1.5, f32::NAN] {
+        let settings = LodSettings {
+            blend_lead: bad,
+            ..settings()
+        };
+        let error = settings.validate().unwrap_err().to_string();
+        assert!(error.contains("blend lead"), "{error}");
+    }
+}
