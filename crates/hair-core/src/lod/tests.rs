@@ -20,7 +20,8 @@ fn rest_section(scene: &Scene, section: usize, level: Level, head: &RigidTransfo
     positions
 }
 
-fn observations(scene: &Scene, level: Level, motion: f32) -> Vec<SectionObservation> {
+/// Every section's rest observation at `level` with motion measure `motion` [m/s²].
+pub(super) fn observations(scene: &Scene, level: Level, motion: f32) -> Vec<SectionObservation> {
     (0..scene.groom.section_count())
         .map(|section| {
             let positions = rest_section(scene, section, level, &RigidTransform::IDENTITY);
@@ -29,7 +30,9 @@ fn observations(scene: &Scene, level: Level, motion: f32) -> Vec<SectionObservat
         .collect()
 }
 
-fn front_camera(distance: f32) -> Camera {
+/// The camera `distance` [m] in front of the head, looking at it: moving `distance` moves the
+/// eye along its view direction.
+pub(super) fn front_camera(distance: f32) -> Camera {
     Camera::orbit(
         Vec3::new(0.0, 0.05, 0.0),
         distance,

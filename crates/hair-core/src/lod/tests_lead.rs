@@ -3,10 +3,8 @@
 //! that looks `k` frames ahead against one that does not, on a camera receding and approaching
 //! at a constant speed.
 
-use glam::Vec3;
-
+use super::tests::{front_camera, observations};
 use super::*;
-use crate::camera::Camera;
 use crate::level::Level;
 use crate::scene::Scene;
 use crate::transform::RigidTransform;
@@ -24,45 +22,17 @@ fn settings() -> LodSettings {
     }
 }
 
-/// The camera `distance` [m] in front of the head, looking at it: moving `distance` moves the
-/// eye along its view direction, so every point's depth changes by the same amount.
-fn camera(distance: f32) -> Camera {
-    Camera::orbit(
-        Vec3::new(0.0, 0.05, 0.0),
-        distance,
-        0.0,
-        0.1,
-        35f32.to_radians(),
-    )
-}
-
-/// Every section's rest observation (patch skeletons, no motion).
-fn observations(scene: &Scene) -> Vec<SectionObservation> {
-    (0..scene.groom.section_count())
-        .map(|section| {
-            let mut positions = Vec::new();
-            for chain in scene.groom.section_chains(section, Level::Patch) {
-                let mut chain_positions =
-                    vec![Vec3::ZERO; scene.groom.skeletons.chain_node_count(chain)];
-                scene.groom.skeletons.rest_positions_of(
-                    chain,
-                    &RigidTransform::IDENTITY,
-                    &mut chain_positions,
-                );
-                positions.extend(chain_positions);
-            }
-            SectionObservation::of_section(&scene.groom, section, Level::Patch, &positions, 0.0)
-        })
-        .collect()
-}
-
 /// Each section's levels over the frames at camera distances `distances` [m].
 fn levels_over(selector: &mut LodSelector, scene: &Scene, distances: &[f32]) -> Vec<Vec<Level>> {
-    let observed = observations(scene);
+    let observed = observations(scene, Level::Patch, 0.0);
     let mut levels = vec![Vec::new(); scene.groom.section_count()];
     for &distance in distances {
         let choices = selector
-            .select(&observed, &camera(distance), &RigidTransform::IDENTITY)
+            .select(
+                &observed,
+                &front_camera(distance),
+                &RigidTransform::IDENTITY,
+            )
             .unwrap();
         for (section, choice) in choices.iter().enumerate() {
             levels[section].push(choice.level);
