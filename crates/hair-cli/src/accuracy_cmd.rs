@@ -77,6 +77,11 @@ pub struct AccuracyArgs {
     /// `chord` (the paper's rule), comma-separated to run the LODs with each.
     #[arg(long, value_delimiter = ',', default_value = "deviation")]
     pub error_models: Vec<ErrorModel>,
+    /// How far ahead the LODs' level choice looks, as fractions of the blend time in 0..=1,
+    /// comma-separated to run the LODs with each (default: the library's, 0.5; 0: the current
+    /// frame only).
+    #[arg(long, value_delimiter = ',', value_name = "FRACTIONS")]
+    pub blend_leads: Vec<f32>,
     /// Integrator of the fixed levels and the LODs (the integrator sweep tries the others).
     #[arg(long, default_value_t = IntegratorKind::DEFAULT)]
     pub integrator: IntegratorKind,
@@ -136,14 +141,22 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
         fixed("Clusters", Level::Cluster),
         fixed("Patches", Level::Patch),
     ];
-    for (&tolerance, &error_model) in args
+    let default_lead = shot.lod_settings().blend_lead;
+    let leads = if args.blend_leads.is_empty() {
+        vec![default_lead]
+    } else {
+        args.blend_leads.clone()
+    };
+    for ((&tolerance, &error_model), &blend_lead) in args
         .tolerances
         .iter()
         .flat_map(|t| args.error_models.iter().map(move |m| (t, m)))
+        .flat_map(|pair| leads.iter().map(move |lead| (pair, lead)))
     {
         let lod = hairlod::core::lod::LodSettings {
             pixel_tolerance: tolerance,
             error_model,
+            blend_lead,
             ..shot.lod_settings()
         };
         lod.validate()?;
@@ -151,8 +164,13 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
             ErrorModel::Deviation => String::new(),
             other => format!(" ({other})"),
         };
+        let lead = if blend_lead == default_lead {
+            String::new()
+        } else {
+            format!(" lead {blend_lead}")
+        };
         list.push(Configuration {
-            label: format!("LODs{model} {tolerance}px"),
+            label: format!("LODs{model}{lead} {tolerance}px"),
             group: Group::Lods,
             settings: PipelineSettings {
                 lod: LodMode::Auto(lod),
@@ -421,5 +439,69 @@ fn print_fronts(points: &[Point]) {
         );
     } else {
         println!("\nno LODs configuration on the SSIM front keeps a mean SSIM of {TARGET_SSIM}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: AccuracyArgs,
+    }
+
+    fn lod_configurations(flags: &[&str]) -> Result<Vec<(String, f32, f32)>> {
+        let cli = Cli::try_parse_from(["accuracy", "--no-integrators"].iter().chain(flags))?;
+        let shot = paper_shot(false);
+        Ok(configurations(&cli.args, &shot)?
+            .into_iter()
+            .filter_map(|c| match (c.group, c.settings.lod) {
+                (Group::Lods, LodMode::Auto(lod)) => {
+                    Some((c.label, lod.pixel_tolerance, lod.blend_lead))
+                }
+                _ => None,
+            })
+            .collect())
+    }
+
+    #[test]
+    fn each_blend_lead_runs_every_tolerance() {
+        let default_lead = paper_shot(false).lod_settings().blend_lead;
+        assert_eq!(
+            lod_configurations(&["--tolerances", "1,2"]).unwrap(),
+            vec![
+                ("LODs 1px".to_string(), 1.0, default_lead),
+                ("LODs 2px".to_string(), 2.0, default_lead),
+            ]
+        );
+        let swept = lod_configurations(&["--tolerances", "1,2", "--blend-leads", "0,0.5"]).unwrap();
+        let expected = [
+            ("LODs lead 0 1px", 1.0, 0.0),
+            ("LODs 1px", 1.0, 0.5),
+            ("LODs lead 0 2px", 2.0, 0.0),
+            ("LODs 2px", 2.0, 0.5),
+        ];
+        assert_eq!(
+            default_lead, 0.5,
+            "the labels below assume the default lead"
+        );
+        assert_eq!(swept.len(), expected.len());
+        for ((label, tolerance, lead), (want_label, want_tolerance, want_lead)) in
+            swept.iter().zip(expected)
+        {
+            assert_eq!(
+                (label.as_str(), *tolerance, *lead),
+                (want_label, want_tolerance, want_lead)
+            );
+        }
+    }
+
+    #[test]
+    fn a_blend_lead_out_of_range_is_refused_by_name() {
+        let error = lod_configurations(&["--blend-leads", "1.5"]).unwrap_err();
+        assert!(format!("{error:#}").contains("lead"), "{error:#}");
     }
 }
