@@ -130,7 +130,7 @@ pub struct LodSelector {
     /// Each section's depth [m] at the last choice (of its bound centre, where its errors are
     /// measured; 0: not seen yet), for looking ahead.
     depths: Vec<f32>,
-    /// How many frames ahead the tolerance controller looks
+    /// How many frames ahead the level choice looks
     /// ([`LodSettings::blend_lead`] · blend time / frame time; 0 until
     /// [`LodSelector::set_frame_time`]).
     lead_frames: f32,
@@ -226,7 +226,7 @@ impl LodSelector {
         Ok(())
     }
 
-    /// How many frames ahead the tolerance controller looks (0 until
+    /// How many frames ahead the level choice looks (0 until
     /// [`set_frame_time`](Self::set_frame_time)).
     pub fn lead_frames(&self) -> f32 {
         self.lead_frames
@@ -434,10 +434,11 @@ impl LodSelector {
         scratch.hidden.clear();
         scratch.motion.clear();
         for (section, (choice, observation)) in self.choices.iter().zip(observations).enumerate() {
-            // A budgeted choice does not look ahead, but keeps the depths current for a later
-            // tolerance-controlled one.
-            let depth = depth_of(camera, observation.bound_centre);
-            self.depths[section] = if depth.is_finite() { depth } else { 0.0 };
+            // The budget weighs the errors the levels will make half a blend ahead, as the
+            // tolerance controller does.
+            let now = depth_of(camera, observation.bound_centre);
+            let ahead = error_ahead(self.depths[section], now, self.lead_frames, camera.near);
+            self.depths[section] = if now.is_finite() { now } else { 0.0 };
             let constants = &self.constants[section];
             let previous = choice.level;
             let hidden = hidden_reason(
@@ -464,7 +465,7 @@ impl LodSelector {
             let mut errors = match hidden {
                 Some(_) => [0.0; 3],
                 None => estimated_errors(constants, observation, camera, &settings)
-                    .map(|e| e * constants.crown_factor),
+                    .map(|e| e * constants.crown_factor * ahead),
             };
             for level in Level::ALL {
                 if level < previous {

@@ -94,8 +94,9 @@ pub struct LodSettings {
     /// starting then. At 0.5 (the default) a receding section's coarser level has dissolved fully
     /// in (a new level's coverage reaches 1 at half the blend) by the time its error comes within
     /// tolerance, and an approaching section's finer level is fully in by the time the coarser
-    /// one's error leaves it. 0: the choice sees the current frame only. Only the tolerance
-    /// controller looks ahead, and only when told the frame time
+    /// one's error leaves it. 0: the choice sees the current frame only. The tolerance
+    /// controller and the budgeted choice (on its estimated errors) both look ahead, only when
+    /// told the frame time
     /// ([`LodSelector::set_frame_time`](super::LodSelector::set_frame_time), as the pipeline does).
     pub blend_lead: f32,
     /// How a coarse level's screen-space error is estimated.

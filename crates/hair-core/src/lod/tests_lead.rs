@@ -167,6 +167,63 @@ fn an_approaching_camera_is_met_early_but_never_late() {
 }
 
 #[test]
+fn a_budgeted_choice_weighs_the_errors_k_frames_ahead() {
+    // The eye recedes 5 cm a frame. A budgeted choice that looks k frames ahead weighs, at frame
+    // n, the errors that one which does not look ahead sees at frame n + k: the depth is
+    // extrapolated exactly at a constant speed and the deviation model's errors go as 1/depth.
+    let scene = Scene::preset("paper-curly").unwrap();
+    let (mut ahead, mut now) = selectors(&scene);
+    let observed = observations(&scene, Level::Patch, 0.0);
+    let model = CostModel::new(CostRates::default()).unwrap();
+    let work = vec![
+        SectionWork {
+            nodes: [13, 39, 65],
+            drawn_segments: [12, 36, 4980],
+        };
+        scene.groom.section_count()
+    ];
+    let head = RigidTransform::IDENTITY;
+    let step = 0.05;
+    let (frame, later) = (1.0, 1.0 + LEAD_FRAMES as f32 * step);
+    ahead
+        .budget_options(&observed, &front_camera(frame - step), &head, &model, &work)
+        .unwrap();
+    let led: Vec<[f32; 3]> = ahead
+        .budget_options(&observed, &front_camera(frame), &head, &model, &work)
+        .unwrap()
+        .iter()
+        .map(|option| option.errors)
+        .collect();
+    let plain: Vec<[f32; 3]> = now
+        .budget_options(&observed, &front_camera(later), &head, &model, &work)
+        .unwrap()
+        .iter()
+        .map(|option| option.errors)
+        .collect();
+    let mut compared = 0;
+    for (section, (led, plain)) in led.iter().zip(&plain).enumerate() {
+        for level in 0..3 {
+            // Both are e·f/z up to the rounding of z + k·Δz against the depth at n + k.
+            let (a, b) = (led[level], plain[level]);
+            assert!(
+                (a - b).abs() <= 1e-4 * b.abs(),
+                "section {section} level {level}: {a} px looking ahead, {b} px at frame n + k"
+            );
+            compared += usize::from(b > 0.0);
+        }
+    }
+    assert!(compared >= 20, "only {compared} non-zero errors compared");
+    // Without a frame time the budgeted choice sees the current frame only.
+    let current: Vec<[f32; 3]> = now
+        .budget_options(&observed, &front_camera(frame), &head, &model, &work)
+        .unwrap()
+        .iter()
+        .map(|option| option.errors)
+        .collect();
+    assert!(current.iter().zip(&led).any(|(c, l)| c[0] > l[0]));
+}
+
+#[test]
 fn look_ahead_inputs_are_checked() {
     let scene = Scene::preset("paper-curly").unwrap();
     let (mut selector, _) = selectors(&scene);
