@@ -15,6 +15,7 @@
 //! segment) are skipped and listed in [`Curves::skipped`], or refused with
 //! [`ImportOptions::strict`]; a file without a usable curve is always an error.
 
+mod alembic;
 mod binary;
 mod curves;
 mod cyhair;
@@ -26,6 +27,7 @@ mod text;
 mod tfx;
 mod tfxmesh;
 mod usc;
+mod usd_crate;
 mod usda_lex;
 mod usda_parse;
 mod usda_read;

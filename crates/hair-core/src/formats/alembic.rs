@@ -1,0 +1,1 @@
+//! Alembic `.abc` curves (Ogawa archives) through the `ogawa-rs` crate.
