@@ -1,5 +1,5 @@
-//! Criterion benches of the model: building the paper-curly groom, evaluating every strand's NURBS
-//! points once (37,765 strands), and importing those strands from a cyHair file and fitting the
+//! Criterion benches of the model: building the paper-curly groom, every strand as drawn once
+//! (37,765 strands), and importing those strands from a cyHair file and fitting the
 //! paper's hierarchy to them (the real-groom issue's import-speed measure): reading alone,
 //! reading and fitting, and the whole import a scene's `[groom] file` goes through
 //! ([`load_scene`]: read, fit, build the groom; with the head's mesh as the body file, roots
@@ -7,9 +7,9 @@
 //! measured in `tests/rest_pose.rs`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hairlod::core::representation::geometry::{evaluate_strands, strand_sampler};
+use hairlod::core::representation::geometry::strand_polylines;
 use hairlod::loaded::{BodyFile, GroomFile, load_scene};
-use hairlod::{Frame, Groom, GroomParams, Head, HeadParams, Level, RigidTransform, Scene};
+use hairlod::{Frame, Groom, GroomParams, Head, HeadParams, RigidTransform, Scene};
 use std::hint::black_box;
 use std::io::Write;
 
@@ -27,27 +27,27 @@ fn evaluate_all_strands(c: &mut Criterion) {
     let head = RigidTransform::IDENTITY;
     let positions = groom.skeletons.rest_positions(&head);
     let mut frames = vec![Frame::default(); positions.len()];
-    let nodes = groom
+    groom
         .skeletons
-        .chain_node_count(groom.level_chains(Level::StrandGroup).start);
+        .node_frames_into(&head, &positions, &mut frames);
     let samples_per_segment = 4;
-    let sampler = strand_sampler(nodes, samples_per_segment).expect("sampler");
-    let mut points = vec![glam::Vec3::ZERO; groom.strands.strand_count() * sampler.sample_count()];
     let mut group = c.benchmark_group("paper-curly strands");
     group.sample_size(30);
-    group.bench_function("node frames + evaluate all strand NURBS points", |b| {
+    group.bench_function("node frames + all strands as drawn", |b| {
         b.iter(|| {
             groom
                 .skeletons
                 .node_frames_into(&head, &positions, &mut frames);
-            evaluate_strands(groom, &positions, &frames, &sampler, &mut points).expect("strands");
-            black_box(&points);
+            black_box(
+                strand_polylines(groom, &positions, &frames, samples_per_segment).expect("strands"),
+            );
         })
     });
-    group.bench_function("evaluate all strand NURBS points", |b| {
+    group.bench_function("all strands as drawn", |b| {
         b.iter(|| {
-            evaluate_strands(groom, &positions, &frames, &sampler, &mut points).expect("strands");
-            black_box(&points);
+            black_box(
+                strand_polylines(groom, &positions, &frames, samples_per_segment).expect("strands"),
+            );
         })
     });
     group.finish();
@@ -56,7 +56,6 @@ fn evaluate_all_strands(c: &mut Criterion) {
 fn import_and_fit(c: &mut Criterion) {
     use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
     use hairlod::core::formats::{Curves, read_hair_file, write_hair};
-    use hairlod::core::representation::geometry::strand_polylines;
     let scene = Scene::preset("paper-curly").expect("paper-curly");
     let skeletons = &scene.groom.skeletons;
     let head = RigidTransform::IDENTITY;

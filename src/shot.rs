@@ -7,6 +7,7 @@ use std::f32::consts::TAU;
 
 use glam::Vec3;
 use hair_core::dynamics::Environment;
+use hair_core::fit::bind_profiles;
 use hair_core::lod::{BudgetSettings, LodSettings};
 use hair_core::{Camera, GroomParams, HeadParams, Scene};
 use serde::Serialize;
@@ -259,6 +260,10 @@ impl Shot {
                     ..HangSettings::default()
                 },
             )?;
+            // The strands keep their files' shapes on the new rest skeletons.
+            if let Some(loaded) = &loaded {
+                bind_profiles(&mut scene.groom, &loaded.fit, &loaded.curves)?;
+            }
         }
         Ok((scene, loaded))
     }

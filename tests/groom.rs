@@ -2,6 +2,7 @@
 //! determinism, and OBJ export parsed back by an independent OBJ reader (`tobj`).
 
 use hairlod::core::export::{ExportOptions, export_obj};
+use hairlod::core::representation::drawn::strand_last_point;
 use hairlod::core::representation::geometry::{
     cluster_control_grid, patch_control_grid, strand_polylines,
 };
@@ -44,10 +45,13 @@ fn control_point_counts_are_2n_and_4n() {
     );
     let polylines = strand_polylines(groom, &positions, &frames, 3).unwrap();
     assert_eq!(polylines.offsets.len(), groom.strands.strand_count() + 1);
-    assert_eq!(
-        polylines.points.len(),
-        groom.strands.strand_count() * (3 * (n - 1) + 1)
-    );
+    // Each strand takes the 3(n − 1) tessellation steps up to its length and its exact end.
+    let segments = 3 * (n - 1);
+    let expected: usize = (0..groom.strands.strand_count())
+        .map(|s| strand_last_point(groom.strands.length(s), segments) + 1)
+        .sum();
+    assert_eq!(polylines.points.len(), expected);
+    assert!(expected < groom.strands.strand_count() * (segments + 1));
 }
 
 #[test]

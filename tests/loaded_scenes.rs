@@ -235,20 +235,31 @@ fn loaded_rest_poses_fit_their_files() {
         let (errors, strands, curves) = rest_errors_of(example, &shot);
         assert_eq!(strands, curves);
         assert!(errors.drawn_strands.is_finite());
+        // The real-groom issue's bar for the strands as drawn at rest: mean ≤ 0.5 mm, 95th
+        // percentile ≤ 2 mm. Each strand carries its file curve as a residual profile on its
+        // rest skeleton, so what is left is sampling: 64 profile entries and 4 tessellation
+        // points per skeleton segment, against curves of 16 to 32 points.
+        let drawn = errors.drawn_strands;
+        assert!(drawn.mean <= 0.5e-3, "{example}: mean {} m", drawn.mean);
+        assert!(
+            drawn.p95 <= 2e-3,
+            "{example}: 95th percentile {} m",
+            drawn.p95
+        );
         for level in Level::ALL {
             assert!(errors.levels[level].is_finite(), "{example} {level:?}");
         }
     }
 }
 
-/// The strand-level rest error of the mohawk as the example scene fits it (about 50 strands per
-/// section, 10 per strand group) and fitted as a groom of guides (5 strands per section asked,
-/// 1 to 3 per strand group, each with 8 child strands around it). The error of a strand against
-/// its group's skeleton is mostly the spread between the strands of a group (the fit's
-/// per-node-offset floor is 6.9 mm at 10 strands per group); with a few strands per group the
-/// skeleton is one of them or close to them, so the error must fall by far more than half. The
-/// issue's 0.5 mm mean needs exactly one strand per group (the fit merges sections smaller than 5
-/// strands, so some hold up to 16) or per-node offsets.
+/// The strand-group model's rest error (each curve against its group's skeleton plus its root
+/// offset, without its residual profile) on the mohawk as the example scene fits it (about 50
+/// strands per section, 10 per strand group) and fitted as a groom of guides (5 strands per
+/// section asked, 1 to 3 per strand group, each with 8 child strands around it). That error is
+/// mostly the spread between the strands of a group (the fit's per-node-offset floor is 6.9 mm at
+/// 10 strands per group); with a few strands per group the skeleton is one of them or close to
+/// them, so the error must fall by far more than half. (The strands as drawn carry their profiles
+/// and are within a tenth of a millimetre either way.)
 #[test]
 fn mohawk_as_guides_fits_much_closer_than_fifty_strands_per_section() {
     let text = std::fs::read_to_string(repo("scenes/tressfx-ratboy.toml")).unwrap();
@@ -264,7 +275,7 @@ fn mohawk_as_guides_fits_much_closer_than_fifty_strands_per_section() {
         let file = SceneFile::parse_in(text, Some(&repo("scenes"))).unwrap();
         let (errors, strands, curves) = rest_errors_of(name, &file.resolve().unwrap());
         assert_eq!(strands, per * curves, "{name}");
-        means.push(errors.drawn_strands.mean);
+        means.push(errors.levels[Level::StrandGroup].mean);
     }
     assert!(means[1] < 0.5 * means[0], "{means:?}");
 }

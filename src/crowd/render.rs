@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use hair_core::{Camera, RigidTransform, TriangleMesh};
+use hair_core::{Camera, NO_PROFILE, PROFILE_SAMPLES, RigidTransform, TriangleMesh};
 use hair_render::{
     ActiveSkeletons, FrameSettings, GroomGeometry, LineShading, Renderer, RendererOptions,
     ShadingMode,
@@ -190,6 +190,21 @@ pub fn concatenated_geometry(model: &CrowdModel) -> GroomGeometry {
         let before = all.strand_chain.len() - strands;
         pad(&mut all.strand_lengths, &one.strand_lengths, before);
         pad(&mut all.strand_tip_scales, &one.strand_tip_scales, before);
+        // Profiles likewise (none where a groom has none), their indices past the ones before.
+        if !(one.strand_profiles.is_empty() && all.strand_profiles.is_empty()) {
+            let base = (all.profiles.len() / PROFILE_SAMPLES) as u32;
+            all.strand_profiles.resize(before, NO_PROFILE);
+            if one.strand_profiles.is_empty() {
+                all.strand_profiles.resize(before + strands, NO_PROFILE);
+            } else {
+                all.strand_profiles.extend(
+                    one.strand_profiles
+                        .iter()
+                        .map(|&p| if p == NO_PROFILE { p } else { p + base }),
+                );
+            }
+        }
+        all.profiles.extend(&one.profiles);
         all.cluster_chain
             .extend(one.cluster_chain.iter().map(shift));
         all.cluster_root_radii.extend(&one.cluster_root_radii);

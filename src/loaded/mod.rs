@@ -20,7 +20,7 @@ use glam::Vec3;
 use hair_collide::{AttachmentReport, CollisionBody, attach_roots};
 use hair_core::fit::{
     FitReport, FitSettings, FittedHierarchy, NodeCountScope, SectionCount, Smoothness,
-    fit_hierarchy,
+    bind_profiles, fit_hierarchy,
 };
 use hair_core::formats::{
     Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file,
@@ -131,7 +131,7 @@ impl GroomFile {
 /// A body mesh read from a file (`[body] file`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BodyFile {
-    /// The file; its extension picks the reader (`.tfxmesh`, `.obj`, [`read_mesh_file`]).
+    /// The file; its extension picks the reader (`.tfxmesh`, `.obj`, `.usda`, `.usdc`, `.usd`: [`read_mesh_file`]).
     pub path: PathBuf,
     /// Its units and axes.
     pub axes: FileAxes,
@@ -265,7 +265,9 @@ pub fn load_scene(
     check_extent(&curves, groom, first)?;
     let fit = fit_hierarchy(&curves, &groom.fit_settings())
         .map_err(|error| file_error("fitting groom.file", first, error))?;
-    let groom_model = Groom::from_fit_with_children(&fit, &curves, params, &groom.children)
+    let mut groom_model = Groom::from_fit_with_children(&fit, &curves, params, &groom.children)
+        .map_err(|error| file_error("fitting groom.file", first, error))?;
+    bind_profiles(&mut groom_model, &fit, &curves)
         .map_err(|error| file_error("fitting groom.file", first, error))?;
     let (head, roots, boxes) = match body {
         None => (Head::procedural(&HeadParams::default())?, None, 0),

@@ -122,7 +122,8 @@ pub struct CharacterTable {
 pub struct GroomTable {
     /// Preset: `paper-curly` (default), `straight`, `wavy` or `curly`.
     pub preset: Option<String>,
-    /// A groom file (`.tfx`, `.hair`, `.data`, `.obj` polylines, `.usda`; the extension picks
+    /// A groom file (`.tfx`, `.hair`, `.data`, `.obj` polylines, `.usda`, `.usdc`, `.usd`,
+    /// `.abc`; the extension picks
     /// the reader), relative to the scene file's folder, or a list of them (the parts of one
     /// hairstyle, read with the same units and axes): their curves, fitted with the paper's
     /// hierarchy, replace the preset's groom; `preset` then gives only the material (the style's
@@ -201,7 +202,7 @@ impl FileList {
 pub struct BodyTable {
     /// `procedural-head` (the default without `file`) or `mesh` (the default with `file`).
     pub kind: Option<String>,
-    /// A body mesh file (`.tfxmesh` or `.obj`), relative to the scene file's folder, drawn and
+    /// A body mesh file (`.tfxmesh`, `.obj`, or a USD `Mesh` in `.usda`, `.usdc` or `.usd`), relative to the scene file's folder, drawn and
     /// collided with in place of the procedural head. Needs `groom.file` (the presets grow on
     /// the procedural head).
     pub file: Option<String>,

@@ -35,7 +35,7 @@ pub struct GroomArgs {
     #[arg(long, value_enum, default_value = "hanging")]
     rest_pose: RestPoseArg,
     /// A groom file to fit the paper's hierarchy to instead of a preset (.tfx, .hair, .data,
-    /// .obj, .usda): prints the fitted counts and each level's fit error. To run a groom
+    /// .obj, .usda, .usdc, .usd, .abc): prints the fitted counts and each level's fit error. To run a groom
     /// file, name it in a scene's `[groom] file` (docs/grooms.md).
     #[arg(long, value_name = "FILE")]
     file: Option<PathBuf>,

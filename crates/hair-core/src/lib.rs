@@ -32,7 +32,9 @@ pub mod transform;
 pub use camera::Camera;
 pub use error::{HairError, Result};
 pub use frame::Frame;
-pub use groom::{Groom, GroomCounts, GroomParams, PRESET_NAMES, Section, StrandSet};
+pub use groom::{
+    Groom, GroomCounts, GroomParams, NO_PROFILE, PRESET_NAMES, PROFILE_SAMPLES, Section, StrandSet,
+};
 pub use head::{Head, HeadParams, ScalpRoot};
 pub use level::Level;
 pub use mesh::TriangleMesh;

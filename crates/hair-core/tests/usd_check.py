@@ -19,7 +19,10 @@ Set CARGO_TARGET_DIR as usual if you use one. The script
    vertex widths, one Z-up in centimetres with constant widths and two prims), lists what
    hairlod must read from them (converted to Y-up metres the way hairlod does: in double, then
    rounded to float) in `pixar.json`, and runs the ignored test `usd_check_read`, which reads
-   them with `read_usda_file(_at)` and compares bit for bit.
+   them with `read_usda_file(_at)` and compares bit for bit; the same files exported as binary
+   `.usdc` (read through the `openusd` crate at the default time), and a Z-up centimetre Mesh of
+   a quad and a triangle as `.usda` and `.usdc` (read with `read_mesh_file`: points bit for bit,
+   the quad as a fan of two triangles).
 
 It prints one line per check and exits non-zero on the first difference.
 """
@@ -134,13 +137,16 @@ def write_pixar(directory):
     curves.CreateWidthsAttr(Vt.FloatArray(widths))
     curves.SetWidthsInterpolation(UsdGeom.Tokens.vertex)
     stage.GetRootLayer().Save()
+    stage.GetRootLayer().Export(os.path.join(directory, "pixar_y_m.usdc"))
     offsets = [0, 3, 5, 9]
     widths_bits = [bits(w) for w in Vt.FloatArray(widths)]
     for t in (1, 2, 3):
         cases.append({"file": "pixar_y_m.usda", "time": t, "points": vec_bits(frames[t]),
                       "offsets": offsets, "widths": widths_bits})
-    cases.append({"file": "pixar_y_m.usda", "time": None, "points": vec_bits(frames[1]),
-                  "offsets": offsets, "widths": widths_bits})
+    # The binary copy is read at the default time only (its earliest sample).
+    for name in ("pixar_y_m.usda", "pixar_y_m.usdc"):
+        cases.append({"file": name, "time": None, "points": vec_bits(frames[1]),
+                      "offsets": offsets, "widths": widths_bits})
 
     # Z up, centimetres, two prims, constant widths.
     path = os.path.join(directory, "pixar_z_cm.usda")
@@ -163,10 +169,69 @@ def write_pixar(directory):
             all_widths.append(f32(w * 0.01))
         offsets.append(offsets[-1] + n)
     stage.GetRootLayer().Save()
-    cases.append({"file": "pixar_z_cm.usda", "time": None, "points": vec_bits(all_points),
-                  "offsets": offsets, "widths": [bits(w) for w in all_widths]})
+    stage.GetRootLayer().Export(os.path.join(directory, "pixar_z_cm.usdc"))
+    for name in ("pixar_z_cm.usda", "pixar_z_cm.usdc"):
+        cases.append({"file": name, "time": None, "points": vec_bits(all_points),
+                      "offsets": offsets, "widths": [bits(w) for w in all_widths]})
+    cases += write_pixar_mesh(directory)
+    cases += write_pixar_many(directory)
     json.dump(cases, open(os.path.join(directory, "pixar.json"), "w"))
-    print(f"ok  Pixar's USD wrote pixar_y_m.usda and pixar_z_cm.usda ({len(cases)} reads to check)")
+    print(f"ok  Pixar's USD wrote pixar_y_m, pixar_z_cm and pixar_mesh as .usda and .usdc "
+          f"({len(cases)} reads to check)")
+
+
+def write_pixar_many(directory):
+    """Many curves as .usdc only, so that Pixar's crate writer compresses the arrays: the counts
+    and integral widths as coded integers, the other widths as a look-up table."""
+    path = os.path.join(directory, "pixar_many.usdc")
+    stage = Usd.Stage.CreateNew(path)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    counts = [2 + i % 7 for i in range(300)]
+    total = sum(counts)
+    pts = [Gf.Vec3f(0.001 * i, 0.5 + 0.25 * (i % 3), -0.002 * i) for i in range(total)]
+    points, offsets, widths = [], [0], []
+    for name, w in (("lut", ([0.5, 0.25, 0.125][i % 3] for i in range(total))),
+                    ("ints", (float(i % 5) for i in range(total)))):
+        c = UsdGeom.BasisCurves.Define(stage, f"/{name}")
+        c.CreateTypeAttr(UsdGeom.Tokens.linear)
+        c.CreateCurveVertexCountsAttr(Vt.IntArray(counts))
+        c.CreatePointsAttr(Vt.Vec3fArray(pts))
+        w = list(w)
+        c.CreateWidthsAttr(Vt.FloatArray(w))
+        c.SetWidthsInterpolation(UsdGeom.Tokens.vertex)
+        points += pts
+        widths += [bits(x) for x in Vt.FloatArray(w)]
+        for n in counts:
+            offsets.append(offsets[-1] + n)
+    stage.GetRootLayer().Save()
+    return [{"file": "pixar_many.usdc", "time": None, "points": vec_bits(points),
+             "offsets": offsets, "widths": widths}]
+
+
+def write_pixar_mesh(directory):
+    """A Z-up, centimetre Mesh of a quad and a triangle, as .usda and .usdc: hairlod must read
+    the points (converted as for curves) and the quad split into a fan from its first corner."""
+    path = os.path.join(directory, "pixar_mesh.usda")
+    stage = Usd.Stage.CreateNew(path)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    UsdGeom.SetStageMetersPerUnit(stage, 0.01)
+    UsdGeom.Xform.Define(stage, "/body")
+    mesh = UsdGeom.Mesh.Define(stage, "/body/head")
+    pts = [Gf.Vec3f(0, 0, 0), Gf.Vec3f(10, 0, 0), Gf.Vec3f(10, 10, 0.5), Gf.Vec3f(0, 10, 0),
+           Gf.Vec3f(20, 5, 1.25)]
+    mesh.CreatePointsAttr(Vt.Vec3fArray(pts))
+    mesh.CreateFaceVertexCountsAttr(Vt.IntArray([4, 3]))
+    mesh.CreateFaceVertexIndicesAttr(Vt.IntArray([0, 1, 2, 3, 1, 4, 2]))
+    stage.GetRootLayer().Save()
+    stage.GetRootLayer().Export(os.path.join(directory, "pixar_mesh.usdc"))
+    points = []
+    for p in pts:
+        x, y, z = (f32(v * 0.01) for v in p)
+        points.append((x, z, -y))
+    triangles = [[0, 1, 2], [0, 2, 3], [1, 4, 2]]
+    return [{"file": name, "mesh": True, "points": vec_bits(points), "triangles": triangles}
+            for name in ("pixar_mesh.usda", "pixar_mesh.usdc")]
 
 
 def main():

@@ -1,7 +1,7 @@
 //! A groom's static render data (strands, clusters, patches on the groom's chain numbering), and
 //! the upload of all of it in one call.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use hair_core::{Groom, Level};
 
 use crate::error::Result;
@@ -25,6 +25,10 @@ pub struct GroomGeometry {
     pub strand_lengths: Vec<f32>,
     /// Scale of each strand's offset at the tip (empty: all 1).
     pub strand_tip_scales: Vec<f32>,
+    /// Residual profile of each strand (empty: none; see [`hair_core::StrandSet::profile_of`]).
+    pub strand_profiles: Vec<u32>,
+    /// The residual profiles [m] (see [`hair_core::StrandSet::profiles`]).
+    pub profiles: Vec<Vec3>,
     /// Chain of each cluster.
     pub cluster_chain: Vec<u32>,
     /// Root radius of each cluster's control circle [m].
@@ -52,6 +56,8 @@ impl GroomGeometry {
             strand_shades: groom.strands.shades.clone(),
             strand_lengths: groom.strands.lengths.clone(),
             strand_tip_scales: groom.strands.tip_scales.clone(),
+            strand_profiles: groom.strands.profile_of.clone(),
+            profiles: groom.strands.profiles.clone(),
             cluster_chain: groom
                 .level_chains(Level::Cluster)
                 .map(|c| c as u32)
@@ -72,11 +78,13 @@ impl GroomGeometry {
         }
     }
 
-    /// The strands' lengths and tip scales as [`StrandShapes`].
+    /// The strands' lengths, tip scales and residual profiles as [`StrandShapes`].
     pub fn strand_shapes(&self) -> StrandShapes<'_> {
         StrandShapes {
             strand_lengths: &self.strand_lengths,
             strand_tip_scales: &self.strand_tip_scales,
+            strand_profiles: &self.strand_profiles,
+            profiles: &self.profiles,
         }
     }
 

@@ -199,8 +199,9 @@ pub(crate) struct GpuStrand {
     /// Rank in `(0, 1)` within its chain: drawn while below the chain's coverage (set at upload,
     /// see `ChainOrder::with_dissolve_ranks`).
     pub dissolve_rank: f32,
-    /// Keeps the record a multiple of the `vec2` alignment.
-    pub padding: u32,
+    /// First entry of the strand's residual profile in the profile buffer, in units of
+    /// [`hair_core::PROFILE_SAMPLES`] entries ([`hair_core::NO_PROFILE`]: none).
+    pub profile: u32,
 }
 
 /// Packs a (validated) frame's nodes into `out`, reusing its allocation.
@@ -238,7 +239,7 @@ pub(crate) fn pack_strands(
             length: shapes.length(strand),
             tip_scale: shapes.tip_scale(strand),
             dissolve_rank: 0.0,
-            padding: 0,
+            profile: shapes.profile(strand),
         })
         .collect()
 }

@@ -136,6 +136,7 @@ impl Pipelines {
                 entries: &[
                     storage_entry(0, true, geometry_stages),
                     storage_entry(1, true, geometry_stages),
+                    storage_entry(2, true, geometry_stages),
                 ],
             });
         let chain_curves_layout =

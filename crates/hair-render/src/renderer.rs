@@ -103,6 +103,9 @@ pub struct Renderer {
     chains: GrowableBuffer,
     /// This frame's chain-curve samples (written by the chain-curve pass, read by strands).
     chain_samples: GrowableBuffer,
+    /// The strands' residual profiles (`vec4` per entry, [`hair_core::PROFILE_SAMPLES`] per
+    /// profile; binding 2 of the strand items).
+    strand_profiles: GrowableBuffer,
     /// Bind group of group 0; `None` after a buffer was replaced.
     scene_bind_group: Option<wgpu::BindGroup>,
     pub(crate) strands: Items,
@@ -156,6 +159,7 @@ impl Renderer {
         let nodes = GrowableBuffer::new(device, "hair-render nodes", storage);
         let chains = GrowableBuffer::new(device, "hair-render chains", storage);
         let chain_samples = GrowableBuffer::new(device, "hair-render chain samples", storage);
+        let strand_profiles = GrowableBuffer::new(device, "hair-render strand profiles", storage);
         let strands = Items::new(device, "hair-render strands");
         let clusters = Items::new(device, "hair-render clusters");
         let patches = Items::new(device, "hair-render patches");
@@ -169,6 +173,7 @@ impl Renderer {
             nodes,
             chains,
             chain_samples,
+            strand_profiles,
             scene_bind_group: None,
             strands,
             clusters,
@@ -246,6 +251,18 @@ impl Renderer {
         }
         let scope = ErrorScopes::push(&self.gpu.device);
         self.strands.upload_sorted(&self.gpu, order, &sorted);
+        let profiles: Vec<[f32; 4]> = shapes
+            .profiles
+            .iter()
+            .map(|r| r.extend(0.0).to_array())
+            .collect();
+        if self.strand_profiles.write(
+            &self.gpu.device,
+            &self.gpu.queue,
+            bytemuck::cast_slice(&profiles),
+        ) {
+            self.strands.bind_group = None;
+        }
         scope.pop("uploading strands")
     }
 
@@ -552,6 +569,10 @@ impl Renderer {
                         wgpu::BindGroupEntry {
                             binding: 1,
                             resource: self.chain_samples.buffer().as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: self.strand_profiles.buffer().as_entire_binding(),
                         },
                     ],
                 })

@@ -1,5 +1,9 @@
-//! Per-strand shape beyond the root offset: how far along its skeleton a strand runs and how much
-//! it gathers towards it on the way to the tip (uploaded once, with the strands).
+//! Per-strand shape beyond the root offset: how far along its skeleton a strand runs, how much
+//! it gathers towards it on the way to the tip, and its residual profile (uploaded once, with the
+//! strands).
+
+use glam::Vec3;
+use hair_core::{NO_PROFILE, PROFILE_SAMPLES};
 
 use crate::error::{Result, invalid};
 
@@ -9,13 +13,20 @@ use crate::error::{Result, invalid};
 /// A strand with length `l` and tip scale `s` at root offset `o` is drawn from `u = 0` to
 /// `u = l` (rounded to the chain's tessellation) along `C(u) + σ(u)·(o.x·N(u) + o.y·B(u))`,
 /// `σ(u) = 1 + (s − 1)·u`, where `C`, `N`, `B` are the B-splines of its chain's nodes, normals
-/// and binormals.
+/// and binormals, plus its residual profile `r(u / l)` in the orthonormal frame `(N̂, B̂, T̂)` where it has one
+/// (`hair_core::representation::drawn` gives the whole definition).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct StrandShapes<'a> {
     /// Length of each strand as a fraction of its chain's, in `(0, 1]`.
     pub strand_lengths: &'a [f32],
     /// Scale of each strand's offset at the tip, in `0..=1`.
     pub strand_tip_scales: &'a [f32],
+    /// Residual profile of each strand, in profiles (`PROFILE_SAMPLES` entries each) into
+    /// `profiles`, or `hair_core::NO_PROFILE` (see [`hair_core::StrandSet::profile_of`]).
+    pub strand_profiles: &'a [u32],
+    /// The residual profiles [m], [`hair_core::PROFILE_SAMPLES`] entries each (see
+    /// [`hair_core::StrandSet::profiles`]).
+    pub profiles: &'a [Vec3],
 }
 
 impl StrandShapes<'_> {
@@ -40,7 +51,44 @@ impl StrandShapes<'_> {
                 )));
             }
         }
+        if !self.strand_profiles.is_empty() && self.strand_profiles.len() != strands {
+            return Err(invalid(format!(
+                "{} strand profiles for {strands} strands (give one per strand, or none)",
+                self.strand_profiles.len()
+            )));
+        }
+        if self.profiles.len() % PROFILE_SAMPLES != 0 {
+            return Err(invalid(format!(
+                "{} profile entries, expected a multiple of {PROFILE_SAMPLES}",
+                self.profiles.len()
+            )));
+        }
+        if let Some(entry) = self.profiles.iter().position(|r| !r.is_finite()) {
+            return Err(invalid(format!(
+                "profile entry {entry} is {}, expected a finite offset",
+                self.profiles[entry]
+            )));
+        }
+        let profile_count = self.profiles.len() / PROFILE_SAMPLES;
+        if let Some(strand) = self
+            .strand_profiles
+            .iter()
+            .position(|&p| p != NO_PROFILE && p as usize >= profile_count)
+        {
+            return Err(invalid(format!(
+                "strand {strand} has profile {}, but there are {profile_count} profiles",
+                self.strand_profiles[strand]
+            )));
+        }
         Ok(())
+    }
+
+    /// Residual profile of strand `strand` (`NO_PROFILE` when none is given).
+    pub fn profile(&self, strand: usize) -> u32 {
+        self.strand_profiles
+            .get(strand)
+            .copied()
+            .unwrap_or(NO_PROFILE)
     }
 
     /// Length of strand `strand` (1 when none is given).
@@ -64,6 +112,7 @@ mod tests {
         let good = StrandShapes {
             strand_lengths: &[1.0, 0.5],
             strand_tip_scales: &[0.0, 1.0],
+            ..StrandShapes::default()
         };
         assert!(good.validate(2).is_ok());
         assert!(good.validate(3).unwrap_err().to_string().contains("length"));
@@ -77,5 +126,43 @@ mod tests {
             ..StrandShapes::default()
         };
         assert!(big_tip.validate(1).unwrap_err().to_string().contains("tip"));
+        let entries = vec![Vec3::ZERO; PROFILE_SAMPLES];
+        let profiled = StrandShapes {
+            strand_profiles: &[0, NO_PROFILE],
+            profiles: &entries,
+            ..StrandShapes::default()
+        };
+        assert!(profiled.validate(2).is_ok());
+        assert_eq!(profiled.profile(1), NO_PROFILE);
+        let past_the_end = StrandShapes {
+            strand_profiles: &[1],
+            profiles: &entries,
+            ..StrandShapes::default()
+        };
+        assert!(
+            past_the_end
+                .validate(1)
+                .unwrap_err()
+                .to_string()
+                .contains("profile 1")
+        );
+        let ragged = StrandShapes {
+            profiles: &entries[1..],
+            ..StrandShapes::default()
+        };
+        assert!(
+            ragged
+                .validate(0)
+                .unwrap_err()
+                .to_string()
+                .contains("multiple")
+        );
+        let mut bad = entries.clone();
+        bad[3].y = f32::NAN;
+        let nan = StrandShapes {
+            profiles: &bad,
+            ..StrandShapes::default()
+        };
+        assert!(nan.validate(0).unwrap_err().to_string().contains("entry 3"));
     }
 }

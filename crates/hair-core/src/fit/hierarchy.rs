@@ -142,6 +142,7 @@ impl FittedHierarchy {
             lengths: Vec::new(),
             tip_scales: Vec::new(),
             root_offsets,
+            ..StrandSet::default()
         }
     }
 

@@ -19,6 +19,7 @@ mod hierarchy;
 mod kmeans;
 mod partition;
 mod pca;
+mod profiles;
 mod report;
 mod resample;
 mod settings;
@@ -28,6 +29,7 @@ mod tests;
 
 pub use build::fit_hierarchy;
 pub use hierarchy::{CLUSTER_OF_GROUP, FittedHierarchy, FittedSection};
+pub use profiles::bind_profiles;
 pub use report::{ErrorStats, FitReport, LevelErrors};
 pub use resample::{curve_length, node_count_for, resample_curve, resample_into, total_turning};
 pub use settings::{

@@ -261,4 +261,35 @@ pub enum FormatErrorKind {
     /// The OBJ parser (`tobj`) refused the file; it reports no line.
     #[error("OBJ: {0}")]
     Obj(String),
+    /// A USD layer read through the `openusd` crate is malformed or holds what is not read; the
+    /// element is a prim or attribute path (`/groom/hair.points`) or the layer's part.
+    #[error("USD {element}: {message}{}", location_suffix(location))]
+    Usd {
+        /// The prim or attribute path, or the part of the file (`crate file`).
+        element: String,
+        /// What is wrong, with the values.
+        message: String,
+        /// Where it is in the file ([`Location::Unknown`] where the crate does not say).
+        location: Location,
+    },
+    /// An Alembic archive read through the `ogawa-rs` crate is malformed or holds what is not
+    /// read; the element is an object path (`/groom/hair`), a property or the archive's part.
+    #[error("Alembic {element}: {message}{}", location_suffix(location))]
+    Alembic {
+        /// The object path (`/groom/hair`), with the property where one is meant, or the part of
+        /// the file (`Ogawa group`).
+        element: String,
+        /// What is wrong, with the values.
+        message: String,
+        /// Where it is in the file (a byte offset; [`Location::Unknown`] where none is known).
+        location: Location,
+    },
+}
+
+/// ` (at byte 12)` or ` (at line 3)`, or nothing for [`Location::Unknown`].
+fn location_suffix(location: &Location) -> String {
+    match location {
+        Location::Unknown => String::new(),
+        known => format!(" (at {known})"),
+    }
 }

@@ -1,6 +1,9 @@
 //! Groom and body files in and out: TressFX `.tfx` (4.x and 3.x) and `.tfxmesh`, cyHair `.hair`
-//! (read and written), USD text `.usda` `BasisCurves` (read, and written with time samples),
-//! USC-HairSalon `.data`, and OBJ polylines and triangle meshes.
+//! (read and written), USD text `.usda` `BasisCurves` (read by the project's parser, and written
+//! with time samples), USD binary `.usdc` `BasisCurves` and USD `Mesh` prims of both encodings
+//! (read through the `openusd` crate; `.usd` is either, by its first bytes), USC-HairSalon
+//! `.data`, OBJ polylines and triangle meshes, and Alembic `.abc` linear `Curves` (read through the
+//! `ogawa-rs` crate, after checking the Ogawa container).
 //!
 //! File formats are adapters at the edge: the readers produce plain polylines ([`Curves`]: points
 //! per curve, optional widths and colours) and meshes ([`TriangleMesh`]) in metres, +Y up, after
@@ -16,28 +19,36 @@
 //! [`ImportOptions::strict`]; a file without a usable curve is always an error.
 
 mod alembic;
+mod alembic_layout;
+mod alembic_xform;
 mod binary;
 mod curves;
 mod cyhair;
 mod error;
 mod obj_curves;
 mod obj_mesh;
+mod ogawa;
 mod options;
 mod text;
 mod tfx;
 mod tfxmesh;
 mod usc;
+mod usd_attrs;
 mod usd_crate;
+mod usd_layer;
+mod usd_mesh;
 mod usda_lex;
 mod usda_parse;
 mod usda_read;
 mod usda_write;
+mod usdc_check;
 
 #[cfg(test)]
 pub(crate) mod tests;
 
 use std::path::Path;
 
+pub use alembic::{read_alembic, read_alembic_file};
 pub use curves::{Curves, SkipReason, SkippedCurve};
 pub use cyhair::{
     HAIR_HEADER_LEN, read_hair, read_hair_file, write_hair, write_hair_bytes, write_hair_to,
@@ -49,6 +60,8 @@ pub use options::{ImportAxes, ImportOptions, UpAxis};
 pub use tfx::{TFX3_HEADER_LEN, TFX4_HEADER_LEN, read_tfx, read_tfx_file};
 pub use tfxmesh::{read_tfxmesh, read_tfxmesh_file};
 pub use usc::{read_usc_data, read_usc_data_file};
+pub use usd_crate::{read_usd_curves, read_usd_curves_file, read_usdc, read_usdc_file};
+pub use usd_mesh::{read_usd_mesh, read_usd_mesh_file};
 pub use usda_read::{read_usda, read_usda_at, read_usda_file, read_usda_file_at};
 pub use usda_write::{UsdCurvesWriter, write_usda_curves, write_usda_curves_string};
 
@@ -65,14 +78,20 @@ pub enum CurveFormat {
     UscData,
     /// Wavefront OBJ polylines (`l` records), `.obj`.
     ObjCurves,
-    /// USD text `BasisCurves`, `.usda` (or `.usd` holding text).
+    /// USD text `BasisCurves`, `.usda`.
     UsdText,
+    /// USD binary crate `BasisCurves`, `.usdc`.
+    UsdCrate,
+    /// USD `BasisCurves` of either encoding, `.usd`: text or binary by the first bytes.
+    Usd,
+    /// Alembic (Ogawa) `Curves` objects, `.abc`.
+    Alembic,
 }
 
 /// The curve file extensions [`CurveFormat::from_path`] knows.
-pub const CURVE_EXTENSIONS: &str = ".tfx, .hair, .data, .obj, .usda, .usd";
+pub const CURVE_EXTENSIONS: &str = ".tfx, .hair, .data, .obj, .usda, .usdc, .usd, .abc";
 /// The mesh file extensions [`read_mesh_file`] knows.
-pub const MESH_EXTENSIONS: &str = ".tfxmesh, .obj";
+pub const MESH_EXTENSIONS: &str = ".tfxmesh, .obj, .usda, .usdc, .usd";
 
 /// The lower-case extension of `path` (empty when none).
 fn extension(path: &Path) -> String {
@@ -89,7 +108,10 @@ impl CurveFormat {
             "hair" => Ok(CurveFormat::CyHair),
             "data" => Ok(CurveFormat::UscData),
             "obj" => Ok(CurveFormat::ObjCurves),
-            "usda" | "usd" => Ok(CurveFormat::UsdText),
+            "usda" => Ok(CurveFormat::UsdText),
+            "usdc" => Ok(CurveFormat::UsdCrate),
+            "usd" => Ok(CurveFormat::Usd),
+            "abc" => Ok(CurveFormat::Alembic),
             other => Err(FormatError::from(FormatErrorKind::UnknownExtension {
                 extension: other.to_owned(),
                 known: CURVE_EXTENSIONS,
@@ -111,13 +133,17 @@ pub fn read_curves(
         CurveFormat::UscData => read_usc_data(bytes, options),
         CurveFormat::ObjCurves => read_obj_curves(bytes, options),
         CurveFormat::UsdText => read_usda(bytes, options),
+        CurveFormat::UsdCrate => read_usdc(bytes, options),
+        CurveFormat::Usd => read_usd_curves(bytes, options),
+        CurveFormat::Alembic => read_alembic(bytes, options),
     }
 }
 
 /// Reads a groom file, choosing the reader by extension: `.tfx` (TressFX 4.x or 3.x), `.hair`
-/// (cyHair), `.data` (USC-HairSalon), `.obj` (polylines), `.usda` or `.usd` (USD text
-/// `BasisCurves` at the default time; a binary `.usd` is refused with advice). Errors name the
-/// file.
+/// (cyHair), `.data` (USC-HairSalon), `.obj` (polylines), `.usda` (USD text `BasisCurves`),
+/// `.usdc` (USD binary `BasisCurves`, through the `openusd` crate) or `.usd` (either, by the first
+/// bytes), USD at the default time, or `.abc` (Alembic `Curves` at the first time sample). Errors
+/// name the file.
 pub fn read_curves_file(
     path: impl AsRef<Path>,
     options: &ImportOptions,
@@ -129,11 +155,15 @@ pub fn read_curves_file(
         CurveFormat::UscData => read_usc_data_file(path, options),
         CurveFormat::ObjCurves => read_obj_curves_file(path, options),
         CurveFormat::UsdText => read_usda_file(path, options),
+        CurveFormat::UsdCrate => read_usdc_file(path, options),
+        CurveFormat::Usd => read_usd_curves_file(path, options),
+        CurveFormat::Alembic => read_alembic_file(path, options),
     }
 }
 
-/// Reads a body mesh file, choosing the reader by extension: `.tfxmesh` (TressFX collision mesh)
-/// or `.obj` (triangulated). The mesh passes [`TriangleMesh::validate`], has at least one triangle
+/// Reads a body mesh file, choosing the reader by extension: `.tfxmesh` (TressFX collision mesh),
+/// `.obj` (triangulated) or `.usda`, `.usdc`, `.usd` (USD `Mesh` prims, text or binary by the
+/// first bytes, through the `openusd` crate; triangulated). The mesh passes [`TriangleMesh::validate`], has at least one triangle
 /// and has unit vertex normals. Errors name the file.
 pub fn read_mesh_file(
     path: impl AsRef<Path>,
@@ -143,6 +173,7 @@ pub fn read_mesh_file(
     match extension(path).as_str() {
         "tfxmesh" => read_tfxmesh_file(path, options),
         "obj" => read_obj_mesh_file(path, options),
+        "usda" | "usdc" | "usd" => read_usd_mesh_file(path, options),
         other => Err(FormatError::from(FormatErrorKind::UnknownExtension {
             extension: other.to_owned(),
             known: MESH_EXTENSIONS,

@@ -5,6 +5,17 @@ use std::str::FromStr;
 
 use super::error::FormatErrorKind;
 
+/// `bytes` as UTF-8 text, or a syntax error naming the line of the first byte that is not.
+pub(crate) fn utf8_text(bytes: &[u8]) -> Result<&str, FormatErrorKind> {
+    std::str::from_utf8(bytes).map_err(|error| {
+        let valid = &bytes[..error.valid_up_to()];
+        FormatErrorKind::Syntax {
+            line: 1 + valid.iter().filter(|&&b| b == b'\n').count(),
+            message: "not UTF-8 text".into(),
+        }
+    })
+}
+
 /// The lines of `bytes` with their 1-based numbers, `\r\n` or `\n` ended, without what follows a
 /// `#`, trimmed, blank ones left out. A line that is not UTF-8 is a syntax error.
 pub(crate) fn lines(

@@ -9,7 +9,8 @@
 //! [`Curves::colors`]. Widths and colours are kept only when every prim has them. `cubic` curves
 //! and `periodic` wraps are refused with the prim's line. Prim transforms are not applied and
 //! composition arcs are not followed (flatten such a stage first: `usdcat --flatten`). Binary
-//! crate files (`.usdc`) are recognised and refused with that advice.
+//! crate files (`.usdc`) are recognised and refused, pointing to
+//! [`read_usdc`](super::read_usdc), which reads them through the `openusd` crate.
 
 use std::path::Path;
 
@@ -77,8 +78,8 @@ fn read(
     if bytes.starts_with(b"PXR-USDC") {
         return Err(FormatErrorKind::WrongMagic {
             format: "USD text",
-            found: "\"PXR-USDC\" (a binary crate file: convert it with `usdcat in.usdc -o \
-                    out.usda`)"
+            found: "\"PXR-USDC\" (a binary crate file: read it with `read_usdc`, or name it \
+                    .usdc or .usd)"
                 .into(),
             expected: "\"#usda 1.0\"",
         });
@@ -91,13 +92,7 @@ fn read(
             expected: "\"#usda 1.0\"",
         });
     }
-    let text = std::str::from_utf8(bytes).map_err(|error| {
-        let valid = &bytes[..error.valid_up_to()];
-        FormatErrorKind::Syntax {
-            line: 1 + valid.iter().filter(|&&b| b == b'\n').count(),
-            message: "not UTF-8 text".into(),
-        }
-    })?;
+    let text = super::text::utf8_text(bytes)?;
     let layer = parse_layer(text, time)?;
     // Scaled in f64, so that centimetres become the nearest metres (10 cm is 0.1 m exactly).
     let meters_per_unit = layer.meters_per_unit;

@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 pub use fitted::ChildStrands;
 pub use params::{GroomParams, PRESET_NAMES};
 pub use section::Section;
-pub use strands::StrandSet;
+pub use strands::{NO_PROFILE, PROFILE_SAMPLES, StrandSet};
 
 use crate::level::Level;
 use crate::skeleton::SkeletonRest;

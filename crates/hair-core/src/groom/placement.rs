@@ -42,6 +42,7 @@ pub(crate) fn generate_strands(
         shades: Vec::with_capacity(total),
         lengths: Vec::with_capacity(total),
         tip_scales: Vec::with_capacity(total),
+        ..StrandSet::default()
     };
     strands.group_offsets.push(0);
     let mut disc = Vec::with_capacity(strands_per_group);

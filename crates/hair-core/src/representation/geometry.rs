@@ -1,12 +1,14 @@
-//! Whole-groom geometry from skeleton state: strand polylines (fast, precomputed basis), and the
+//! Whole-groom geometry from skeleton state: strand polylines as drawn (precomputed basis), and the
 //! NURBS surfaces and triangle meshes of clusters and patches.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::drawn::{
+    ChainPoint, chain_point_at, drawn_strand_point, strand_last_point, strand_point_parameter,
+};
 use super::{
     CLUSTER_POINTS_PER_NODE, PATCH_POINTS_PER_NODE, cluster_control_points, patch_control_points,
-    strand_control_points,
 };
 use crate::error::{HairError, Result};
 use crate::frame::Frame;
@@ -51,90 +53,109 @@ pub fn strand_sampler(node_count: usize, samples_per_segment: usize) -> Result<C
     CurveSampler::new(&knots, samples_per_segment * (node_count - 1) + 1)
 }
 
-/// Evaluates every strand of `groom` into `points` (strand-major, `sampler.sample_count()` points
-/// per strand) from the strand-group skeletons' node positions and frames (one per node, all
-/// chains). Parallel over strand groups, deterministic, no allocation per strand.
+/// Every strand of `groom` as drawn (see [`super::drawn`]: its own length, tapered root offset
+/// and residual profile) on the strand-group skeletons' node positions and frames (one per node,
+/// all chains), each skeleton curve tessellated into `samples_per_segment` steps per segment: a
+/// strand's polyline is the tessellation points up to its length and its exact end. Parallel over
+/// strand groups, deterministic.
 ///
-/// Every strand-group skeleton must have the sampler's control-point count.
-pub fn evaluate_strands(
-    groom: &Groom,
-    node_positions: &[Vec3],
-    node_frames: &[Frame],
-    sampler: &CurveSampler,
-    points: &mut [Vec3],
-) -> Result<()> {
-    let samples = sampler.sample_count();
-    let expected = groom.strands.strand_count() * samples;
-    if points.len() != expected {
-        return Err(HairError::SizeMismatch {
-            what: "strand sample buffer",
-            actual: points.len(),
-            expected,
-        });
-    }
-    let group_chains = groom.level_chains(Level::StrandGroup);
-    for chain in group_chains.clone() {
-        let nodes = groom.skeletons.chain_node_count(chain);
-        if nodes != sampler.control_point_count() {
-            return Err(HairError::SizeMismatch {
-                what: "strand-group skeleton nodes",
-                actual: nodes,
-                expected: sampler.control_point_count(),
-            });
-        }
-    }
-    // Split the output by group so each group writes its own strands.
-    let mut per_group = Vec::with_capacity(group_chains.len());
-    let mut rest = points;
-    for group in 0..group_chains.len() {
-        let count = groom.strands.strands(group).len() * samples;
-        let (mine, tail) = rest.split_at_mut(count);
-        per_group.push((group, mine));
-        rest = tail;
-    }
-    per_group.into_par_iter().for_each_init(
-        || vec![Vec3::ZERO; sampler.control_point_count()],
-        |control_points, (group, out)| {
-            let chain = group_chains.start + group;
-            let nodes = groom.skeletons.nodes(chain);
-            let positions = &node_positions[nodes.clone()];
-            let frames = &node_frames[nodes];
-            for (strand, strand_out) in groom
-                .strands
-                .strands(group)
-                .zip(out.chunks_exact_mut(samples))
-            {
-                let offset = groom.strands.root_offsets[strand];
-                strand_control_points(positions, frames, offset, control_points);
-                // Sizes were checked above, so evaluation cannot fail.
-                let _ = sampler.evaluate(control_points, strand_out, None);
-            }
-        },
-    );
-    Ok(())
-}
-
-/// Every strand of `groom` as a polyline with `samples_per_segment` samples per skeleton segment.
+/// Errors: `samples_per_segment` 0; node arrays shorter than the groom's nodes; a strand-group
+/// skeleton with fewer than two nodes.
 pub fn strand_polylines(
     groom: &Groom,
     node_positions: &[Vec3],
     node_frames: &[Frame],
     samples_per_segment: usize,
 ) -> Result<Polylines> {
-    let Some(first) = groom.level_chains(Level::StrandGroup).next() else {
-        return Ok(Polylines {
-            points: Vec::new(),
-            offsets: vec![0],
-        });
+    let node_count = groom.skeletons.node_count();
+    for (what, actual) in [
+        ("node positions", node_positions.len()),
+        ("node frames", node_frames.len()),
+    ] {
+        if actual < node_count {
+            return Err(HairError::SizeMismatch {
+                what,
+                actual,
+                expected: node_count,
+            });
+        }
+    }
+    let group_chains = groom.level_chains(Level::StrandGroup);
+    let strands = &groom.strands;
+    let per_group = group_chains
+        .clone()
+        .into_par_iter()
+        .map(|chain| -> Result<(Vec<Vec3>, Vec<u32>)> {
+            let nodes = groom.skeletons.nodes(chain);
+            let sampler = strand_sampler(nodes.len(), samples_per_segment)?;
+            let samples = chain_samples(
+                &sampler,
+                &node_positions[nodes.clone()],
+                &node_frames[nodes],
+            )?;
+            let segments = samples.len() - 1;
+            let group = chain - group_chains.start;
+            let mut points = Vec::new();
+            let mut counts = Vec::with_capacity(strands.strands(group).len());
+            for strand in strands.strands(group) {
+                let length = strands.length(strand);
+                let last = strand_last_point(length, segments);
+                for point in 0..=last {
+                    let u = strand_point_parameter(point, segments, length);
+                    points.push(drawn_strand_point(
+                        &chain_point_at(&samples, u),
+                        u,
+                        length,
+                        strands.root_offsets[strand],
+                        strands.tip_scale(strand),
+                        strands.profile(strand),
+                    ));
+                }
+                counts.push(last as u32 + 1);
+            }
+            Ok((points, counts))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let mut lines = Polylines {
+        points: Vec::with_capacity(per_group.iter().map(|(p, _)| p.len()).sum()),
+        offsets: Vec::with_capacity(strands.strand_count() + 1),
     };
-    let sampler = strand_sampler(groom.skeletons.chain_node_count(first), samples_per_segment)?;
-    let samples = sampler.sample_count();
-    let mut points = vec![Vec3::ZERO; groom.strands.strand_count() * samples];
-    evaluate_strands(groom, node_positions, node_frames, &sampler, &mut points)?;
-    let offsets = (0..=groom.strands.strand_count())
-        .map(|strand| (strand * samples) as u32)
-        .collect();
-    Ok(Polylines { points, offsets })
+    lines.offsets.push(0);
+    for (points, counts) in per_group {
+        lines.points.extend_from_slice(&points);
+        for count in counts {
+            let end = lines.offsets[lines.offsets.len() - 1] + count;
+            lines.offsets.push(end);
+        }
+    }
+    Ok(lines)
+}
+
+/// A skeleton's curve and frame curves at the sampler's parameters, from its nodes' positions
+/// and frames (the renderer's chain-curve pass computes the same).
+pub fn chain_samples(
+    sampler: &CurveSampler,
+    node_positions: &[Vec3],
+    node_frames: &[Frame],
+) -> Result<Vec<ChainPoint>> {
+    let count = sampler.sample_count();
+    let mut position = vec![Vec3::ZERO; count];
+    let mut derivative = vec![Vec3::ZERO; count];
+    let mut normal = vec![Vec3::ZERO; count];
+    let mut binormal = vec![Vec3::ZERO; count];
+    sampler.evaluate(node_positions, &mut position, Some(&mut derivative))?;
+    let normals: Vec<Vec3> = node_frames.iter().map(|f| f.normal).collect();
+    let binormals: Vec<Vec3> = node_frames.iter().map(|f| f.binormal).collect();
+    sampler.evaluate(&normals, &mut normal, None)?;
+    sampler.evaluate(&binormals, &mut binormal, None)?;
+    Ok((0..count)
+        .map(|k| ChainPoint {
+            position: position[k],
+            normal: normal[k],
+            binormal: binormal[k],
+            derivative: derivative[k],
+        })
+        .collect())
 }
 
 /// The `4n` control points of cluster chain `chain` (node-major, 4 around each node).

@@ -5,6 +5,7 @@
 //! NURBS curves and surfaces, polylines and triangle meshes.
 
 mod cluster;
+pub mod drawn;
 pub mod geometry;
 mod patch;
 mod strand;

@@ -10,9 +10,18 @@ struct Strand {
     // Rank in (0, 1) within its chain (ascending along the chain's run): drawn while below the
     // chain's coverage, so a dissolving chain's drawn strands are a prefix of its run.
     dissolve_rank: f32,
-    pad: u32,
+    // First entry of the residual profile in `strand_profiles`, in profiles
+    // (PROFILE_SAMPLES entries each); 0xffffffff: none.
+    profile: u32,
 }
+
+// Entries per residual profile (`hair_core::PROFILE_SAMPLES`).
+const PROFILE_SAMPLES: u32 = 64u;
+const NO_PROFILE: u32 = 0xffffffffu;
 
 @group(1) @binding(0) var<storage, read> strands: array<Strand>;
 // The chain-curve samples written by `cs_chain_curves` this frame.
 @group(1) @binding(1) var<storage, read> chain_samples: array<ChainSample>;
+// The strands' residual profiles: xyz the offset [m] in the chain's orthonormal (N̂, B̂, T̂) frame at fraction
+// j / (PROFILE_SAMPLES − 1) of the strand's run (`StrandSet::profiles` in hair-core).
+@group(1) @binding(2) var<storage, read> strand_profiles: array<vec4<f32>>;

@@ -27,6 +27,28 @@ fn ribbon_offset(clip: vec4<f32>, tangent: vec3<f32>, side: f32, half_pixels: f3
     return across * side * half_pixels * 2.0 / globals.viewport.xy * clip.w;
 }
 
+// The orthonormal frame (N̂, B̂, T̂) of a chain point as columns (`ChainPoint::residual_basis` in
+// hair-core, step for step).
+fn residual_frame(n: vec3<f32>, b: vec3<f32>, dc: vec3<f32>) -> mat3x3<f32> {
+    var t = vec3<f32>(0.0, 1.0, 0.0);
+    if (dot(dc, dc) > 1e-24) {
+        t = normalize(dc);
+    }
+    // |N| and |B| are about 1: a part under 1e-6 is rounding, not a direction.
+    var np = n - dot(n, t) * t;
+    if (dot(np, np) <= 1e-12) {
+        np = cross(b, t);
+    }
+    if (dot(np, np) <= 1e-12) {
+        // Any perpendicular of t (glam's any_orthonormal_vector).
+        let sign = select(-1.0, 1.0, t.z >= 0.0);
+        let a = -1.0 / (sign + t.z);
+        np = vec3<f32>(t.x * t.y * a, sign + t.y * t.y * a, -t.y);
+    }
+    np = normalize(np);
+    return mat3x3<f32>(np, cross(t, np), t);
+}
+
 // Point `point_index` of a strand, pushed `side` half widths sideways on screen (0 for lines).
 fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex {
     var out: StrandVertex;
@@ -43,22 +65,58 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     if (chain.node_count < 2u || strand.dissolve_rank >= chain.coverage) {
         return out;
     }
-    // A strand of length l ends at the chain point nearest u = l; later vertices repeat it.
-    let last = max(1u, u32(round(strand.length * f32(chain.along_segments))));
-    let point = min(min(point_index, last), chain.along_segments);
-    let slot = chain.first_sample + point;
-    if (slot >= arrayLength(&chain_samples)) {
+    // A strand of length l takes the chain points up to l and ends exactly at u = l, between
+    // two of them; later vertices repeat its end (`representation::drawn` in hair-core).
+    let segments = chain.along_segments;
+    if (segments == 0u) {
         return out;
     }
-    let sample = chain_samples[slot];
-    // Offset σ(u)·o with σ(u) = 1 + (tip_scale − 1)·u: strands gather towards the chain.
-    let u = f32(point) / f32(chain.along_segments);
+    let last = min(max(1u, u32(ceil(strand.length * f32(segments) - 1e-4))), segments);
+    let point = min(point_index, last);
+    let u = min(f32(point) / f32(segments), strand.length);
+    let s = u * f32(segments);
+    let k = min(u32(floor(s)), segments - 1u);
+    let f = s - f32(k);
+    let slot = chain.first_sample + k;
+    if (slot + 1u >= arrayLength(&chain_samples)) {
+        return out;
+    }
+    let a = chain_samples[slot];
+    let b = chain_samples[slot + 1u];
+    let c = mix(a.position.xyz, b.position.xyz, f);
+    let n = mix(a.normal.xyz, b.normal.xyz, f);
+    let bn = mix(a.binormal.xyz, b.binormal.xyz, f);
+    let dc = mix(a.d_position.xyz, b.d_position.xyz, f);
+    let dn = mix(a.d_normal.xyz, b.d_normal.xyz, f);
+    let dbn = mix(a.d_binormal.xyz, b.d_binormal.xyz, f);
+    // Residual r(v) at v = u / l, linear between profile entries, and dr/du.
+    var r = vec3<f32>(0.0);
+    var dr = vec3<f32>(0.0);
+    if (strand.profile != NO_PROFILE) {
+        let l = max(strand.length, 1e-6);
+        let sv = clamp(u / l, 0.0, 1.0) * f32(PROFILE_SAMPLES - 1u);
+        let j = min(u32(floor(sv)), PROFILE_SAMPLES - 2u);
+        let entry = strand.profile * PROFILE_SAMPLES + j;
+        if (entry + 1u < arrayLength(&strand_profiles)) {
+            let r0 = strand_profiles[entry].xyz;
+            let r1 = strand_profiles[entry + 1u].xyz;
+            r = mix(r0, r1, sv - f32(j));
+            dr = (r1 - r0) * (f32(PROFILE_SAMPLES - 1u) / l);
+        }
+    }
+    // Offset σ(u)·o with σ(u) = 1 + (tip_scale − 1)·u (strands gather towards the chain), plus
+    // the residual in the orthonormal frame (N̂, B̂, T̂) (`ChainPoint::residual_basis`).
     let scale = 1.0 + (strand.tip_scale - 1.0) * u;
     let o = strand.root_offset;
-    let across = o.x * sample.normal.xyz + o.y * sample.binormal.xyz;
-    let position = sample.position.xyz + scale * across;
-    var tangent = sample.d_position.xyz + scale * (o.x * sample.d_normal.xyz + o.y * sample.d_binormal.xyz)
-        + (strand.tip_scale - 1.0) * across;
+    let across = o.x * n + o.y * bn;
+    var position = c + scale * across;
+    // dP/du; the residual's part leaves out the turning of its frame.
+    var tangent = dc + scale * (o.x * dn + o.y * dbn) + (strand.tip_scale - 1.0) * across;
+    if (strand.profile != NO_PROFILE) {
+        let frame = residual_frame(n, bn, dc);
+        position += frame * r;
+        tangent += frame * dr;
+    }
     if (dot(tangent, tangent) < 1e-20) {
         tangent = vec3<f32>(0.0, 1.0, 0.0);
     }

@@ -323,15 +323,16 @@ fn a_bad_scale_is_refused_by_every_reader() {
 
 #[test]
 fn unknown_extensions_and_missing_files_name_the_file() {
-    let error = read_curves_file("groom.abc", &ImportOptions::default()).unwrap_err();
+    let error = read_curves_file("groom.fbx", &ImportOptions::default()).unwrap_err();
     assert_eq!(
         error.to_string(),
-        "groom.abc: unknown file extension `abc` (known: .tfx, .hair, .data, .obj, .usda, .usd)"
+        "groom.fbx: unknown file extension `fbx` (known: .tfx, .hair, .data, .obj, .usda, .usdc, \
+         .usd, .abc)"
     );
     let error = read_mesh_file("body.stl", &ImportOptions::default()).unwrap_err();
     assert_eq!(
         error.to_string(),
-        "body.stl: unknown file extension `stl` (known: .tfxmesh, .obj)"
+        "body.stl: unknown file extension `stl` (known: .tfxmesh, .obj, .usda, .usdc, .usd)"
     );
     let error = read_curves_file("/nonexistent/groom.TFX", &ImportOptions::default()).unwrap_err();
     assert!(
@@ -350,4 +351,138 @@ fn trailing_bytes_after_a_usc_groom_are_refused() {
         message(read_usc_data(&data, &ImportOptions::default())),
         "<memory>: 3 unexpected bytes after the data, from byte 104"
     );
+}
+
+/// The Alembic fixture with `value` written at byte `at` (offsets from
+/// `tests/make_alembic_fixture.py`'s archive, listed where used).
+fn patched_alembic(at: usize, value: &[u8]) -> Vec<u8> {
+    let mut bytes = super::alembic::fixture();
+    bytes[at..at + value.len()].copy_from_slice(value);
+    bytes
+}
+
+fn alembic_message(bytes: &[u8]) -> String {
+    message(crate::formats::read_alembic(
+        bytes,
+        &ImportOptions::default(),
+    ))
+}
+
+#[test]
+fn alembic_signature_version_and_frozen_flag_are_checked() {
+    assert_eq!(
+        alembic_message(b"\x89HDF\r\n\x1a\n and more"),
+        "<memory>: not a binary (Ogawa) Alembic file: found \"\\x89HDF\\r\" at byte 0, expected \
+         \"Ogawa\" (an HDF5 Alembic archive is not read)"
+    );
+    // Byte 5: 0xff once the writer closed the archive.
+    assert_eq!(
+        alembic_message(&patched_alembic(5, &[0])),
+        "<memory>: invalid frozen flag = 0x00 at byte 5 (allowed: 0xff: an archive its writer \
+         closed)"
+    );
+    // Bytes 6 and 7: the version, high byte first.
+    assert_eq!(
+        alembic_message(&patched_alembic(6, &[0, 2])),
+        "<memory>: unsupported Ogawa version 2 at byte 6 (supported: 1)"
+    );
+}
+
+#[test]
+fn a_truncated_alembic_archive_names_the_file_and_the_offset() {
+    let bytes = super::alembic::fixture();
+    assert_eq!(
+        alembic_message(&bytes[..10]),
+        "<memory>: truncated: the Ogawa header at byte 0 needs 16 bytes, but only 10 remain"
+    );
+    // The root group is at byte 2802 (the header's last 8 bytes), past the cut.
+    let dir = scratch_dir("alembic-truncated");
+    let path = dir.join("cut.abc");
+    std::fs::write(&path, &bytes[..2000]).unwrap();
+    assert_eq!(
+        message(read_curves_file(&path, &ImportOptions::default())),
+        format!(
+            "{}: truncated: the child count of an Ogawa group at byte 2802 needs 8 bytes, but \
+             only 0 remain",
+            path.display()
+        )
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn alembic_sizes_beyond_the_file_are_refused_before_allocating() {
+    // /plain's P block starts at byte 40 with its u64 size (88).
+    assert_eq!(
+        alembic_message(&patched_alembic(40, &(1u64 << 40).to_le_bytes())),
+        "<memory>: size 1099511627776 of the Ogawa data block at byte 40 needs 1099511627776 \
+         bytes from byte 48, but the file has 2858 bytes (truncated, or a wrong count)"
+    );
+    // The root group's child count, at byte 2802.
+    assert_eq!(
+        alembic_message(&patched_alembic(2802, &u64::MAX.to_le_bytes())),
+        "<memory>: child_count 18446744073709551615 of the Ogawa group at byte 2802 needs \
+         147573952589676412920 bytes from byte 2810, but the file has 2858 bytes (truncated, or a \
+         wrong count)"
+    );
+    // The time samplings' block (48 bytes from byte 2294 + 8) with the first sampling's sample
+    // count, after its u32 max sample and f64 time per cycle, set to u32::MAX.
+    assert_eq!(
+        alembic_message(&patched_alembic(2314, &u32::MAX.to_le_bytes())),
+        "<memory>: Alembic time samplings: the sample times of a time sampling needs 34359738360 \
+         bytes, but only 32 remain in its block (at byte 2318)"
+    );
+}
+
+#[test]
+fn alembic_groups_that_loop_are_refused() {
+    // The top object's group (byte 2184) lists /plain's group at byte 2200; point it back at
+    // the top object's group.
+    assert_eq!(
+        alembic_message(&patched_alembic(2200, &2184u64.to_le_bytes())),
+        "<memory>: Alembic Ogawa group: the group contains itself (a cycle of group offsets) (at \
+         byte 2184)"
+    );
+}
+
+#[test]
+fn alembic_points_and_counts_are_checked_by_object_and_byte() {
+    // /plain's P values start at byte 40 + 8 (size) + 16 (key).
+    assert_eq!(
+        alembic_message(&patched_alembic(64, &f32::NAN.to_le_bytes())),
+        "<memory>: /plain: curve 0, point 0 at byte 64: position [NaN, 0, 0] is not finite"
+    );
+    assert_eq!(
+        alembic_message(&patched_alembic(68, &f32::INFINITY.to_le_bytes())),
+        "<memory>: /plain: curve 0, point 0 at byte 64: position [0, inf, 0] is not finite"
+    );
+    // /plain's nVertices [3, 1, 2] start at byte 136 + 8 + 16.
+    assert_eq!(
+        alembic_message(&patched_alembic(160, &4i32.to_le_bytes())),
+        "<memory>: inconsistent counts at byte 160: /plain: the 3 nVertices add up to 7 points, \
+         but P has 6"
+    );
+    assert_eq!(
+        alembic_message(&patched_alembic(164, &(-1i32).to_le_bytes())),
+        "<memory>: invalid /plain nVertices[1] = -1 at byte 164 (allowed: a vertex count >= 0)"
+    );
+}
+
+#[test]
+fn alembic_without_linear_curves_is_refused() {
+    let no_curves = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/no_curves.abc");
+    assert_eq!(
+        message(read_curves_file(no_curves, &ImportOptions::default())),
+        format!(
+            "{no_curves}: Alembic archive: no Curves object (schema AbcGeom_Curve_v2) (at byte 0)"
+        )
+    );
+    // curveBasisAndType (type, periodicity, basis) at byte 172 + 8 + 16: cubic, then periodic.
+    assert_eq!(
+        alembic_message(&patched_alembic(196, &[0, 0, 2])),
+        "<memory>: Alembic /plain .geom curveBasisAndType: type cubic (basis b-spline); only \
+         linear, non-periodic curves are read (convert the curves to linear polylines first) (at \
+         byte 196)"
+    );
+    assert!(alembic_message(&patched_alembic(196, &[1, 1])).contains("periodic (closed) curves"),);
 }

@@ -14,8 +14,9 @@ use crate::formats::tfx::tests::{tfx3_bytes, tfx4_bytes, two_strands};
 use crate::formats::tfxmesh::tests::TETRAHEDRON;
 use crate::formats::usc::tests::{strands_with_empty_roots, usc_bytes};
 use crate::formats::{
-    Curves, FormatError, ImportOptions, read_hair, read_obj_curves, read_obj_mesh, read_tfx,
-    read_tfxmesh, read_usc_data, read_usda, read_usda_at, write_hair_bytes,
+    Curves, FormatError, ImportOptions, read_alembic, read_hair, read_obj_curves, read_obj_mesh,
+    read_tfx, read_tfxmesh, read_usc_data, read_usd_mesh, read_usda, read_usda_at, read_usdc,
+    write_hair_bytes,
 };
 use crate::mesh::TriangleMesh;
 
@@ -49,6 +50,19 @@ fn checked_curves(result: Result<Curves, FormatError>) -> Result<usize, FormatEr
         assert!(curve.windows(2).all(|w| w[0] != w[1]));
     }
     Ok(curves.point_count())
+}
+
+/// Reads Alembic, and fails on a panic that the reader's last guard caught in `ogawa-rs`: the
+/// checks before the crate must leave it nothing to panic on.
+fn alembic_without_panic(bytes: &[u8], options: &ImportOptions) -> Result<Curves, FormatError> {
+    let result = read_alembic(bytes, options);
+    if let Err(error) = &result {
+        assert!(
+            !error.to_string().contains("failed on this archive"),
+            "{error}"
+        );
+    }
+    result
 }
 
 /// Checks what a mesh reader returned, and returns its vertex count.
@@ -120,6 +134,40 @@ fn targets() -> Vec<Target> {
             count_fields: &[],
             // A constant width expands to every point, but each point is `(0,0,0)`.
             min_point_bytes: 6,
+        },
+        Target {
+            name: "USD crate curves",
+            read: |b, o| checked_curves(read_usdc(b, o)),
+            seed: super::usd_crate::crate_curves_bytes(),
+            // Offsets vary with the writer: `usd_crate.rs` sets the crate's counts to huge values.
+            count_fields: &[],
+            // A constant width or an indexed primvar expands, but each point is 12 bytes.
+            min_point_bytes: 12,
+        },
+        Target {
+            name: "USD crate mesh",
+            read: |b, o| checked_mesh(read_usd_mesh(b, o)),
+            seed: super::usd_crate::crate_mesh_bytes(),
+            count_fields: &[],
+            min_point_bytes: 12,
+        },
+        Target {
+            name: "USD text mesh (openusd)",
+            read: |b, o| checked_mesh(read_usd_mesh(b, o)),
+            seed: super::usd_crate::text_mesh_bytes(),
+            count_fields: &[],
+            // `(0,0,0)` with its comma.
+            min_point_bytes: 6,
+        },
+        Target {
+            name: "Alembic",
+            read: |b, o| checked_curves(alembic_without_panic(b, o)),
+            seed: super::alembic::fixture(),
+            // The root group's offset, the root group's child count, /plain's P and nVertices
+            // sizes, the time samplings' size, /plain's property headers' size and its .geom
+            // group's child count (see `make_alembic_fixture.py`; u64 fields, low half set).
+            count_fields: &[8, 2802, 40, 136, 2294, 1015, 1126],
+            min_point_bytes: 12,
         },
         Target {
             name: ".tfxmesh",

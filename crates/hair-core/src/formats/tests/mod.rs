@@ -1,11 +1,14 @@
 //! Tests of the readers as a whole: every error case with its message, the real TressFX files in
-//! `shared/data`, round trips through the writers, USD text `BasisCurves` (`usda.rs`), and
+//! `shared/data`, round trips through the writers, Alembic `.abc` curves (`alembic.rs`), USD text `BasisCurves` (`usda.rs`), USD through the `openusd`
+//! crate (`usd_crate.rs`), and
 //! fuzz-style tests under plain `cargo test`.
 
+pub(crate) mod alembic;
 mod errors;
 mod fuzz;
 pub(crate) mod real_data;
 mod round_trips;
+pub(crate) mod usd_crate;
 mod usda;
 
 use std::path::PathBuf;

@@ -93,6 +93,9 @@ fn every_extension_reaches_its_reader() {
     let usc = read_curves_file(&data, &options).unwrap();
     assert_eq!((usc.curve_count(), usc.skipped.len()), (2, 2));
     assert_eq!(read_curves_file(&obj, &options).unwrap().point_count(), 2);
+    let abc = dir.join("groom.Abc");
+    std::fs::write(&abc, super::alembic::fixture()).unwrap();
+    assert_eq!(read_curves_file(&abc, &options).unwrap().curve_count(), 4);
     let mesh_path = dir.join("body.tfxmesh");
     std::fs::write(&mesh_path, crate::formats::tfxmesh::tests::TETRAHEDRON).unwrap();
     let mesh = crate::formats::read_mesh_file(&mesh_path, &options).unwrap();

@@ -15,8 +15,9 @@ use super::round_trips::bits;
 use super::scratch_dir;
 use crate::formats::cyhair::tests::sample_curves;
 use crate::formats::{
-    Curves, ImportAxes, ImportOptions, UsdCurvesWriter, read_curves_file, read_tfx_file, read_usda,
-    read_usda_at, read_usda_file, read_usda_file_at, write_usda_curves, write_usda_curves_string,
+    Curves, ImportAxes, ImportOptions, UsdCurvesWriter, read_curves_file, read_mesh_file,
+    read_tfx_file, read_usda, read_usda_at, read_usda_file, read_usda_file_at, write_usda_curves,
+    write_usda_curves_string,
 };
 
 /// Sample curves with values that are hard to write as text: -0, tiny, huge, many digits.
@@ -388,8 +389,8 @@ fn broken_files_name_the_line() {
     );
     assert_eq!(
         message(read_usda(b"PXR-USDC\x00\x00", &Default::default())),
-        "<memory>: not a USD text file: found \"PXR-USDC\" (a binary crate file: convert it with \
-         `usdcat in.usdc -o out.usda`) at byte 0, expected \"#usda 1.0\""
+        "<memory>: not a USD text file: found \"PXR-USDC\" (a binary crate file: read it with \
+         `read_usdc`, or name it .usdc or .usd) at byte 0, expected \"#usda 1.0\""
     );
     assert_eq!(
         message(read_usda(b"#usda 1.0\n", &Default::default())),
@@ -507,9 +508,25 @@ fn usd_check_read() {
         let file = dir.join(case["file"].as_str().unwrap());
         let time = case["time"].as_f64();
         let options = ImportOptions::strict();
+        if case["mesh"].as_bool() == Some(true) {
+            // A Mesh, .usda or .usdc, through the openusd crate.
+            let mesh = read_mesh_file(&file, &options).unwrap_or_else(|e| panic!("{e}"));
+            let what = file.display();
+            assert_eq!(points_json(&mesh.positions), case["points"], "{what}");
+            let triangles: Vec<[u32; 3]> =
+                serde_json::from_value(case["triangles"].clone()).unwrap();
+            assert_eq!(mesh.triangles, triangles, "{what}");
+            println!(
+                "{what} (Mesh): {} triangles, {} points equal",
+                mesh.triangle_count(),
+                mesh.vertex_count()
+            );
+            continue;
+        }
+        // By extension at the default time: .usdc goes through the openusd crate.
         let read = match time {
             Some(t) => read_usda_file_at(&file, t, &options),
-            None => read_usda_file(&file, &options),
+            None => read_curves_file(&file, &options),
         }
         .unwrap_or_else(|e| panic!("{e}"));
         let what = format!("{} at {time:?}", file.display());
