@@ -4,6 +4,7 @@
 //! split by a checkpoint writes the same frames as one run straight through; bad scene files and
 //! flags get errors that name the field.
 
+use hairlod::core::representation::drawn::strand_last_point;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -271,9 +272,16 @@ fn every_frame_writes_every_strand_as_cyhair_and_usd() {
         let curves = hairlod::core::formats::read_hair_file(&path, &Default::default())
             .unwrap_or_else(|error| panic!("{}: {error}", path.display()));
         assert_eq!(curves.curve_count(), strands, "frame {k}");
-        // Two points per skeleton segment along the B-spline, root and tip included.
+        // Two points per skeleton segment along the B-spline, root included, up to the strand's
+        // length: the last point is where the strand ends (`strand_last_point`).
+        let segments = 2 * (nodes - 1);
         for curve in 0..curves.curve_count() {
-            assert_eq!(curves.range(curve).len(), 2 * (nodes - 1) + 1);
+            let length = built.groom.strands.length(curve);
+            assert_eq!(
+                curves.range(curve).len(),
+                strand_last_point(length, segments) + 1,
+                "frame {k}, strand {curve} of length {length}"
+            );
         }
         assert!(curves.points.iter().all(|p| p.is_finite()));
         frames.push(curves);
