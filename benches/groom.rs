@@ -9,7 +9,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use hairlod::core::representation::geometry::strand_polylines;
 use hairlod::loaded::{BodyFile, GroomFile, load_scene};
-use hairlod::{Frame, Groom, GroomParams, Head, HeadParams, RigidTransform, Scene};
+use hairlod::{Groom, GroomParams, Head, HeadParams, RigidTransform, Scene};
 use std::hint::black_box;
 use std::io::Write;
 
@@ -25,11 +25,7 @@ fn evaluate_all_strands(c: &mut Criterion) {
     let scene = Scene::preset("paper-curly").expect("paper-curly");
     let groom = &scene.groom;
     let head = RigidTransform::IDENTITY;
-    let positions = groom.skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    groom
-        .skeletons
-        .node_frames_into(&head, &positions, &mut frames);
+    let (positions, mut frames) = groom.skeletons.rest_pose(&head);
     let samples_per_segment = 4;
     let mut group = c.benchmark_group("paper-curly strands");
     group.sample_size(30);
@@ -59,9 +55,7 @@ fn import_and_fit(c: &mut Criterion) {
     let scene = Scene::preset("paper-curly").expect("paper-curly");
     let skeletons = &scene.groom.skeletons;
     let head = RigidTransform::IDENTITY;
-    let positions = skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    skeletons.node_frames_into(&head, &positions, &mut frames);
+    let (positions, frames) = skeletons.rest_pose(&head);
     let lines = strand_polylines(&scene.groom, &positions, &frames, 1).expect("strands");
     let strands = Curves {
         points: lines.points,

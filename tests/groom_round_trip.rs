@@ -8,7 +8,7 @@ use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
 use hairlod::core::formats::{Curves, read_curves_file, write_hair, write_usda_curves};
 use hairlod::core::obj::{ObjWriter, write_file_atomically};
 use hairlod::core::representation::geometry::strand_polylines;
-use hairlod::{Frame, RigidTransform, Scene};
+use hairlod::{RigidTransform, Scene};
 
 /// A fresh folder under the target's temporary directory.
 fn folder() -> PathBuf {
@@ -23,9 +23,7 @@ fn paper_curly_strands() -> Curves {
     let scene = Scene::preset("paper-curly").unwrap();
     let skeletons = &scene.groom.skeletons;
     let head = RigidTransform::IDENTITY;
-    let positions = skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    skeletons.node_frames_into(&head, &positions, &mut frames);
+    let (positions, frames) = skeletons.rest_pose(&head);
     let lines = strand_polylines(&scene.groom, &positions, &frames, 1).unwrap();
     Curves {
         points: lines.points,

@@ -7,7 +7,7 @@ use glam::Vec3;
 use hair_core::fit::{ErrorStats, FittedHierarchy, resample_into};
 use hair_core::formats::Curves;
 use hair_core::representation::geometry::strand_polylines;
-use hair_core::{Frame, Groom, Level, PerLevel, RigidTransform};
+use hair_core::{Groom, Level, PerLevel, RigidTransform};
 use serde::Serialize;
 
 use crate::pipeline::Result;
@@ -36,11 +36,7 @@ pub fn rest_errors(
     curves: &Curves,
 ) -> Result<LevelRestErrors> {
     let head = RigidTransform::IDENTITY;
-    let positions = groom.skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    groom
-        .skeletons
-        .node_frames_into(&head, &positions, &mut frames);
+    let (positions, frames) = groom.skeletons.rest_pose(&head);
     let curve_of = |curve: usize| -> &[Vec3] {
         &curves.points[curves.offsets[curve] as usize..curves.offsets[curve + 1] as usize]
     };

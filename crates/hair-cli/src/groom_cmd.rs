@@ -35,7 +35,8 @@ pub struct GroomArgs {
     #[arg(long, value_enum, default_value = "hanging")]
     rest_pose: RestPoseArg,
     /// A groom file to fit the paper's hierarchy to instead of a preset (.tfx, .hair, .data,
-    /// .obj, .usda, .usdc, .usd, .abc): prints the fitted counts and each level's fit error. To run a groom
+    /// .obj, .usda, .usdc, .usd, .abc): prints the fitted counts and each level's fit error, and how
+    /// far the strands a scene would draw lie from the file at rest. To run a groom
     /// file, name it in a scene's `[groom] file` (docs/grooms.md).
     #[arg(long, value_name = "FILE")]
     file: Option<PathBuf>,
@@ -192,6 +193,13 @@ fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
             curves.skipped[0].reason
         );
     }
+    let rest_pose = match drawn_rest_errors(args, file) {
+        Ok(errors) => Some(errors),
+        Err(error) => {
+            eprintln!("could not build the groom a scene would run: {error:#}");
+            None
+        }
+    };
     if args.json {
         let json = serde_json::json!({
             "file": file.display().to_string(),
@@ -199,6 +207,7 @@ fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
             "fit_seconds": fit_seconds,
             "skipped_curves": curves.skipped.len(),
             "fit": fit.report,
+            "rest_pose": rest_pose,
         });
         println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
@@ -207,6 +216,47 @@ fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
             file.display()
         );
         println!("{}", fit.report);
+        if let Some(errors) = &rest_pose {
+            println!(
+                "as a scene loads it (one node count for the groom, residual profiles bound), \
+                 rest pose against the file:"
+            );
+            println!("  strands as drawn      {}", errors.drawn_strands);
+            for (level, model) in [
+                (Level::Patch, "patch model"),
+                (Level::Cluster, "cluster model"),
+                (Level::StrandGroup, "strand-group model"),
+            ] {
+                println!("  {model:18}    {}", errors.levels[level]);
+            }
+        }
     }
     Ok(())
+}
+
+/// The rest errors of the groom a scene's `[groom] file` builds from `file` (the scene's fit
+/// settings with these axes and sections, the default preset's material, residual profiles
+/// bound, before it is hung): how far the strands as drawn, and each level's model, lie from
+/// the file's curves.
+fn drawn_rest_errors(
+    args: &GroomArgs,
+    file: &std::path::Path,
+) -> Result<hairlod::loaded::LevelRestErrors> {
+    use hairlod::core::fit::SectionCount;
+    use hairlod::loaded::{FileAxes, GroomFile, load_scene, rest_errors};
+    let mut groom_file = GroomFile::new(vec![file.to_path_buf()]);
+    groom_file.axes = FileAxes {
+        scale_to_metres: args.scale,
+        z_up: args.up == UpArg::Z,
+        mirror_x: false,
+    };
+    if let Some(sections) = args.fit_sections {
+        groom_file.sections = SectionCount::Fixed(sections);
+    }
+    let loaded = load_scene(&groom_file, None, &hairlod::GroomParams::paper_curly())?;
+    Ok(rest_errors(
+        &loaded.scene.groom,
+        &loaded.fit,
+        &loaded.curves,
+    )?)
 }

@@ -199,11 +199,7 @@ mod tests {
         .unwrap();
         let groom = &scene.groom;
         let head = hair_core::RigidTransform::IDENTITY;
-        let positions = groom.skeletons.rest_positions(&head);
-        let mut frames = vec![Frame::default(); positions.len()];
-        groom
-            .skeletons
-            .node_frames_into(&head, &positions, &mut frames);
+        let (positions, frames) = groom.skeletons.rest_pose(&head);
         let mut active = ActiveSkeletons::new();
         let levels = [Level::Patch, Level::Cluster, Level::StrandGroup];
         active.gather(groom, &levels, &positions, &frames).unwrap();

@@ -13,7 +13,6 @@ use super::hierarchy::FittedHierarchy;
 use super::resample::resample_into;
 use crate::error::{HairError, Result};
 use crate::formats::Curves;
-use crate::frame::Frame;
 use crate::groom::{Groom, PROFILE_SAMPLES};
 use crate::level::Level;
 use crate::nurbs::NurbsCurve;
@@ -51,11 +50,7 @@ pub fn bind_profiles(groom: &mut Groom, fit: &FittedHierarchy, curves: &Curves) 
         ));
     }
     let head = RigidTransform::IDENTITY;
-    let positions = groom.skeletons.rest_positions(&head);
-    let mut frames = vec![Frame::default(); positions.len()];
-    groom
-        .skeletons
-        .node_frames_into(&head, &positions, &mut frames);
+    let (positions, frames) = groom.skeletons.rest_pose(&head);
     let chains = groom.level_chains(Level::StrandGroup);
     let strands = &groom.strands;
     let per_group: Vec<Vec<Vec3>> = (0..strands.group_count())
@@ -150,11 +145,7 @@ mod tests {
         .unwrap();
         let error = |groom: &Groom| -> f32 {
             let head = RigidTransform::IDENTITY;
-            let positions = groom.skeletons.rest_positions(&head);
-            let mut frames = vec![Frame::default(); positions.len()];
-            groom
-                .skeletons
-                .node_frames_into(&head, &positions, &mut frames);
+            let (positions, frames) = groom.skeletons.rest_pose(&head);
             let drawn = strand_polylines(groom, &positions, &frames, 8).unwrap();
             let (mut a, mut b) = (vec![Vec3::ZERO; 64], vec![Vec3::ZERO; 64]);
             let mut worst = 0.0f32;
