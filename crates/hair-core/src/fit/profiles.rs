@@ -25,7 +25,8 @@ use crate::transform::RigidTransform;
 /// children the `per − 1` after it) the residual profile of its file curve, measured on the
 /// groom's rest skeletons; children share their guide's. Replaces any earlier profiles.
 ///
-/// Errors: a strand count that is not a multiple of the fitted curves; a curve index outside
+/// Errors: a strand count that is not a multiple of the fitted curves; a strand group that
+/// does not hold whole families (a curve's strand and its children); a curve index outside
 /// `curves`.
 pub fn bind_profiles(groom: &mut Groom, fit: &FittedHierarchy, curves: &Curves) -> Result<()> {
     let file_strands = fit.group_strands.len();
@@ -49,10 +50,22 @@ pub fn bind_profiles(groom: &mut Groom, fit: &FittedHierarchy, curves: &Curves) 
             "a curve of the file that was fitted",
         ));
     }
+    // Profile k is guide k's (strand k · per): each group must hold whole families (a guide and
+    // its children), or a child would read a neighbour family's profile.
+    let strands = &groom.strands;
+    if let Some(group) = (0..strands.group_count()).find(|&g| {
+        let range = strands.strands(g);
+        range.start % per != 0 || range.len() % per != 0
+    }) {
+        return Err(HairError::invalid(
+            "strand group's strands",
+            format!("{:?} in group {group}", strands.strands(group)),
+            "whole families: a fitted curve's strand followed by its children",
+        ));
+    }
     let head = RigidTransform::IDENTITY;
     let (positions, frames) = groom.skeletons.rest_pose(&head);
     let chains = groom.level_chains(Level::StrandGroup);
-    let strands = &groom.strands;
     let per_group: Vec<Vec<Vec3>> = (0..strands.group_count())
         .into_par_iter()
         .map(|group| -> Result<Vec<Vec3>> {
@@ -175,5 +188,39 @@ mod tests {
         assert!(unbound > 10e-3, "unbound {unbound}");
         assert!(bound < 1.5e-3, "bound {bound} against unbound {unbound}");
         assert_eq!(groom.strands.profile_of.len(), groom.strands.strand_count());
+    }
+
+    #[test]
+    fn children_share_their_guides_profile_and_split_families_are_refused() {
+        let curves = curls(20);
+        let settings = FitSettings {
+            sections: SectionCount::Fixed(1),
+            ..FitSettings::default()
+        };
+        let fit = fit_hierarchy(&curves, &settings).unwrap();
+        let children = ChildStrands {
+            per_strand: 2,
+            ..ChildStrands::default()
+        };
+        let mut groom =
+            Groom::from_fit_with_children(&fit, &curves, &GroomParams::straight(), &children)
+                .unwrap();
+        bind_profiles(&mut groom, &fit, &curves).unwrap();
+        // Each fitted curve's strand is followed by its two children: families of three, one
+        // profile each.
+        let strands = &groom.strands;
+        assert_eq!(strands.strand_count(), 3 * curves.curve_count());
+        assert_eq!(
+            strands.profiles.len(),
+            PROFILE_SAMPLES * curves.curve_count()
+        );
+        for strand in 0..strands.strand_count() {
+            assert_eq!(strands.profile_of[strand] as usize, strand / 3);
+        }
+        // A group boundary moved into a family: a child would read the next family's profile.
+        let mut split = groom.clone();
+        split.strands.group_offsets[1] += 1;
+        let error = bind_profiles(&mut split, &fit, &curves).unwrap_err();
+        assert!(error.to_string().contains("whole families"), "{error}");
     }
 }

@@ -4,6 +4,8 @@
 use glam::{Vec2, Vec3};
 use std::ops::Range;
 
+use crate::error::{HairError, Result};
+
 /// All strands of a groom, flat: strand group `g` (numbered `0..5·sections`, section-major) owns
 /// strands `group_offsets[g]..group_offsets[g + 1]`.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -74,8 +76,86 @@ impl StrandSet {
         self.profiles.get(start..start + PROFILE_SAMPLES)
     }
 
+    /// Checks the residual profiles: `profile_of` empty or one entry per strand, each
+    /// [`NO_PROFILE`] or the index of a whole profile in `profiles` (a multiple of
+    /// [`PROFILE_SAMPLES`] entries, all finite). Errors name the strand or the entry.
+    pub fn check_profiles(&self) -> Result<()> {
+        if self.profile_of.is_empty() {
+            return Ok(());
+        }
+        if self.profile_of.len() != self.strand_count() {
+            return Err(HairError::SizeMismatch {
+                what: "strand profile indices",
+                actual: self.profile_of.len(),
+                expected: self.strand_count(),
+            });
+        }
+        if self.profiles.len() % PROFILE_SAMPLES != 0 {
+            return Err(HairError::invalid(
+                "residual profile entries",
+                self.profiles.len(),
+                "a multiple of PROFILE_SAMPLES (64)",
+            ));
+        }
+        if let Some(entry) = self.profiles.iter().position(|r| !r.is_finite()) {
+            return Err(HairError::invalid(
+                "residual profile entry",
+                format!("{entry}: {}", self.profiles[entry]),
+                "finite",
+            ));
+        }
+        let count = self.profiles.len() / PROFILE_SAMPLES;
+        if let Some(strand) = self
+            .profile_of
+            .iter()
+            .position(|&p| p != NO_PROFILE && p as usize >= count)
+        {
+            return Err(HairError::invalid(
+                "strand profile index",
+                format!("{} of strand {strand}", self.profile_of[strand]),
+                "NO_PROFILE or below the number of profiles",
+            ));
+        }
+        Ok(())
+    }
+
     /// The strands of strand group `group`.
     pub fn strands(&self, group: usize) -> Range<usize> {
         self.group_offsets[group] as usize..self.group_offsets[group + 1] as usize
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_strands() -> StrandSet {
+        StrandSet {
+            group_offsets: vec![0, 2],
+            root_offsets: vec![Vec2::ZERO; 2],
+            shades: vec![0.5; 2],
+            profile_of: vec![0, NO_PROFILE],
+            profiles: vec![Vec3::ZERO; PROFILE_SAMPLES],
+            ..StrandSet::default()
+        }
+    }
+
+    #[test]
+    fn profiles_are_checked_and_bad_ones_named() {
+        assert!(two_strands().check_profiles().is_ok());
+        assert!(StrandSet::default().check_profiles().is_ok());
+        type Spoil = fn(&mut StrandSet);
+        let cases: [(Spoil, &str); 4] = [
+            (|s| s.profile_of.push(0), "strand profile indices"),
+            (|s| s.profiles.truncate(PROFILE_SAMPLES - 1), "multiple of"),
+            (|s| s.profiles[3].y = f32::NAN, "entry"),
+            (|s| s.profile_of[1] = 1, "of strand 1"),
+        ];
+        for (spoil, expected) in cases {
+            let mut strands = two_strands();
+            spoil(&mut strands);
+            let error = strands.check_profiles().unwrap_err().to_string();
+            assert!(error.contains(expected), "{error} lacks {expected}");
+        }
     }
 }

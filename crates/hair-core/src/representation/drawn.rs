@@ -39,9 +39,15 @@ impl ChainPoint {
         }
     }
 
-    /// The unit tangent `T̂` (+Y where the curve does not move).
+    /// The unit tangent `T̂` (+Y where the curve does not move: `|dC/du|² ≤ 10⁻²⁴`, or NaN).
+    /// `strands.wgsl`'s `residual_frame` follows the same rule, test for test.
     pub fn unit_tangent(&self) -> Vec3 {
-        self.derivative.try_normalize().unwrap_or(Vec3::Y)
+        let d = self.derivative;
+        if d.length_squared() > 1e-24 {
+            d.normalize()
+        } else {
+            Vec3::Y
+        }
     }
 
     /// The orthonormal basis `(N̂, B̂, T̂)` (columns) that residuals are measured in: the unit
@@ -56,7 +62,7 @@ impl ChainPoint {
         let usable = |v: Vec3| (v.length_squared() > 1e-12).then(|| v.normalize());
         let n = usable(self.normal - self.normal.dot(t) * t)
             .or_else(|| usable(self.binormal.cross(t)))
-            .unwrap_or_else(|| t.any_orthonormal_vector());
+            .unwrap_or_else(|| any_perpendicular(t));
         Mat3::from_cols(n, t.cross(n), t)
     }
 
@@ -105,6 +111,18 @@ pub fn profile_residual(profile: &[Vec3], v: f32) -> Vec3 {
     profile[j].lerp(profile[j + 1], s - j as f32)
 }
 
+/// A unit vector perpendicular to the unit vector `t` (Frisvad's construction, as glam's
+/// `any_orthonormal_vector`, but with `t.z = −0` taken as positive, as the shader takes it).
+fn any_perpendicular(t: Vec3) -> Vec3 {
+    let sign = if t.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sign + t.z);
+    Vec3::new(t.x * t.y * a, sign + t.y * t.y * a, -t.y)
+}
+
+/// The shortest length fraction a residual profile is stretched over (as in the shader): a
+/// strand shorter than this reads its profile as if it were this long.
+pub const MIN_PROFILE_LENGTH: f32 = 1e-6;
+
 /// The point of a strand drawn at curve parameter `u` of `chain` (see the module): `length` is
 /// its length fraction, `profile` its residual profile, if any.
 pub fn drawn_strand_point(
@@ -118,7 +136,7 @@ pub fn drawn_strand_point(
     let point = chain.offset_point(u, root_offset, tip_scale);
     match profile {
         Some(profile) => {
-            let r = profile_residual(profile, u / length.max(f32::MIN_POSITIVE));
+            let r = profile_residual(profile, u / length.max(MIN_PROFILE_LENGTH));
             point + chain.residual_basis() * r
         }
         None => point,
@@ -128,6 +146,44 @@ pub fn drawn_strand_point(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn any_perpendicular_is_a_unit_normal_of_every_direction() {
+        // Frisvad's construction fails only at t = −z with the sign of +z: the branch on the
+        // sign of t.z keeps `sign + t.z` away from 0 (|sign + t.z| ≥ 1).
+        let directions = [
+            Vec3::X,
+            Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(1.0, 0.0, -0.0),
+            Vec3::new(0.3, -0.4, -0.0).normalize(),
+            Vec3::new(0.0, 1e-4, -1.0).normalize(),
+            Vec3::new(-0.6, 0.0, 0.8),
+        ];
+        for t in directions {
+            let n = any_perpendicular(t);
+            assert!((n.length() - 1.0).abs() < 1e-6, "{t} gives {n}");
+            assert!(n.dot(t).abs() < 1e-6, "{t} gives {n}");
+        }
+    }
+
+    #[test]
+    fn a_motionless_or_nan_chain_point_still_has_an_orthonormal_basis() {
+        // The shader's rule: |dC/du|² ≤ 10⁻²⁴ or NaN gives T̂ = +Y; a NaN normal falls back to
+        // B × T̂.
+        let still = ChainPoint {
+            position: Vec3::ZERO,
+            normal: Vec3::new(f32::NAN, 0.0, 0.0),
+            binormal: Vec3::Z,
+            derivative: Vec3::splat(1e-13),
+        };
+        assert_eq!(still.unit_tangent(), Vec3::Y);
+        let basis = still.residual_basis();
+        assert!(basis.is_finite());
+        assert!((basis.transpose() * basis - Mat3::IDENTITY).abs_diff_eq(Mat3::ZERO, 1e-6));
+        assert_eq!(basis.z_axis, Vec3::Y);
+    }
 
     fn skewed() -> ChainPoint {
         ChainPoint {

@@ -60,7 +60,8 @@ pub fn strand_sampler(node_count: usize, samples_per_segment: usize) -> Result<C
 /// strand groups, deterministic.
 ///
 /// Errors: `samples_per_segment` 0; node arrays shorter than the groom's nodes; a strand-group
-/// skeleton with fewer than two nodes.
+/// skeleton with fewer than two nodes; residual profiles that fail
+/// [`StrandSet::check_profiles`](crate::StrandSet::check_profiles).
 pub fn strand_polylines(
     groom: &Groom,
     node_positions: &[Vec3],
@@ -80,6 +81,7 @@ pub fn strand_polylines(
             });
         }
     }
+    groom.strands.check_profiles()?;
     let group_chains = groom.level_chains(Level::StrandGroup);
     let strands = &groom.strands;
     let per_group = group_chains

@@ -35,12 +35,13 @@ fn residual_frame(n: vec3<f32>, b: vec3<f32>, dc: vec3<f32>) -> mat3x3<f32> {
         t = normalize(dc);
     }
     // |N| and |B| are about 1: a part under 1e-6 is rounding, not a direction.
+    // `!(x > 1e-12)` rather than `x <= 1e-12`: a NaN falls back too, as on the CPU.
     var np = n - dot(n, t) * t;
-    if (dot(np, np) <= 1e-12) {
+    if (!(dot(np, np) > 1e-12)) {
         np = cross(b, t);
     }
-    if (dot(np, np) <= 1e-12) {
-        // Any perpendicular of t (glam's any_orthonormal_vector).
+    if (!(dot(np, np) > 1e-12)) {
+        // Any perpendicular of t (drawn.rs's any_perpendicular: Frisvad, -0 taken as positive).
         let sign = select(-1.0, 1.0, t.z >= 0.0);
         let a = -1.0 / (sign + t.z);
         np = vec3<f32>(t.x * t.y * a, sign + t.y * t.y * a, -t.y);
@@ -93,7 +94,7 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     var r = vec3<f32>(0.0);
     var dr = vec3<f32>(0.0);
     if (strand.profile != NO_PROFILE) {
-        let l = max(strand.length, 1e-6);
+        let l = max(strand.length, 1e-6); // MIN_PROFILE_LENGTH
         let sv = clamp(u / l, 0.0, 1.0) * f32(PROFILE_SAMPLES - 1u);
         let j = min(u32(floor(sv)), PROFILE_SAMPLES - 2u);
         let entry = strand.profile * PROFILE_SAMPLES + j;
