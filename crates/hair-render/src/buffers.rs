@@ -1,7 +1,22 @@
 //! GPU buffers that grow to fit their data and are rewritten in place when it fits.
 
+use crate::error::{Result, invalid};
+
 /// Smallest buffer created [bytes]: bindings must not be empty.
 const MIN_BUFFER_BYTES: u64 = 256;
+
+/// Checks that `bytes` of `what` fit one storage binding of at most `max_bytes` (the device's
+/// `max_storage_buffer_binding_size`), so that an upload too large for the device is refused
+/// with its size before anything is written, rather than failing when the bind group is built.
+pub(crate) fn check_binding_size(what: &str, bytes: u64, max_bytes: u64) -> Result<()> {
+    if bytes > max_bytes {
+        return Err(invalid(format!(
+            "{what} take {bytes} bytes, more than the device binds in one storage buffer \
+             ({max_bytes} bytes): draw fewer strands, or split the groom"
+        )));
+    }
+    Ok(())
+}
 
 /// A buffer that is replaced by a larger one when data no longer fits.
 #[derive(Debug)]
@@ -64,4 +79,21 @@ fn create(
         usage,
         mapped_at_creation: false,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_binding_over_the_device_limit_is_refused_with_its_size() {
+        assert!(check_binding_size("residual profiles", 128, 128).is_ok());
+        let error = check_binding_size("residual profiles", 129, 128)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("residual profiles") && error.contains("129") && error.contains("128"),
+            "{error}"
+        );
+    }
 }

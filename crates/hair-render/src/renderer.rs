@@ -4,7 +4,7 @@
 use hair_core::TriangleMesh;
 
 use crate::batches::{Batch, CHAIN_SAMPLE_BYTES, ChainOrder, GpuChain, chain_table};
-use crate::buffers::GrowableBuffer;
+use crate::buffers::{GrowableBuffer, check_binding_size};
 use crate::device::{AdapterReport, DeviceOptions, GpuContext, acquire_device};
 use crate::error::{RenderError, Result, invalid};
 use crate::head::{GpuMesh, upload_mesh, validate_mesh};
@@ -243,6 +243,19 @@ impl Renderer {
     ) -> Result<()> {
         strands.validate()?;
         shapes.validate(strands.strand_count())?;
+        let max_bytes = self.gpu.device.limits().max_storage_buffer_binding_size;
+        let strand_bytes = std::mem::size_of::<crate::inputs::GpuStrand>() as u64;
+        check_binding_size(
+            "strands",
+            strands.strand_count() as u64 * strand_bytes,
+            max_bytes,
+        )?;
+        // Profiles go up as vec4<f32>: 16 bytes an entry.
+        check_binding_size(
+            "residual profiles",
+            shapes.profiles.len() as u64 * 16,
+            max_bytes,
+        )?;
         // Ranked within each chain, so that a dissolving chain draws only the strands it shows.
         let order = ChainOrder::with_dissolve_ranks(strands.strand_chain);
         let mut sorted = order.sorted(&pack_strands(strands, shapes));
