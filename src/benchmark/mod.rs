@@ -9,6 +9,7 @@ use hair_core::Level;
 use hair_core::lod::LodSettings;
 
 mod budget;
+pub mod coverage;
 
 pub use budget::{BudgetedRun, run_budgeted};
 

@@ -14,8 +14,10 @@
 //!   cubic B-spline ([`bspline`] is the CPU reference), tessellated into a number of segments that
 //!   falls with camera distance ([`Tessellation`]). Strands are camera-facing ribbons or lines.
 //! - **Shading**: Kajiya-Kay in the Heidrich-Seidel form from the curve tangent only (diffuse
-//!   ∝ sin(T, L), specular ∝ (sin(T, L)·sin(T, V) − (T·L)(T·V))^p), per-strand shade within a hair
-//!   colour range ([`HairMaterial`]); the head ([`hair_core::TriangleMesh`]) is Lambert-lit and
+//!   ∝ sin(T, L), specular ∝ (sin(T, L)·sin(T, V) − (T·L)(T·V))^p), or Marschner's R, TT and TRT
+//!   lobes ([`HairShading`], [`Marschner`]), per-strand shade within a hair colour range
+//!   ([`HairMaterial`]); sub-pixel strand lines can cover their width's share of a pixel
+//!   ([`LineCoverage`]); the head ([`hair_core::TriangleMesh`]) is Lambert-lit and
 //!   hides hair behind it by depth. 4× MSAA by default.
 //! - **Clusters and patches** ([`ClusterSet`], [`PatchSet`]): closed tubes (4 control points per
 //!   node, periodic cubic around) and ruled strips (2 per node, linear across), evaluated in the
@@ -77,6 +79,7 @@ pub mod device;
 pub mod error;
 pub mod groom;
 pub mod inputs;
+pub mod marschner;
 pub mod output;
 pub mod renderer;
 pub mod settings;
@@ -108,10 +111,11 @@ pub use device::{
 };
 pub use error::{RenderError, Result};
 pub use inputs::{SkeletonFrame, StrandSet};
+pub use marschner::Marschner;
 pub use renderer::{Renderer, RendererOptions};
 pub use settings::{
-    DirectionalLight, FrameSettings, HairMaterial, LevelColors, LineShading, ShadingMode,
-    StrandStyle, SurfaceTexture, Tessellation,
+    DirectionalLight, FrameSettings, HairMaterial, HairShading, LevelColors, LineCoverage,
+    LineShading, ShadingMode, StrandStyle, SurfaceTexture, Tessellation,
 };
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;

@@ -4,10 +4,11 @@ use crate::shadow_pipelines::{ShadowPipelines, ShadowSources, shadow_maps_layout
 use crate::target::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// WGSL shared by every pipeline: globals, node and chain storage buffers, the B-spline and
-/// Kajiya-Kay shading.
+/// Kajiya-Kay and Marschner shading.
 const COMMON_WGSL: &str = concat!(
     include_str!("shaders/common.wgsl"),
     include_str!("shaders/bspline.wgsl"),
+    include_str!("shaders/marschner.wgsl"),
     include_str!("shaders/chain_curve_types.wgsl")
 );
 /// The chain-curve compute pass.
@@ -49,6 +50,9 @@ pub(crate) struct Pipelines {
     pub strand_lines: wgpu::RenderPipeline,
     /// Strands as lines, shaded at the curve points ([`crate::LineShading::PerVertex`]).
     pub strand_lines_shaded_per_vertex: wgpu::RenderPipeline,
+    /// The two line pipelines covering their width's share of a pixel
+    /// ([`crate::LineCoverage::Width`]): per fragment, per vertex.
+    pub strand_lines_covered: [wgpu::RenderPipeline; 2],
     pub clusters: SurfacePipelines,
     pub patches: SurfacePipelines,
     pub head: wgpu::RenderPipeline,
@@ -105,9 +109,11 @@ fn shader(device: &wgpu::Device, label: &str, parts: &[&str]) -> wgpu::ShaderMod
 }
 
 impl Pipelines {
-    /// Compiles the shaders and builds the pipelines for `sample_count`-times MSAA.
-    /// Errors surface through the caller's error scope.
-    pub fn new(device: &wgpu::Device, sample_count: u32) -> Pipelines {
+    /// Compiles the shaders and builds the pipelines for `sample_count`-times MSAA; covered
+    /// strand lines pick their samples through the fragment's `sample_mask` output where
+    /// `sample_mask_output` is true and there are several samples, and keep or drop whole
+    /// fragments otherwise. Errors surface through the caller's error scope.
+    pub fn new(device: &wgpu::Device, sample_count: u32, sample_mask_output: bool) -> Pipelines {
         let geometry_stages = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE;
         let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hair-render scene"),
@@ -297,6 +303,34 @@ impl Pipelines {
             wgpu::PrimitiveTopology::LineStrip,
             None,
         );
+        let (per_fragment_covered, per_vertex_covered) = if sample_mask_output && sample_count > 1 {
+            ("fs_strand_covered", "fs_strand_line_covered")
+        } else {
+            ("fs_strand_kept", "fs_strand_line_kept")
+        };
+        let strand_lines_covered = [
+            (
+                "hair-render strand lines, covered",
+                "vs_strand_line",
+                per_fragment_covered,
+            ),
+            (
+                "hair-render strand lines shaded per vertex, covered",
+                "vs_strand_line_shaded",
+                per_vertex_covered,
+            ),
+        ]
+        .map(|(label, vertex, fragment)| {
+            hair_pipeline(
+                label,
+                &strand_layout,
+                &strands_module,
+                vertex,
+                fragment,
+                wgpu::PrimitiveTopology::LineStrip,
+                None,
+            )
+        });
         // With multisampling the screen door goes through alpha-to-coverage (a dropped pixel gets
         // alpha 0, so no sample), which spares the dropped fragments their shading; single-sampled
         // targets discard them.
@@ -401,6 +435,7 @@ impl Pipelines {
             strand_ribbons,
             strand_lines,
             strand_lines_shaded_per_vertex,
+            strand_lines_covered,
             clusters,
             patches,
             head,

@@ -11,7 +11,7 @@ use crate::head::{GpuMesh, upload_mesh, validate_mesh};
 use crate::inputs::{GpuNode, SkeletonFrame, StrandSet, pack_nodes, pack_strands};
 use crate::pipelines::Pipelines;
 use crate::scopes::ErrorScopes;
-use crate::settings::{FrameSettings, LineShading, ShadingMode, StrandStyle};
+use crate::settings::{FrameSettings, LineCoverage, LineShading, ShadingMode, StrandStyle};
 use crate::shadow_maps::ShadowMaps;
 use crate::shadows::{bounding_sphere, light_view_projection, map_resolution};
 use crate::strand_shapes::StrandShapes;
@@ -148,7 +148,11 @@ impl Renderer {
     pub fn with_context(gpu: GpuContext, sample_count: u32) -> Result<Renderer> {
         let device = &gpu.device;
         let scope = ErrorScopes::push(device);
-        let pipelines = Pipelines::new(device, sample_count);
+        // wgpu 30's GLSL writer assigns the WGSL `sample_mask` output (a u32) to
+        // `gl_SampleMask[0]` (an int) without a cast, which Mesa refuses to compile; on GL the
+        // covered lines keep or drop whole fragments instead.
+        let sample_mask_output = gpu.adapter.get_info().backend != wgpu::Backend::Gl;
+        let pipelines = Pipelines::new(device, sample_count, sample_mask_output);
         let globals = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("hair-render globals"),
             size: std::mem::size_of::<Globals>() as u64,
@@ -477,6 +481,7 @@ impl Renderer {
             chains,
             nodes: frame.node_count() as u32,
             samples_per_strand,
+            samples_per_pixel: 0,
         })
     }
 
@@ -628,6 +633,7 @@ impl Renderer {
         let slots = settings.tessellation.max_segments + 1;
         let counts = GeometryCounts {
             samples_per_strand: slots,
+            samples_per_pixel: self.sample_count,
             ..counts
         };
         let shadow = self.shadow_frame(settings);
@@ -759,11 +765,19 @@ impl Renderer {
                 for batch in strand_batches {
                     if current != Some(batch.thin) {
                         pass.set_pipeline(if batch.thin {
-                            match settings.line_shading {
-                                LineShading::PerVertex => {
+                            let [covered_per_fragment, covered_per_vertex] =
+                                &self.pipelines.strand_lines_covered;
+                            match (settings.line_shading, settings.line_coverage) {
+                                (LineShading::PerVertex, LineCoverage::Pixel) => {
                                     &self.pipelines.strand_lines_shaded_per_vertex
                                 }
-                                LineShading::PerFragment => &self.pipelines.strand_lines,
+                                (LineShading::PerFragment, LineCoverage::Pixel) => {
+                                    &self.pipelines.strand_lines
+                                }
+                                (LineShading::PerVertex, LineCoverage::Width) => covered_per_vertex,
+                                (LineShading::PerFragment, LineCoverage::Width) => {
+                                    covered_per_fragment
+                                }
                             }
                         } else {
                             &self.pipelines.strand_ribbons

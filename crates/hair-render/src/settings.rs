@@ -5,6 +5,7 @@ use glam::Vec3;
 
 use crate::camera::Camera;
 use crate::error::{Result, invalid};
+use crate::marschner::Marschner;
 use crate::shadows::SelfShadowing;
 
 /// How geometry is coloured.
@@ -205,7 +206,36 @@ impl Default for DirectionalLight {
     }
 }
 
-/// Hair colour range and Kajiya-Kay coefficients.
+/// The reflectance model of strands, clusters and patches.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum HairShading {
+    /// Kajiya-Kay in the Heidrich-Seidel form: a diffuse term `∝ sin(T, L)` and one specular lobe
+    /// about the mirror cone ([`HairMaterial::specular`], [`HairMaterial::specular_exponent`]).
+    #[default]
+    KajiyaKay,
+    /// Marschner's single-scattering lobes (R, TT, TRT; [`Marschner`]) in place of the specular
+    /// lobe: the highlight shifted towards the root, a coloured secondary highlight and light
+    /// transmitted through back-lit hair. The diffuse term stays (it stands for the light
+    /// scattered many times); [`HairMaterial::specular`] and the exponent are not used.
+    Marschner(Marschner),
+}
+
+/// How much of a pixel a strand drawn as a 1-pixel line covers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LineCoverage {
+    /// The whole pixel: a sub-pixel strand is drawn as if a pixel wide.
+    #[default]
+    Pixel,
+    /// Its projected width's share `w·f/z` of each pixel (the ribbon width of
+    /// [`StrandStyle::Ribbons`]), as that share of the pixel's MSAA samples, picked by a hash of
+    /// the strand and the pixel so that overlapping strands cover different samples and add up
+    /// (stochastic transparency, order-independent). Single-sampled, and on the GL backend
+    /// (whose shader writer cannot set the sample mask in wgpu 30), the whole fragment is kept
+    /// with that probability instead: the same mean, more noise.
+    Width,
+}
+
+/// Hair colour range and shading coefficients.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HairMaterial {
     /// Colour of shade 0.
@@ -218,6 +248,8 @@ pub struct HairMaterial {
     pub specular: f32,
     /// Specular exponent (highlight sharpness).
     pub specular_exponent: f32,
+    /// The reflectance model (Kajiya-Kay by default).
+    pub shading: HairShading,
 }
 
 impl Default for HairMaterial {
@@ -229,6 +261,7 @@ impl Default for HairMaterial {
             diffuse: 1.0,
             specular: 0.2,
             specular_exponent: 40.0,
+            shading: HairShading::KajiyaKay,
         }
     }
 }
@@ -264,6 +297,8 @@ pub struct FrameSettings {
     pub shadows: SelfShadowing,
     /// Texture of clusters and patches.
     pub surface_texture: SurfaceTexture,
+    /// How much of a pixel a strand line covers.
+    pub line_coverage: LineCoverage,
 }
 
 impl FrameSettings {
@@ -284,6 +319,7 @@ impl FrameSettings {
             level_colors: LevelColors::default(),
             shadows: SelfShadowing::default(),
             surface_texture: SurfaceTexture::default(),
+            line_coverage: LineCoverage::default(),
         }
     }
 
@@ -330,6 +366,16 @@ impl FrameSettings {
                     "hair {name} coefficient {value} must be finite and ≥ 0"
                 )));
             }
+        }
+        if let HairShading::Marschner(model) = self.hair.shading {
+            model.validate().map_err(invalid)?;
+        }
+        if self.line_coverage == LineCoverage::Width
+            && !matches!(self.strand_style, StrandStyle::Ribbons { width, .. } if width > 0.0)
+        {
+            return Err(invalid(
+                "line coverage by width needs the hair width: strand style ribbons with a width > 0",
+            ));
         }
         if let StrandStyle::Ribbons {
             width,
@@ -442,6 +488,16 @@ mod tests {
         let mut bad = good;
         bad.tessellation.min_around_segments = 2;
         assert!(bad.validate().unwrap_err().to_string().contains("around"));
+        let mut bad = good;
+        bad.hair.shading = HairShading::Marschner(Marschner {
+            width: -1.0,
+            ..Marschner::default()
+        });
+        assert!(bad.validate().unwrap_err().to_string().contains("width"));
+        let mut bad = good;
+        bad.line_coverage = LineCoverage::Width;
+        bad.strand_style = StrandStyle::Lines;
+        assert!(bad.validate().unwrap_err().to_string().contains("coverage"));
         let mut bad = good;
         bad.hair.light_color = Vec3::NAN;
         assert!(

@@ -2,7 +2,9 @@
 
 use glam::Vec3;
 
-use crate::settings::{FrameSettings, ShadingMode, StrandStyle, SurfaceTexture};
+use crate::settings::{
+    FrameSettings, HairShading, LineCoverage, ShadingMode, StrandStyle, SurfaceTexture,
+};
 use crate::shadows::SelfShadowing;
 
 /// Counts the shaders need to bound their reads.
@@ -13,6 +15,8 @@ pub(crate) struct GeometryCounts {
     pub nodes: u32,
     /// Samples per strand of the evaluation pass (0 when drawing).
     pub samples_per_strand: u32,
+    /// MSAA samples per pixel of the target (0 outside a draw).
+    pub samples_per_pixel: u32,
 }
 
 /// Byte layout of `Globals` in `common.wgsl` (std140-compatible: a matrix and 16-byte vectors).
@@ -39,6 +43,8 @@ pub(crate) struct Globals {
     shadow: [f32; 4],
     shadow_layers: [f32; 4],
     shadow_surfaces: [f32; 4],
+    hair_model: [f32; 4],
+    line_coverage: [f32; 4],
 }
 
 /// What the light passes of self-shadowing need besides the settings (see [`crate::shadows`]).
@@ -139,6 +145,21 @@ impl Globals {
                     SHADOW_AROUND_SEGMENTS as f32,
                 ]
             },
+            hair_model: match settings.hair.shading {
+                HairShading::KajiyaKay => [0.0; 4],
+                HairShading::Marschner(model) => {
+                    [1.0, model.shift, model.width, model.refractive_index]
+                }
+            },
+            line_coverage: [
+                match (settings.line_coverage, settings.strand_style) {
+                    (LineCoverage::Width, StrandStyle::Ribbons { width, .. }) => width,
+                    _ => 0.0,
+                },
+                counts.samples_per_pixel as f32,
+                0.0,
+                0.0,
+            ],
         }
     }
 
@@ -168,7 +189,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn layout_is_two_matrices_and_eighteen_vectors() {
-        assert_eq!(std::mem::size_of::<Globals>(), 2 * 64 + 18 * 16);
+    fn layout_is_two_matrices_and_twenty_vectors() {
+        assert_eq!(std::mem::size_of::<Globals>(), 2 * 64 + 20 * 16);
     }
 }

@@ -118,10 +118,16 @@ fn kajiya_kay(tangent: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>) -> vec
 }
 
 // Hair colour lit by Kajiya-Kay: `base · (ambient + light · kd · diffuse · occlusion) +
-// light · ks · specular · occlusion`.
+// light · ks · specular · occlusion`; with Marschner shading (`globals.hair_model.x` = 1) the
+// specular term is the Marschner lobes `light · S · cos θ_i · occlusion` (`marschner.wgsl`), with
+// the base colour as the fibre's transmittance, and the diffuse term stays.
 fn hair_color(base: vec3<f32>, tangent: vec3<f32>, world_position: vec3<f32>, occlusion: f32) -> vec3<f32> {
     let to_eye = normalize(globals.camera_position.xyz - world_position);
     let lighting = kajiya_kay(tangent, globals.light_direction.xyz, to_eye);
-    return base * (globals.ambient.rgb + globals.light_color.rgb * globals.shading.x * lighting.x * occlusion)
-        + globals.light_color.rgb * globals.shading.y * lighting.y * occlusion;
+    let diffuse = base * (globals.ambient.rgb + globals.light_color.rgb * globals.shading.x * lighting.x * occlusion);
+    if (globals.hair_model.x > 0.5) {
+        let scatter = marschner_scatter(tangent, globals.light_direction.xyz, to_eye, base, globals.hair_model);
+        return diffuse + globals.light_color.rgb * scatter * occlusion;
+    }
+    return diffuse + globals.light_color.rgb * globals.shading.y * lighting.y * occlusion;
 }

@@ -35,6 +35,12 @@ struct Globals {
     // x, y: strands per cluster and per patch × hair width × strand opacity [m], z: the light
     // passes' stride along the curves, w: their most segments around a cluster tube.
     shadow_surfaces: vec4<f32>,
+    // x: 1 for Marschner shading (0: Kajiya-Kay), y: its shift α_R [rad], z: its width β_R [rad],
+    // w: the fibre's refractive index.
+    hair_model: vec4<f32>,
+    // x: the hair width [m] whose share of a pixel a strand line covers (0: a whole pixel), y: the
+    // target's samples per pixel.
+    line_coverage: vec4<f32>,
 }
 
 // One skeleton node and its frame (w components unused).

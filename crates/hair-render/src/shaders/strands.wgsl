@@ -9,6 +9,9 @@ struct StrandVertex {
     @location(0) @interpolate(perspective, centroid) world_position: vec3<f32>,
     @location(1) @interpolate(perspective, centroid) tangent: vec3<f32>,
     @location(2) @interpolate(flat) shade: f32,
+    // The share of a pixel the strand covers (`LineCoverage`), and the strand for its hash.
+    @location(3) coverage: f32,
+    @location(4) @interpolate(flat) strand: u32,
 }
 
 // Sideways offset in clip space that widens a curve point to a camera-facing ribbon of
@@ -58,6 +61,8 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     out.world_position = vec3<f32>(0.0);
     out.tangent = vec3<f32>(0.0, 1.0, 0.0);
     out.shade = 0.0;
+    out.coverage = 1.0;
+    out.strand = strand_index;
     if (strand_index >= globals.counts.x || strand_index >= arrayLength(&strands)) {
         return out;
     }
@@ -133,6 +138,10 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     out.world_position = position;
     out.tangent = tangent;
     out.shade = strand.shade;
+    if (globals.line_coverage.x > 0.0) {
+        // The fibre's projected width w·f/z [pixels], at most the whole pixel.
+        out.coverage = clamp(globals.line_coverage.x * globals.ribbon.z / max(clip.w, 1e-6), 0.0, 1.0);
+    }
     return out;
 }
 
@@ -147,6 +156,8 @@ fn vs_strand_ribbon(@builtin(vertex_index) vertex: u32, @builtin(instance_index)
 struct LineVertex {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(perspective, centroid) color: vec3<f32>,
+    @location(1) coverage: f32,
+    @location(2) @interpolate(flat) strand: u32,
 }
 
 // Line strip per instance (one strand): vertex i is curve point i (shaded per fragment).
@@ -163,12 +174,73 @@ fn vs_strand_line_shaded(@builtin(vertex_index) vertex: u32, @builtin(instance_i
     var out: LineVertex;
     out.clip = v.clip;
     out.color = strand_color(v);
+    out.coverage = v.coverage;
+    out.strand = v.strand;
     return out;
 }
 
 @fragment
 fn fs_strand_line(in: LineVertex) -> @location(0) vec4<f32> {
     return vec4<f32>(in.color, 1.0);
+}
+
+// A fragment of a strand line that covers only some of the pixel's samples.
+struct CoveredFragment {
+    @location(0) color: vec4<f32>,
+    @builtin(sample_mask) mask: u32,
+}
+
+// A 32-bit hash of a strand and a pixel (integer mixing in the manner of PCG and murmur's
+// finaliser), so that overlapping strands pick their samples independently.
+fn coverage_hash(strand: u32, pixel: vec2<f32>) -> u32 {
+    var h = strand * 747796405u + 2891336453u;
+    h = (h ^ (u32(pixel.x) * 277803737u)) * 0x85ebca6bu;
+    h = (h ^ (h >> 13u) ^ (u32(pixel.y) * 0x27d4eb2fu)) * 0xc2b2ae35u;
+    return h ^ (h >> 16u);
+}
+
+// The samples a strand covering `coverage` of a pixel takes: k = ⌊c·n + ξ⌋ of the n samples
+// (ξ uniform from the hash, so E[k] = c·n), a run of k at a hashed rotation.
+fn coverage_mask(strand: u32, pixel: vec2<f32>, coverage: f32) -> u32 {
+    let n = clamp(u32(globals.line_coverage.y), 1u, 16u);
+    let h = coverage_hash(strand, pixel);
+    let xi = f32(h & 0xffffu) / 65536.0;
+    let k = min(u32(floor(clamp(coverage, 0.0, 1.0) * f32(n) + xi)), n);
+    let all = (1u << n) - 1u;
+    let run = (1u << k) - 1u;
+    let rotation = (h >> 16u) % n;
+    return ((run << rotation) | (run >> (n - rotation))) & all;
+}
+
+// Whether a strand covering `coverage` of a pixel keeps the whole fragment (probability c, from
+// the same hash): the covered lines single-sampled, or where the sample mask cannot be written.
+fn coverage_keeps(strand: u32, pixel: vec2<f32>, coverage: f32) -> bool {
+    let h = coverage_hash(strand, pixel);
+    return f32(h & 0xffffu) / 65536.0 < coverage;
+}
+
+@fragment
+fn fs_strand_line_kept(in: LineVertex) -> @location(0) vec4<f32> {
+    if (!coverage_keeps(in.strand, in.clip.xy, in.coverage)) {
+        discard;
+    }
+    return vec4<f32>(in.color, 1.0);
+}
+
+@fragment
+fn fs_strand_kept(in: StrandVertex) -> @location(0) vec4<f32> {
+    if (!coverage_keeps(in.strand, in.clip.xy, in.coverage)) {
+        discard;
+    }
+    return vec4<f32>(strand_color(in), 1.0);
+}
+
+@fragment
+fn fs_strand_line_covered(in: LineVertex) -> CoveredFragment {
+    var out: CoveredFragment;
+    out.color = vec4<f32>(in.color, 1.0);
+    out.mask = coverage_mask(in.strand, in.clip.xy, in.coverage);
+    return out;
 }
 
 fn strand_color(in: StrandVertex) -> vec3<f32> {
@@ -183,6 +255,14 @@ fn strand_color(in: StrandVertex) -> vec3<f32> {
 @fragment
 fn fs_strand(in: StrandVertex) -> @location(0) vec4<f32> {
     return vec4<f32>(strand_color(in), 1.0);
+}
+
+@fragment
+fn fs_strand_covered(in: StrandVertex) -> CoveredFragment {
+    var out: CoveredFragment;
+    out.color = vec4<f32>(strand_color(in), 1.0);
+    out.mask = coverage_mask(in.strand, in.clip.xy, in.coverage);
+    return out;
 }
 
 // A vertex of the light passes (depth map and opacity map, `shadows.wgsl`).
