@@ -37,7 +37,7 @@ fn covered_lines_are_closer_to_the_supersampled_reference() {
             35f32.to_radians(),
         );
         let settings = FrameSettings::new(320, 180, camera);
-        let measure = measure_coverage(&mut renderer, &active.frame(), &settings, 4).unwrap();
+        let (measure, _) = measure_coverage(&mut renderer, &active.frame(), &settings, 4).unwrap();
         eprintln!("{distance} m: {measure:?}");
         assert!(measure.ssim_width > measure.ssim_pixel, "{distance} m");
     }

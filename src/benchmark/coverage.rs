@@ -27,10 +27,24 @@ pub struct CoverageMeasure {
     pub plain_ssim_pixel: f64,
     /// The same, lines covering their width's share.
     pub plain_ssim_width: f64,
-    /// Render time of the whole-pixel frame (upload, draw, readback) [ms].
+    /// Render time of the whole-pixel frame (upload, draw, readback; median of 3) [ms].
     pub ms_pixel: f64,
-    /// Render time of the covered frame [ms].
+    /// Render time of the covered frame (median of 3) [ms].
     pub ms_width: f64,
+}
+
+/// The four images a [`CoverageMeasure`] compares (RGBA, at the measured size).
+#[derive(Debug, Clone)]
+pub struct CoverageImages {
+    /// Lines covering whole pixels.
+    pub pixel: image::RgbaImage,
+    /// Lines covering their width's share.
+    pub width: image::RgbaImage,
+    /// The reference: `factor`× supersampled, lines covering their width's share of the fine
+    /// pixels.
+    pub reference: image::RgbaImage,
+    /// The plain supersampled render: whole-pixel lines at the fine size.
+    pub plain: image::RgbaImage,
 }
 
 /// Renders `frame` with `settings` at `factor` times its size on both axes and box-filters it
@@ -93,47 +107,52 @@ pub fn box_filter(image: &image::RgbaImage, factor: u32) -> image::RgbaImage {
 }
 
 /// Measures `frame` through `settings` (its strands drawn as lines: sub-pixel ribbons) with and
-/// without line coverage against both `factor`× supersampled references.
+/// without line coverage against both `factor`× supersampled references; returns the measure
+/// and the images.
 pub fn measure_coverage(
     renderer: &mut Renderer,
     frame: &SkeletonFrame,
     settings: &FrameSettings,
     factor: u32,
-) -> Result<CoverageMeasure> {
+) -> Result<(CoverageMeasure, CoverageImages)> {
     let with = |coverage| FrameSettings {
         line_coverage: coverage,
         ..*settings
     };
-    let reference = luma(&supersampled(
-        renderer,
-        frame,
-        &with(LineCoverage::Width),
-        factor,
-    )?);
-    let plain = luma(&supersampled(
-        renderer,
-        frame,
-        &with(LineCoverage::Pixel),
-        factor,
-    )?);
-    let mut timed = |coverage| -> Result<(image::GrayImage, f64)> {
+    let reference = supersampled(renderer, frame, &with(LineCoverage::Width), factor)?;
+    let plain = supersampled(renderer, frame, &with(LineCoverage::Pixel), factor)?;
+    let mut timed = |coverage| -> Result<(image::RgbaImage, f64)> {
         let settings = with(coverage);
-        // One render first, so that the timed one finds its buffers and pipelines warm.
-        renderer.render(frame, &settings)?;
-        let started = Instant::now();
+        // One render first, so that the timed ones find their buffers and pipelines warm; the
+        // median of three.
         let image = renderer.render(frame, &settings)?;
-        Ok((luma(&image), started.elapsed().as_secs_f64() * 1e3))
+        let mut times = [0.0; 3];
+        for time in &mut times {
+            let started = Instant::now();
+            renderer.render(frame, &settings)?;
+            *time = started.elapsed().as_secs_f64() * 1e3;
+        }
+        times.sort_by(f64::total_cmp);
+        Ok((image, times[1]))
     };
     let (pixel, ms_pixel) = timed(LineCoverage::Pixel)?;
     let (width, ms_width) = timed(LineCoverage::Width)?;
-    Ok(CoverageMeasure {
-        ssim_pixel: ssim(&pixel, &reference),
-        ssim_width: ssim(&width, &reference),
-        plain_ssim_pixel: ssim(&pixel, &plain),
-        plain_ssim_width: ssim(&width, &plain),
+    let [l_pixel, l_width, l_reference, l_plain] = [&pixel, &width, &reference, &plain].map(luma);
+    let measure = CoverageMeasure {
+        ssim_pixel: ssim(&l_pixel, &l_reference),
+        ssim_width: ssim(&l_width, &l_reference),
+        plain_ssim_pixel: ssim(&l_pixel, &l_plain),
+        plain_ssim_width: ssim(&l_width, &l_plain),
         ms_pixel,
         ms_width,
-    })
+    };
+    let images = CoverageImages {
+        pixel,
+        width,
+        reference,
+        plain,
+    };
+    Ok((measure, images))
 }
 
 #[cfg(test)]

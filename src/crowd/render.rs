@@ -6,14 +6,11 @@
 use std::time::Instant;
 
 use hair_core::{Camera, NO_PROFILE, PROFILE_SAMPLES, RigidTransform, TriangleMesh};
-use hair_render::{
-    ActiveSkeletons, FrameSettings, GroomGeometry, LineShading, Renderer, RendererOptions,
-    ShadingMode,
-};
+use hair_render::{ActiveSkeletons, GroomGeometry, Renderer, RendererOptions, ShadingMode};
 
 use super::frame::Crowd;
 use super::model::CrowdModel;
-use crate::pipeline::Result;
+use crate::pipeline::{DrawStyle, Result};
 use crate::run::{Runnable, View};
 
 /// A renderer bound to a crowd's grooms and heads.
@@ -24,7 +21,8 @@ pub struct CrowdRenderer {
     heads: Vec<TriangleMesh>,
     /// The poses the uploaded heads have (empty before the first frame).
     poses: Vec<RigidTransform>,
-    line_shading: LineShading,
+    /// Line shading, hair shading, line coverage.
+    style: DrawStyle,
 }
 
 impl CrowdRenderer {
@@ -36,10 +34,15 @@ impl CrowdRenderer {
             active: ActiveSkeletons::new(),
             heads: Vec::new(),
             poses: Vec::new(),
-            line_shading: LineShading::default(),
+            style: DrawStyle::default(),
         };
         crowd_renderer.bind(model)?;
         Ok(crowd_renderer)
+    }
+
+    /// Draws the frames that follow in `style`.
+    pub fn set_style(&mut self, style: DrawStyle) {
+        self.style = style;
     }
 
     /// Uploads the grooms of `model`'s characters, one after the other, and keeps their heads.
@@ -89,11 +92,7 @@ impl CrowdRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(crowd)?;
-        let settings = FrameSettings {
-            mode,
-            line_shading: self.line_shading,
-            ..FrameSettings::new(width, height, *camera)
-        };
+        let settings = self.style.frame_settings(width, height, camera, mode);
         let image = self.renderer.render(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
     }
@@ -108,10 +107,9 @@ impl CrowdRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(crowd)?;
-        let settings = FrameSettings {
-            line_shading: self.line_shading,
-            ..FrameSettings::new(width, height, *camera)
-        };
+        let settings = self
+            .style
+            .frame_settings(width, height, camera, ShadingMode::Shaded);
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;

@@ -5,12 +5,11 @@
 use std::time::Instant;
 
 use hair_core::{Camera, RigidTransform, Scene};
-use hair_render::{
-    ActiveSkeletons, FrameSettings, LineShading, Renderer, RendererOptions, ShadingMode,
-};
+use hair_render::{ActiveSkeletons, LineShading, Renderer, RendererOptions, ShadingMode};
 
 use super::error::Result;
 use super::pipeline::Pipeline;
+use super::style::DrawStyle;
 
 /// A renderer bound to one pipeline's groom and head (uploaded once), with its per-frame buffer.
 /// The head mesh is drawn where the simulation has it: it is uploaded again, posed, whenever the
@@ -20,8 +19,8 @@ pub struct PipelineRenderer {
     active: ActiveSkeletons,
     /// The pose the uploaded head mesh has.
     head_pose: RigidTransform,
-    /// Where strand lines are shaded.
-    line_shading: LineShading,
+    /// Line shading, hair shading, line coverage.
+    style: DrawStyle,
 }
 
 impl PipelineRenderer {
@@ -34,7 +33,7 @@ impl PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),
             head_pose: RigidTransform::IDENTITY,
-            line_shading: LineShading::default(),
+            style: DrawStyle::default(),
         })
     }
 
@@ -48,7 +47,7 @@ impl PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),
             head_pose: RigidTransform::IDENTITY,
-            line_shading: LineShading::default(),
+            style: DrawStyle::default(),
         })
     }
 
@@ -62,7 +61,17 @@ impl PipelineRenderer {
 
     /// Shades 1-pixel strand lines per vertex (the default) or per fragment.
     pub fn set_line_shading(&mut self, line_shading: LineShading) {
-        self.line_shading = line_shading;
+        self.style.line_shading = line_shading;
+    }
+
+    /// Draws the frames that follow in `style`.
+    pub fn set_style(&mut self, style: DrawStyle) {
+        self.style = style;
+    }
+
+    /// The style frames are drawn in.
+    pub fn style(&self) -> DrawStyle {
+        self.style
     }
 
     /// Uploads the groom and head of another pipeline's scene.
@@ -104,11 +113,7 @@ impl PipelineRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(pipeline)?;
-        let settings = FrameSettings {
-            mode,
-            line_shading: self.line_shading,
-            ..FrameSettings::new(width, height, *camera)
-        };
+        let settings = self.style.frame_settings(width, height, camera, mode);
         let image = self.renderer.render(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
     }
@@ -125,11 +130,9 @@ impl PipelineRenderer {
     ) -> Result<f64> {
         let started = Instant::now();
         self.prepare(pipeline)?;
-        let settings = FrameSettings {
-            mode,
-            line_shading: self.line_shading,
-            ..FrameSettings::new(destination.width(), destination.height(), *camera)
-        };
+        let settings =
+            self.style
+                .frame_settings(destination.width(), destination.height(), camera, mode);
         self.renderer
             .render_to_texture(&self.active.frame(), &settings, destination)?;
         Ok(started.elapsed().as_secs_f64())
@@ -146,10 +149,9 @@ impl PipelineRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(pipeline)?;
-        let settings = FrameSettings {
-            line_shading: self.line_shading,
-            ..FrameSettings::new(width, height, *camera)
-        };
+        let settings = self
+            .style
+            .frame_settings(width, height, camera, ShadingMode::Shaded);
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;

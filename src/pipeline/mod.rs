@@ -23,6 +23,7 @@ mod report;
 mod settings;
 mod state;
 mod strands_out;
+mod style;
 
 pub use block::LevelBlock;
 pub use checkpoint::{CHECKPOINT_FORMAT, CHECKPOINT_VERSION, Checkpoint};
@@ -33,3 +34,4 @@ pub use pipeline::Pipeline;
 pub use report::{FrameReport, LodChanges, StageTimes};
 pub use settings::{LodMode, PipelineSettings};
 pub use state::PipelineState;
+pub use style::DrawStyle;

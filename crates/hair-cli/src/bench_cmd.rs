@@ -61,6 +61,9 @@ pub enum BenchKind {
     /// Strand-line shading: render cost against image error for per-vertex and per-fragment
     /// shading at several tessellations, against a converged render.
     Shading(crate::bench_shading::ShadingArgs),
+    /// Sub-pixel strand coverage: strands drawn with lines covering whole pixels and covering
+    /// their width, against a supersampled reference, by SSIM.
+    Coverage(crate::bench_coverage::CoverageArgs),
 }
 
 /// Arguments of `hairlod bench paper`.
@@ -212,6 +215,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         (Some(BenchKind::Paper(paper)), _) => run_paper(paper),
         (Some(BenchKind::Shading(shading)), _) => crate::bench_shading::run(shading),
         (Some(BenchKind::Costs(costs)), _) => crate::bench_costs::run(costs),
+        (Some(BenchKind::Coverage(coverage)), _) => crate::bench_coverage::run(coverage),
         (None, Some(path)) => run_scene(path, args),
         (None, None) => anyhow::bail!(
             "bench what? give a scene file (hairlod bench scenes/paper-table1.toml), or `paper` \

@@ -5,7 +5,8 @@ use std::ops::Range;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
-use hairlod::render::BackendChoice;
+use hairlod::pipeline::DrawStyle;
+use hairlod::render::{BackendChoice, HairShading, LineCoverage, LineShading, Marschner};
 use hairlod::scene_file::parse_size;
 
 /// A preset groom.
@@ -30,6 +31,47 @@ impl Preset {
             Preset::Wavy => "wavy",
             Preset::Curly => "curly",
         }
+    }
+}
+
+/// The hair's reflectance model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ShadingArg {
+    /// Kajiya-Kay: a diffuse term and one specular lobe.
+    KajiyaKay,
+    /// Marschner's R, TT and TRT lobes (the paper's measured shift and width).
+    Marschner,
+}
+
+/// How much of a pixel a strand line covers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CoverageArg {
+    /// The whole pixel.
+    Pixel,
+    /// Its fibre's width's share of the pixel's samples.
+    Width,
+}
+
+/// The draw style from the flags of `render`.
+pub fn draw_style(
+    per_fragment_lines: bool,
+    shading: ShadingArg,
+    coverage: CoverageArg,
+) -> DrawStyle {
+    DrawStyle {
+        line_shading: if per_fragment_lines {
+            LineShading::PerFragment
+        } else {
+            LineShading::PerVertex
+        },
+        hair_shading: match shading {
+            ShadingArg::KajiyaKay => HairShading::KajiyaKay,
+            ShadingArg::Marschner => HairShading::Marschner(Marschner::default()),
+        },
+        line_coverage: match coverage {
+            CoverageArg::Pixel => LineCoverage::Pixel,
+            CoverageArg::Width => LineCoverage::Width,
+        },
     }
 }
 

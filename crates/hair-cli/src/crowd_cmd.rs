@@ -12,7 +12,7 @@ use hairlod::benchmark::paper_modes;
 use hairlod::core::lod::{BudgetMethod, BudgetReport, BudgetSettings};
 use hairlod::crowd::{CrowdModel, CrowdRenderer, run_crowd};
 use hairlod::metrics::{luma, luma_difference, ssim};
-use hairlod::pipeline::{LodMode, PipelineSettings};
+use hairlod::pipeline::{DrawStyle, LodMode, PipelineSettings};
 use hairlod::render::{RendererOptions, output};
 use hairlod::run::{ModeRun, View};
 use hairlod::shot::Shot;
@@ -46,6 +46,7 @@ pub fn render(
     out: &Path,
     json: Option<PathBuf>,
     options: &RendererOptions,
+    style: DrawStyle,
 ) -> Result<()> {
     anyhow::ensure!(
         !(shot.outputs.hair || shot.outputs.usd),
@@ -63,6 +64,7 @@ pub fn render(
             .with_context(|| format!("cannot create output folder {}", folder.display()))?;
     }
     let mut renderer = CrowdRenderer::new(options, &model)?;
+    renderer.set_style(style);
     eprintln!("adapter: {}", renderer.renderer().adapter_report());
     let bar = progress_bar(shot.frames, shot.settings.lod.column_name());
     let mut thumbnails = Vec::new();

@@ -7,6 +7,7 @@
 mod accuracy_cmd;
 mod bench_cmd;
 mod bench_costs;
+mod bench_coverage;
 mod bench_shading;
 mod charts;
 mod cli_args;

@@ -13,14 +13,15 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::core::formats::UsdCurvesWriter;
-use hairlod::pipeline::{Checkpoint, FrameReport, PipelineRenderer, StageTimes};
-use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
+use hairlod::pipeline::{Checkpoint, DrawStyle, FrameReport, PipelineRenderer, StageTimes};
+use hairlod::render::{DeviceOptions, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli_args::{
-    BackendArg, CameraArg, FramesArg, LevelArg, MotionArg, Preset, ShotOverrides,
+    BackendArg, CameraArg, CoverageArg, FramesArg, LevelArg, MotionArg, Preset, ShadingArg,
+    ShotOverrides, draw_style,
 };
 
 /// Arguments of `hairlod render`.
@@ -79,6 +80,13 @@ pub struct RenderArgs {
     /// strand render time on a CPU rasterizer; see docs/render.md).
     #[arg(long)]
     per_fragment_lines: bool,
+    /// The hair's reflectance model (see docs/render.md, "Shading").
+    #[arg(long, value_enum, default_value_t = ShadingArg::KajiyaKay)]
+    shading: ShadingArg,
+    /// How much of a pixel a strand drawn as a 1-pixel line covers: the whole pixel, or its
+    /// fibre's projected width's share (sub-pixel coverage, see docs/render.md).
+    #[arg(long, value_enum, default_value_t = CoverageArg::Pixel)]
+    line_coverage: CoverageArg,
     /// Graphics backend [default: $HAIRLOD_BACKEND, else auto].
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
@@ -95,6 +103,11 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
+    /// Line shading, hair shading and line coverage from the flags.
+    fn style(&self) -> DrawStyle {
+        draw_style(self.per_fragment_lines, self.shading, self.line_coverage)
+    }
+
     /// The scene file with the flags applied over it.
     fn scene_file(&self) -> Result<SceneFile> {
         let mut file = ShotOverrides {
@@ -179,7 +192,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             .json
             .clone()
             .or_else(|| file.json_output().map(|name| args.out.join(name)));
-        return crate::crowd_cmd::render(&shot, &args.out, json, &RendererOptions { device });
+        return crate::crowd_cmd::render(
+            &shot,
+            &args.out,
+            json,
+            &RendererOptions { device },
+            args.style(),
+        );
     }
     let scene = shot.build_scene().context("could not build the groom")?;
     let views = View::of_outputs(&shot.outputs);
@@ -212,9 +231,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         ..RunOptions::whole(&shot, shot.settings)
     };
     let mut renderer = PipelineRenderer::new(&RendererOptions { device }, &scene)?;
-    if args.per_fragment_lines {
-        renderer.set_line_shading(LineShading::PerFragment);
-    }
+    renderer.set_style(args.style());
     let counts = scene.groom.counts();
     eprintln!("adapter: {}", renderer.renderer().adapter_report());
     eprintln!(
