@@ -303,3 +303,52 @@ fn every_frame_writes_every_strand_as_cyhair_and_usd() {
         .fold(0.0f32, f32::max);
     assert!(moved > 1e-3, "the strands moved {moved} m");
 }
+
+/// `--shading marschner` and `--line-coverage width` reach the renderer: the shaded frame of a
+/// still head changes with each (the head's own pixels do not), and a bad value is refused
+/// with the values allowed.
+#[test]
+fn shading_and_line_coverage_flags_change_the_hair() {
+    let dir = folder("looks");
+    let path = scene(&dir, "still");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("[output]\ncolor_coded = true\n", "");
+    std::fs::write(&path, text).unwrap();
+    let render = |name: &str, flags: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render",
+            path.to_str().unwrap(),
+            "--frames",
+            "1",
+            "--level",
+            "strands",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(flags);
+        hairlod(&args);
+        frame(&out, 0)
+    };
+    let plain = render("plain", &[]);
+    let marschner = render("marschner", &["--shading", "marschner"]);
+    let covered = render("covered", &["--line-coverage", "width"]);
+    let changed = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
+    };
+    let (by_shading, by_coverage) = (changed(&plain, &marschner), changed(&plain, &covered));
+    println!("pixels changed: {by_shading} by the shading, {by_coverage} by the coverage");
+    // The groom covers a few thousand of the 40,960 pixels at 1.1 m.
+    assert!(by_shading > 500 && by_coverage > 500);
+    let output = Command::new(BINARY)
+        .args(["render", "--shading", "phong"])
+        .output()
+        .unwrap();
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        error.contains("marschner") && error.contains("kajiya-kay"),
+        "{error}"
+    );
+}
