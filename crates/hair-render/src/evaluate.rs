@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use crate::buffers::check_binding_size;
 use crate::error::{RenderError, Result, invalid};
 use crate::renderer::Renderer;
 use crate::scopes::ErrorScopes;
@@ -25,12 +26,16 @@ impl Renderer {
     ) -> Result<Vec<Vec3>> {
         let strand_count = self.strands.order.item_count() as u64;
         let total = strand_count * u64::from(samples_per_strand);
-        let max_bytes = self.gpu.device.limits().max_storage_buffer_binding_size;
-        if samples_per_strand == 0 || total * 16 > max_bytes || total > u64::from(u32::MAX) {
+        if samples_per_strand == 0 || total > u64::from(u32::MAX) {
             return Err(invalid(format!(
                 "cannot evaluate {samples_per_strand} samples for each of {strand_count} strands"
             )));
         }
+        check_binding_size(
+            &format!("{samples_per_strand} evaluated points for each of {strand_count} strands"),
+            total * 16,
+            self.gpu.device.limits().max_storage_buffer_binding_size,
+        )?;
         // Camera and colours do not matter for evaluation; only the counts do.
         let settings = FrameSettings::new(1, 1, crate::camera::Camera::default());
         let counts = self.upload_frame(frame, &settings, samples_per_strand)?;

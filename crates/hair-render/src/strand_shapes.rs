@@ -3,7 +3,7 @@
 //! strands).
 
 use glam::Vec3;
-use hair_core::{NO_PROFILE, PROFILE_SAMPLES};
+use hair_core::NO_PROFILE;
 
 use crate::error::{Result, invalid};
 
@@ -51,35 +51,8 @@ impl StrandShapes<'_> {
                 )));
             }
         }
-        if !self.strand_profiles.is_empty() && self.strand_profiles.len() != strands {
-            return Err(invalid(format!(
-                "{} strand profiles for {strands} strands (give one per strand, or none)",
-                self.strand_profiles.len()
-            )));
-        }
-        if self.profiles.len() % PROFILE_SAMPLES != 0 {
-            return Err(invalid(format!(
-                "{} profile entries, expected a multiple of {PROFILE_SAMPLES}",
-                self.profiles.len()
-            )));
-        }
-        if let Some(entry) = self.profiles.iter().position(|r| !r.is_finite()) {
-            return Err(invalid(format!(
-                "profile entry {entry} is {}, expected a finite offset",
-                self.profiles[entry]
-            )));
-        }
-        let profile_count = self.profiles.len() / PROFILE_SAMPLES;
-        if let Some(strand) = self
-            .strand_profiles
-            .iter()
-            .position(|&p| p != NO_PROFILE && p as usize >= profile_count)
-        {
-            return Err(invalid(format!(
-                "strand {strand} has profile {}, but there are {profile_count} profiles",
-                self.strand_profiles[strand]
-            )));
-        }
+        hair_core::groom::check_profiles(self.strand_profiles, self.profiles, strands)
+            .map_err(|error| invalid(error.to_string()))?;
         Ok(())
     }
 
@@ -105,6 +78,7 @@ impl StrandShapes<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hair_core::PROFILE_SAMPLES;
 
     #[test]
     fn shapes_are_validated() {
@@ -144,7 +118,7 @@ mod tests {
                 .validate(1)
                 .unwrap_err()
                 .to_string()
-                .contains("profile 1")
+                .contains("profile index: 1 of strand 0")
         );
         let ragged = StrandShapes {
             profiles: &entries[1..],
@@ -163,6 +137,7 @@ mod tests {
             profiles: &bad,
             ..StrandShapes::default()
         };
-        assert!(nan.validate(0).unwrap_err().to_string().contains("entry 3"));
+        let error = nan.validate(0).unwrap_err().to_string();
+        assert!(error.contains("entry") && error.contains("3: "), "{error}");
     }
 }

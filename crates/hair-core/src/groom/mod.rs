@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 pub use fitted::ChildStrands;
 pub use params::{GroomParams, PRESET_NAMES};
 pub use section::Section;
-pub use strands::{NO_PROFILE, PROFILE_SAMPLES, StrandSet};
+pub use strands::{NO_PROFILE, PROFILE_SAMPLES, StrandSet, check_profiles};
 
 use crate::level::Level;
 use crate::skeleton::SkeletonRest;

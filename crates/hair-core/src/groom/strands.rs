@@ -45,6 +45,49 @@ pub const PROFILE_SAMPLES: usize = 64;
 /// [`StrandSet::profile_of`] of a strand without a residual profile.
 pub const NO_PROFILE: u32 = u32::MAX;
 
+/// Checks residual profiles for `strands` strands (one definition for the CPU polylines and the
+/// renderer's upload): `profile_of` empty or one entry per strand, each [`NO_PROFILE`] or the
+/// index of a whole profile in `profiles` (a multiple of [`PROFILE_SAMPLES`] entries, all
+/// finite). Errors name the strand or the entry.
+pub fn check_profiles(profile_of: &[u32], profiles: &[Vec3], strands: usize) -> Result<()> {
+    if profiles.len() % PROFILE_SAMPLES != 0 {
+        return Err(HairError::invalid(
+            "residual profile entries",
+            profiles.len(),
+            "a multiple of PROFILE_SAMPLES (64)",
+        ));
+    }
+    if let Some(entry) = profiles.iter().position(|r| !r.is_finite()) {
+        return Err(HairError::invalid(
+            "residual profile entry",
+            format!("{entry}: {}", profiles[entry]),
+            "finite",
+        ));
+    }
+    if profile_of.is_empty() {
+        return Ok(());
+    }
+    if profile_of.len() != strands {
+        return Err(HairError::SizeMismatch {
+            what: "strand profile indices",
+            actual: profile_of.len(),
+            expected: strands,
+        });
+    }
+    let count = profiles.len() / PROFILE_SAMPLES;
+    if let Some(strand) = profile_of
+        .iter()
+        .position(|&p| p != NO_PROFILE && p as usize >= count)
+    {
+        return Err(HairError::invalid(
+            "strand profile index",
+            format!("{} of strand {strand}", profile_of[strand]),
+            "NO_PROFILE or below the number of profiles",
+        ));
+    }
+    Ok(())
+}
+
 impl StrandSet {
     /// Number of strands.
     pub fn strand_count(&self) -> usize {
@@ -76,47 +119,10 @@ impl StrandSet {
         self.profiles.get(start..start + PROFILE_SAMPLES)
     }
 
-    /// Checks the residual profiles: `profile_of` empty or one entry per strand, each
-    /// [`NO_PROFILE`] or the index of a whole profile in `profiles` (a multiple of
-    /// [`PROFILE_SAMPLES`] entries, all finite). Errors name the strand or the entry.
+    /// Checks the residual profiles ([`check_profiles`] on this set's). Errors name the strand
+    /// or the entry.
     pub fn check_profiles(&self) -> Result<()> {
-        if self.profile_of.is_empty() {
-            return Ok(());
-        }
-        if self.profile_of.len() != self.strand_count() {
-            return Err(HairError::SizeMismatch {
-                what: "strand profile indices",
-                actual: self.profile_of.len(),
-                expected: self.strand_count(),
-            });
-        }
-        if self.profiles.len() % PROFILE_SAMPLES != 0 {
-            return Err(HairError::invalid(
-                "residual profile entries",
-                self.profiles.len(),
-                "a multiple of PROFILE_SAMPLES (64)",
-            ));
-        }
-        if let Some(entry) = self.profiles.iter().position(|r| !r.is_finite()) {
-            return Err(HairError::invalid(
-                "residual profile entry",
-                format!("{entry}: {}", self.profiles[entry]),
-                "finite",
-            ));
-        }
-        let count = self.profiles.len() / PROFILE_SAMPLES;
-        if let Some(strand) = self
-            .profile_of
-            .iter()
-            .position(|&p| p != NO_PROFILE && p as usize >= count)
-        {
-            return Err(HairError::invalid(
-                "strand profile index",
-                format!("{} of strand {strand}", self.profile_of[strand]),
-                "NO_PROFILE or below the number of profiles",
-            ));
-        }
-        Ok(())
+        check_profiles(&self.profile_of, &self.profiles, self.strand_count())
     }
 
     /// The strands of strand group `group`.
