@@ -3,9 +3,8 @@
 //! the reference with its lines covering their width's share of a pixel than with lines covering
 //! whole pixels.
 
-use glam::Vec3;
-use hairlod::benchmark::coverage::measure_coverage;
-use hairlod::render::{ActiveSkeletons, Camera, FrameSettings, Renderer, RendererOptions};
+use hairlod::benchmark::coverage::{coverage_camera, measure_coverage};
+use hairlod::render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions};
 use hairlod::{HangSettings, Level, Scene, hang_groom};
 
 /// At 320×180 an 80 µm fibre is 0.04 px wide at 0.8 m and 0.01 px at 3 m (focal length
@@ -29,13 +28,7 @@ fn covered_lines_are_closer_to_the_supersampled_reference() {
         .gather_rest_pose(&scene.groom, Level::StrandGroup)
         .unwrap();
     for distance in [0.8, 3.0] {
-        let camera = Camera::orbit(
-            Vec3::new(0.0, -0.01, 0.0),
-            distance,
-            0.5,
-            0.15,
-            35f32.to_radians(),
-        );
+        let camera = coverage_camera(distance);
         let settings = FrameSettings::new(320, 180, camera);
         let (measure, _) = measure_coverage(&mut renderer, &active.frame(), &settings, 4).unwrap();
         eprintln!("{distance} m: {measure:?}");

@@ -9,7 +9,8 @@
 
 use std::time::Instant;
 
-use hair_render::{FrameSettings, LineCoverage, Renderer, SkeletonFrame};
+use glam::Vec3;
+use hair_render::{Camera, FrameSettings, LineCoverage, Renderer, SkeletonFrame};
 use serde::Serialize;
 
 use crate::metrics::{luma, ssim};
@@ -31,6 +32,18 @@ pub struct CoverageMeasure {
     pub ms_pixel: f64,
     /// Render time of the covered frame (median of 3) [ms].
     pub ms_width: f64,
+}
+
+/// The measured view: `distance` [m] from the head, half a radian round from the face and
+/// 0.15 rad up, 35° field of view.
+pub fn coverage_camera(distance: f32) -> Camera {
+    Camera::orbit(
+        Vec3::new(0.0, -0.01, 0.0),
+        distance,
+        0.5,
+        0.15,
+        35f32.to_radians(),
+    )
 }
 
 /// The four images a [`CoverageMeasure`] compares (RGBA, at the measured size).

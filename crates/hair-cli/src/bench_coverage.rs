@@ -8,11 +8,10 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, ensure};
 use clap::Args;
-use glam::Vec3;
-use hairlod::benchmark::coverage::{CoverageMeasure, measure_coverage};
+use hairlod::benchmark::coverage::{CoverageMeasure, coverage_camera, measure_coverage};
 use hairlod::benchmark::paper_shot;
 use hairlod::core::Level;
-use hairlod::render::{ActiveSkeletons, Camera, FrameSettings, Renderer, RendererOptions, output};
+use hairlod::render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, output};
 use serde::Serialize;
 
 use crate::bench_cmd::write_json;
@@ -99,13 +98,7 @@ pub fn run(args: &CoverageArgs) -> Result<()> {
     );
     let mut rows = Vec::new();
     for &distance in &args.distances {
-        let camera = Camera::orbit(
-            Vec3::new(0.0, -0.01, 0.0),
-            distance,
-            0.5,
-            0.15,
-            35f32.to_radians(),
-        );
+        let camera = coverage_camera(distance);
         let settings = FrameSettings::new(width, height, camera);
         let (measure, images) =
             measure_coverage(&mut renderer, &active.frame(), &settings, args.factor)?;
