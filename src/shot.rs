@@ -129,6 +129,32 @@ pub struct Outputs {
     pub hair: bool,
     /// Every strand of the run as one USD BasisCurves prim with a time sample per frame.
     pub usd: bool,
+    /// Hair shaded with Marschner's lobes instead of Kajiya-Kay's
+    /// ([`DrawStyle::hair_shading`](crate::pipeline::DrawStyle::hair_shading)).
+    pub marschner: bool,
+    /// Strand lines cover their fibre's width's share of a pixel instead of the whole pixel
+    /// ([`DrawStyle::line_coverage`](crate::pipeline::DrawStyle::line_coverage)).
+    pub line_coverage_by_width: bool,
+}
+
+impl Outputs {
+    /// The draw style the frames are written in: the shading and line coverage asked for, lines
+    /// shaded at their curve points.
+    pub fn style(&self) -> crate::pipeline::DrawStyle {
+        crate::pipeline::DrawStyle {
+            hair_shading: if self.marschner {
+                hair_render::HairShading::Marschner(hair_render::Marschner::default())
+            } else {
+                hair_render::HairShading::KajiyaKay
+            },
+            line_coverage: if self.line_coverage_by_width {
+                hair_render::LineCoverage::Width
+            } else {
+                hair_render::LineCoverage::Pixel
+            },
+            ..crate::pipeline::DrawStyle::default()
+        }
+    }
 }
 
 /// One character of a crowd: its groom, where its head stands and how it moves, and the wind

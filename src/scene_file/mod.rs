@@ -372,6 +372,11 @@ pub struct OutputTable {
     /// Write the run's JSON report (per-frame stage times and levels) to this file, relative to
     /// the output folder.
     pub json: Option<String>,
+    /// The hair's reflectance model: `"kajiya-kay"` (the default) or `"marschner"`.
+    pub shading: Option<String>,
+    /// How much of a pixel a strand line covers: `"pixel"` (the default) or `"width"` (its
+    /// fibre's width's share).
+    pub line_coverage: Option<String>,
 }
 
 /// `[bench]`.

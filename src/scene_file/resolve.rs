@@ -173,6 +173,16 @@ impl SceneFile {
             contact_sheet: output.contact_sheet.unwrap_or(false),
             hair: output.hair.unwrap_or(false),
             usd: output.usd.unwrap_or(false),
+            marschner: match output.shading.as_deref() {
+                None => false,
+                Some(name) => {
+                    one_of("output.shading", name, &["kajiya-kay", "marschner"])? == "marschner"
+                }
+            },
+            line_coverage_by_width: match output.line_coverage.as_deref() {
+                None => false,
+                Some(name) => one_of("output.line_coverage", name, &["pixel", "width"])? == "width",
+            },
         };
         if let Some(json) = &output.json
             && json.trim().is_empty()
@@ -669,6 +679,16 @@ mod tests {
             ("[groom]\nscale = 0.01", "groom.scale", "groom.file"),
             ("[body]\nkind = \"mesh\"", "body.kind", "body.file"),
             ("[body]\nkind = \"sphere\"", "body.kind", "mesh"),
+            (
+                "[output]\nshading = \"phong\"",
+                "output.shading",
+                "marschner",
+            ),
+            (
+                "[output]\nline_coverage = \"area\"",
+                "output.line_coverage",
+                "width",
+            ),
         ] {
             let error = error_of(text);
             assert!(
@@ -676,6 +696,22 @@ mod tests {
                 "{text:?}: {error}"
             );
         }
+    }
+
+    #[test]
+    fn the_output_table_sets_the_draw_style() {
+        use hair_render::{HairShading, LineCoverage};
+        let plain = SceneFile::parse("").unwrap().resolve().unwrap();
+        assert_eq!(plain.outputs.style(), crate::pipeline::DrawStyle::default());
+        let text = "[output]\nshading = \"marschner\"\nline_coverage = \"width\"";
+        let style = SceneFile::parse(text)
+            .unwrap()
+            .resolve()
+            .unwrap()
+            .outputs
+            .style();
+        assert!(matches!(style.hair_shading, HairShading::Marschner(_)));
+        assert_eq!(style.line_coverage, LineCoverage::Width);
     }
 
     #[test]

@@ -5,8 +5,7 @@ use std::ops::Range;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
-use hairlod::pipeline::DrawStyle;
-use hairlod::render::{BackendChoice, HairShading, LineCoverage, LineShading, Marschner};
+use hairlod::render::BackendChoice;
 use hairlod::scene_file::parse_size;
 
 /// A preset groom.
@@ -52,26 +51,23 @@ pub enum CoverageArg {
     Width,
 }
 
-/// The draw style from the flags of `render`.
-pub fn draw_style(
-    per_fragment_lines: bool,
-    shading: ShadingArg,
-    coverage: CoverageArg,
-) -> DrawStyle {
-    DrawStyle {
-        line_shading: if per_fragment_lines {
-            LineShading::PerFragment
-        } else {
-            LineShading::PerVertex
-        },
-        hair_shading: match shading {
-            ShadingArg::KajiyaKay => HairShading::KajiyaKay,
-            ShadingArg::Marschner => HairShading::Marschner(Marschner::default()),
-        },
-        line_coverage: match coverage {
-            CoverageArg::Pixel => LineCoverage::Pixel,
-            CoverageArg::Width => LineCoverage::Width,
-        },
+impl ShadingArg {
+    /// The scene file's `output.shading` value.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadingArg::KajiyaKay => "kajiya-kay",
+            ShadingArg::Marschner => "marschner",
+        }
+    }
+}
+
+impl CoverageArg {
+    /// The scene file's `output.line_coverage` value.
+    pub fn name(self) -> &'static str {
+        match self {
+            CoverageArg::Pixel => "pixel",
+            CoverageArg::Width => "width",
+        }
     }
 }
 

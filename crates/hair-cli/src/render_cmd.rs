@@ -14,14 +14,14 @@ use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::core::formats::UsdCurvesWriter;
 use hairlod::pipeline::{Checkpoint, DrawStyle, FrameReport, PipelineRenderer, StageTimes};
-use hairlod::render::{DeviceOptions, RendererOptions, output};
+use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli_args::{
     BackendArg, CameraArg, CoverageArg, FramesArg, LevelArg, MotionArg, Preset, ShadingArg,
-    ShotOverrides, draw_style,
+    ShotOverrides,
 };
 
 /// Arguments of `hairlod render`.
@@ -80,13 +80,15 @@ pub struct RenderArgs {
     /// strand render time on a CPU rasterizer; see docs/render.md).
     #[arg(long)]
     per_fragment_lines: bool,
-    /// The hair's reflectance model (see docs/render.md, "Shading").
-    #[arg(long, value_enum, default_value_t = ShadingArg::KajiyaKay)]
-    shading: ShadingArg,
+    /// The hair's reflectance model (see docs/render.md, "Shading") [scene: output.shading;
+    /// default kajiya-kay].
+    #[arg(long, value_enum)]
+    shading: Option<ShadingArg>,
     /// How much of a pixel a strand drawn as a 1-pixel line covers: the whole pixel, or its
-    /// fibre's projected width's share (sub-pixel coverage, see docs/render.md).
-    #[arg(long, value_enum, default_value_t = CoverageArg::Pixel)]
-    line_coverage: CoverageArg,
+    /// fibre's projected width's share (sub-pixel coverage, see docs/render.md) [scene:
+    /// output.line_coverage; default pixel].
+    #[arg(long, value_enum)]
+    line_coverage: Option<CoverageArg>,
     /// Graphics backend [default: $HAIRLOD_BACKEND, else auto].
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
@@ -103,9 +105,14 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
-    /// Line shading, hair shading and line coverage from the flags.
-    fn style(&self) -> DrawStyle {
-        draw_style(self.per_fragment_lines, self.shading, self.line_coverage)
+    /// The shot's draw style (shading and line coverage from the scene and the flags), with
+    /// lines shaded per fragment when asked.
+    fn style(&self, shot: &hairlod::shot::Shot) -> DrawStyle {
+        let mut style = shot.outputs.style();
+        if self.per_fragment_lines {
+            style.line_shading = LineShading::PerFragment;
+        }
+        style
     }
 
     /// The scene file with the flags applied over it.
@@ -139,6 +146,12 @@ impl RenderArgs {
         }
         if self.usd {
             file.output.usd = Some(true);
+        }
+        if let Some(shading) = self.shading {
+            file.output.shading = Some(shading.name().to_string());
+        }
+        if let Some(coverage) = self.line_coverage {
+            file.output.line_coverage = Some(coverage.name().to_string());
         }
         // Flags are checked like the file's own values.
         file.resolve()
@@ -197,7 +210,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             &args.out,
             json,
             &RendererOptions { device },
-            args.style(),
+            args.style(&shot),
         );
     }
     let scene = shot.build_scene().context("could not build the groom")?;
@@ -231,7 +244,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         ..RunOptions::whole(&shot, shot.settings)
     };
     let mut renderer = PipelineRenderer::new(&RendererOptions { device }, &scene)?;
-    renderer.set_style(args.style());
+    renderer.set_style(args.style(&shot));
     let counts = scene.groom.counts();
     eprintln!("adapter: {}", renderer.renderer().adapter_report());
     eprintln!(
