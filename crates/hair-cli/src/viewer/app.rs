@@ -182,7 +182,9 @@ impl App {
             Renderer::with_context(display.gpu.clone(), self.options.device.sample_count)?;
         self.adapter = renderer.adapter_report().to_string();
         eprintln!("adapter: {}", self.adapter);
-        let renderer = PipelineRenderer::with_renderer(renderer, self.session.pipeline().scene())?;
+        let mut renderer =
+            PipelineRenderer::with_renderer(renderer, self.session.pipeline().scene())?;
+        renderer.set_style(self.session.draw_style());
         let context = egui::Context::default();
         let egui = egui_winit::State::new(
             context,

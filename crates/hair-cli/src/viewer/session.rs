@@ -285,6 +285,11 @@ impl Session {
         &self.pipeline
     }
 
+    /// The style frames are drawn in (the scene's `output.shading` and `output.line_coverage`).
+    pub fn draw_style(&self) -> hairlod::pipeline::DrawStyle {
+        self.shot.outputs.style()
+    }
+
     /// Whether the run's model differs from the scene's now (wind, head motion or level mode
     /// changed), so a checkpoint of it resumes only with the same changes.
     pub fn differs_from_scene(&self) -> bool {
