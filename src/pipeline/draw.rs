@@ -52,11 +52,23 @@ impl PipelineRenderer {
     }
 
     /// Draws `scene`'s groom (the one bound) once at every level and throws the frames away
-    /// ([`Renderer::warm_up`]), so that the first frame a benchmark times costs what the later
-    /// ones do (a software rasterizer compiles each pipeline at its first draw). Returns the
-    /// frames drawn.
+    /// ([`Renderer::warm_up`]), and once more in this renderer's style when it is not the
+    /// default (so set the style first), so that the first frame a benchmark times costs what
+    /// the later ones do (a software rasterizer compiles each pipeline at its first draw).
+    /// Returns the frames drawn.
     pub fn warm_up(&mut self, scene: &Scene) -> Result<usize> {
-        Ok(self.renderer.warm_up(&scene.groom)?)
+        let mut frames = self.renderer.warm_up(&scene.groom)?;
+        if self.style != DrawStyle::default() {
+            // The style's own pipelines (covered lines, Marschner's shading) at the strand level.
+            let mut active = ActiveSkeletons::new();
+            active.gather_rest_pose(&scene.groom, hair_core::Level::StrandGroup)?;
+            let settings =
+                self.style
+                    .frame_settings(160, 90, &Camera::default(), ShadingMode::Shaded);
+            self.renderer.render(&active.frame(), &settings)?;
+            frames += 1;
+        }
+        Ok(frames)
     }
 
     /// Shades 1-pixel strand lines per vertex (the default) or per fragment.

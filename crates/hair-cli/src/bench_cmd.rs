@@ -303,6 +303,7 @@ pub fn paper_tables(
         None => shot.budget,
     };
     let mut renderer = PipelineRenderer::new(&options, &scene)?;
+    renderer.set_style(shot.outputs.style());
     // The modes run one after another on this renderer: none pays for compiling the pipelines.
     renderer.warm_up(&scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();

@@ -154,6 +154,7 @@ pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result
     let model = build(shot)?;
     let options = RendererOptions::from_env()?;
     let mut renderer = CrowdRenderer::new(&options, &model)?;
+    renderer.set_style(shot.outputs.style());
     let adapter = renderer.renderer().adapter_report().to_string();
     println!("rendering on {adapter}");
     let views = [View::Shaded];
@@ -312,6 +313,7 @@ pub fn accuracy(shot: &Shot, tolerances: &[f32], json: Option<&Path>) -> Result<
     let model = build(shot)?;
     let options = RendererOptions::from_env()?;
     let mut renderer = CrowdRenderer::new(&options, &model)?;
+    renderer.set_style(shot.outputs.style());
     println!("rendering on {}", renderer.renderer().adapter_report());
     let views = [View::Shaded];
     let lod = shot.lod_settings();
