@@ -218,14 +218,14 @@ fn coverage_mask(strand: u32, pixel: vec2<f32>, coverage: f32) -> u32 {
 // Whether a strand covering `coverage` of a pixel keeps the whole fragment (probability c over
 // strands, from the strand's own ξ): the covered lines single-sampled, or where the sample mask
 // cannot be written.
-fn coverage_keeps(strand: u32, pixel: vec2<f32>, coverage: f32) -> bool {
+fn coverage_keeps(strand: u32, coverage: f32) -> bool {
     let h = coverage_hash(strand, vec2<f32>(0.0));
     return f32(h & 0xffffu) / 65536.0 < coverage;
 }
 
 @fragment
 fn fs_strand_line_kept(in: LineVertex) -> @location(0) vec4<f32> {
-    if (!coverage_keeps(in.strand, in.clip.xy, in.coverage)) {
+    if (!coverage_keeps(in.strand, in.coverage)) {
         discard;
     }
     return vec4<f32>(in.color, 1.0);
@@ -233,7 +233,7 @@ fn fs_strand_line_kept(in: LineVertex) -> @location(0) vec4<f32> {
 
 @fragment
 fn fs_strand_kept(in: StrandVertex) -> @location(0) vec4<f32> {
-    if (!coverage_keeps(in.strand, in.clip.xy, in.coverage)) {
+    if (!coverage_keeps(in.strand, in.coverage)) {
         discard;
     }
     return vec4<f32>(strand_color(in), 1.0);
