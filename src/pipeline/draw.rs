@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use hair_core::{Camera, RigidTransform, Scene};
-use hair_render::{ActiveSkeletons, LineShading, Renderer, RendererOptions, ShadingMode};
+use hair_render::{ActiveSkeletons, Renderer, RendererOptions, ShadingMode};
 
 use super::error::Result;
 use super::pipeline::Pipeline;
@@ -69,11 +69,6 @@ impl PipelineRenderer {
             frames += 1;
         }
         Ok(frames)
-    }
-
-    /// Shades 1-pixel strand lines per vertex (the default) or per fragment.
-    pub fn set_line_shading(&mut self, line_shading: LineShading) {
-        self.style.line_shading = line_shading;
     }
 
     /// Draws the frames that follow in `style`.
