@@ -862,9 +862,14 @@ impl Pipeline {
         let time = state.time;
         let mut changes = 0;
         let mut visibility_changes = 0;
+        let shares = selector.blend_shares();
         for (section, choice) in state.choices.iter().enumerate() {
             if state.levels.current()[section] != choice.level {
-                state.levels.switch(section, choice.level, time, blend);
+                // A switch the look ahead foresaw sooner than its lead blends over its share.
+                let share = shares[section];
+                state
+                    .levels
+                    .switch(section, choice.level, time, blend * share);
                 changes += 1;
             }
             // Coming into view or leaving it fades over the blend too: a section drawn at once

@@ -123,6 +123,34 @@ pub fn error_ahead(previous: f32, now: f32, lead_frames: f32, near: f32) -> f32 
     (now / ahead).clamp(0.25, 4.0)
 }
 
+/// The share of the blend time, in `(0, 1]`, for a switch to `level` that a look ahead of
+/// `lead_frames` frames brought forward, where `level_at(k)` is the level the section's errors
+/// `k` frames ahead ask for (monotone in `k`, as [`error_ahead`] is). A blend's new level is
+/// fully in at half the blend, so a look ahead of half the blend has it fully in when the
+/// tolerance is crossed. A switch foreseen only `k < lead_frames` frames ahead (the crossing
+/// comes sooner than the look ahead: the first frames of a shot, or a section speeding up)
+/// gets `k / lead_frames` of the blend, so that its new level is still fully in by the crossing
+/// and the old one gone as far after it, rather than both overstaying: the frames drawing both
+/// levels cost the sum of the two. 1 when the current frame's errors already ask for `level` (the
+/// look ahead did not bring the switch forward) or there is no look ahead. `k` is found by
+/// bisection to 1/4096 of the lead.
+pub fn foreseen_share(level_at: impl Fn(f32) -> Level, level: Level, lead_frames: f32) -> f32 {
+    if !(lead_frames > 0.0) || level_at(0.0) == level || level_at(lead_frames) != level {
+        return 1.0;
+    }
+    // level_at(low) is not `level`, level_at(high) is.
+    let (mut low, mut high) = (0.0f32, lead_frames);
+    for _ in 0..12 {
+        let middle = 0.5 * (low + high);
+        if level_at(middle) == level {
+            high = middle;
+        } else {
+            low = middle;
+        }
+    }
+    high / lead_frames
+}
+
 /// The motion measure of one skeleton (§7.3): the strongest external force per unit mass on any of
 /// its nodes [m/s²], gravity excluded: the wind's drag plus the inertial force of the moving head,
 ///

@@ -34,8 +34,9 @@ mod tests_lead;
 pub use budget::{BudgetController, BudgetMethod, BudgetReport, BudgetSettings};
 pub use cost_model::{CostModel, CostRates, RenderSample, SectionWork};
 pub use criteria::{
-    distance_limits, error_ahead, head_point_acceleration, head_point_acceleration_from_poses,
-    is_occluded, level_with_hysteresis, motion_measure, projected_length, segment_hits_box,
+    distance_limits, error_ahead, foreseen_share, head_point_acceleration,
+    head_point_acceleration_from_poses, is_occluded, level_with_hysteresis, motion_measure,
+    projected_length, segment_hits_box,
 };
 pub use deviation::{
     DEVIATION_PERCENTILE, DRAWN_TUBE_RADIUS, LevelDeviation, PointGrid, level_deviations,

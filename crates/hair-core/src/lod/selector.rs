@@ -7,7 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use super::cost_model::{CostModel, SectionWork};
 use super::criteria::{
-    distance_limits, error_ahead, is_occluded, level_with_hysteresis, projected_length,
+    distance_limits, error_ahead, foreseen_share, is_occluded, level_with_hysteresis,
+    projected_length,
 };
 use super::deviation::{LevelDeviation, level_deviations};
 use super::greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
@@ -134,6 +135,9 @@ pub struct LodSelector {
     /// ([`LodSettings::blend_lead`] · blend time / frame time; 0 until
     /// [`LodSelector::set_frame_time`]).
     lead_frames: f32,
+    /// Each section's share of the blend time for a switch its last choice starts (see
+    /// [`blend_shares`](LodSelector::blend_shares)).
+    blend_shares: Vec<f32>,
 }
 
 impl LodSelector {
@@ -208,6 +212,7 @@ impl LodSelector {
             budget_scratch: BudgetScratch::default(),
             depths: vec![0.0; groom.section_count()],
             lead_frames: 0.0,
+            blend_shares: vec![1.0; groom.section_count()],
         })
     }
 
@@ -298,6 +303,19 @@ impl LodSelector {
         Ok(())
     }
 
+    /// Each section's share of the blend time, in `(0, 1]`, for a level switch its last choice
+    /// starts. 1, the whole blend, unless the look ahead brought the switch forward: a switch
+    /// foreseen `k` frames ahead, fewer than the [`lead_frames`](Self::lead_frames) `n`, gets
+    /// `k / n` of the blend, so that its new level is fully in (at half the blend) by the frame
+    /// the tolerance is crossed, as a switch foreseen a whole lead ahead is
+    /// ([`foreseen_share`](super::foreseen_share)). That happens where the crossing comes sooner
+    /// than the lead: at the start of a shot (the first choice has no depth to look ahead from)
+    /// or when a section speeds up. A switch for motion, a rule, visibility or a budget gets the
+    /// whole blend.
+    pub fn blend_shares(&self) -> &[f32] {
+        &self.blend_shares
+    }
+
     /// The distance limits [pixels] of section `section` (patch → clusters, clusters → strands).
     pub fn distance_limits(&self, section: usize) -> [f32; 2] {
         self.constants[section].limits
@@ -344,17 +362,23 @@ impl LodSelector {
         camera.validate()?;
         let settings = self.settings;
         let aspect = settings.aspect();
-        for (((choice, constants), observation), depth) in self
+        for ((((choice, share), constants), observation), depth) in self
             .choices
             .iter_mut()
+            .zip(&mut self.blend_shares)
             .zip(&self.constants)
             .zip(observations)
             .zip(&mut self.depths)
         {
             let now = depth_of(camera, observation.bound_centre);
-            let ahead = error_ahead(*depth, now, self.lead_frames, camera.near);
+            let look = Lookahead {
+                previous: *depth,
+                now,
+                frames: self.lead_frames,
+                near: camera.near,
+            };
             *depth = if now.is_finite() { now } else { 0.0 };
-            *choice = choose(
+            (*choice, *share) = choose(
                 choice.level,
                 constants,
                 observation,
@@ -363,7 +387,7 @@ impl LodSelector {
                 &self.occluders,
                 &settings,
                 aspect,
-                ahead,
+                &look,
             );
         }
         Ok(&self.choices)
@@ -502,6 +526,7 @@ impl LodSelector {
                 expected: self.choices.len(),
             });
         }
+        self.blend_shares.fill(1.0);
         for (section, choice) in self.choices.iter_mut().enumerate() {
             let (level, option) = (
                 levels[section].max(scratch.options[section].floor),
@@ -650,8 +675,25 @@ fn scaled_error(deviation: f32, scale: f32) -> f32 {
     }
 }
 
-/// One section's choice (§7.4); `ahead` scales its screen-space errors to where they will be at
-/// the look-ahead ([`error_ahead`]).
+/// A section's look ahead: its depth a frame ago and now [m], how many frames ahead the choice
+/// looks, and the camera's near plane [m] ([`error_ahead`]).
+struct Lookahead {
+    previous: f32,
+    now: f32,
+    frames: f32,
+    near: f32,
+}
+
+impl Lookahead {
+    /// The factor the section's errors will have changed by `frames` frames ahead.
+    fn factor(&self, frames: f32) -> f32 {
+        error_ahead(self.previous, self.now, frames, self.near)
+    }
+}
+
+/// One section's choice (§7.4), its screen-space errors scaled to where they will be at the look
+/// ahead `look` ([`error_ahead`]), and the share of the blend time a switch to it blends over
+/// ([`LodSelector::blend_shares`]).
 #[allow(clippy::too_many_arguments)]
 fn choose(
     current: Level,
@@ -662,17 +704,19 @@ fn choose(
     occluders: &[(Vec3, Vec3)],
     settings: &LodSettings,
     aspect: f32,
-    ahead: f32,
-) -> SectionChoice {
+    look: &Lookahead,
+) -> (SectionChoice, f32) {
     if let Some(reason) = hidden_reason(observation, camera, head, occluders, settings, aspect) {
-        return SectionChoice {
+        let choice = SectionChoice {
             level: Level::Patch,
             visible: false,
             reason,
         };
+        return (choice, 1.0);
     }
     let band = settings.hysteresis;
-    let by_distance = match settings.error_model {
+    // The level the section's screen size asks for, its errors scaled by `ahead`.
+    let by_distance_at = |ahead: f32| match settings.error_model {
         ErrorModel::Chord => {
             let length =
                 chord_pixels(camera, observation, settings) * constants.crown_factor * ahead;
@@ -694,6 +738,7 @@ fn choose(
             level_with_hysteresis(scale, limits, current, band)
         }
     };
+    let by_distance = by_distance_at(look.factor(look.frames));
     let rules = rules_apply(observation, camera, settings);
     let by_motion = if rules {
         motion_level(observation, current, settings)
@@ -709,9 +754,19 @@ fn choose(
         level = Level::Cluster;
         reason = Reason::Rule;
     }
-    SectionChoice {
+    let share = if reason == Reason::Distance && level != current {
+        foreseen_share(
+            |frames| by_distance_at(look.factor(frames)),
+            level,
+            look.frames,
+        )
+    } else {
+        1.0
+    };
+    let choice = SectionChoice {
         level,
         visible: true,
         reason,
-    }
+    };
+    (choice, share)
 }

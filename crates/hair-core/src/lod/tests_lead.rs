@@ -128,6 +128,107 @@ fn a_receding_camera_is_met_k_frames_early() {
 }
 
 #[test]
+fn foreseen_share_is_the_crossing_over_the_lead() {
+    // A switch to clusters that the errors k frames ahead ask for from k = 3 on, looked for 7.5
+    // frames ahead: the new level is to be fully in (half the blend) at frame 3, so the blend
+    // is 3 / 7.5 = 0.4 of the whole, found by bisection to 1/4096 of the lead (above it).
+    let level_at = |k: f32| {
+        if k >= 3.0 {
+            Level::Cluster
+        } else {
+            Level::StrandGroup
+        }
+    };
+    let share = foreseen_share(level_at, Level::Cluster, 7.5);
+    assert!((0.4..=0.4 + 1.0 / 4096.0).contains(&share), "{share}");
+    // The whole blend where the look ahead did not bring the switch forward: the current frame
+    // already asks for the level, the lead does not reach it, or there is no look ahead.
+    assert_eq!(foreseen_share(|_| Level::Cluster, Level::Cluster, 7.5), 1.0);
+    assert_eq!(foreseen_share(level_at, Level::Patch, 7.5), 1.0);
+    assert_eq!(foreseen_share(level_at, Level::Cluster, 0.0), 1.0);
+    assert_eq!(foreseen_share(level_at, Level::Cluster, f32::NAN), 1.0);
+}
+
+#[test]
+fn a_switch_foreseen_within_the_lead_blends_over_its_share() {
+    // At a steady recession the selector looking k frames ahead sees, at frame n, the errors
+    // the plain one sees at frame n + k, for any real k (the depth is extrapolated exactly
+    // at a constant speed). A section the plain selector switches at frame m crossed its limit
+    // at some c in (m − 1, m]. The looking selector switches it at n = m − k, or at frame 1 (the
+    // first that has a depth to look ahead from) when m ≤ k + 1, and foresees the crossing
+    // c − n frames ahead: its share of the blend is (c − n) / k, the whole blend (within a
+    // frame) in steady motion and less for the sections whose crossing comes in the first k
+    // frames of the shot.
+    // The eye recedes 10 cm a frame from 1.45 m: the first sections reach their limits within
+    // the first k frames.
+    let scene = Scene::preset("paper-curly").unwrap();
+    let (mut ahead, mut now) = selectors(&scene);
+    let distances: Vec<f32> = (0..120).map(|n| 1.45 + 0.1 * n as f32).collect();
+    let observed = observations(&scene, Level::Patch, 0.0);
+    let head = RigidTransform::IDENTITY;
+    let sections = scene.groom.section_count();
+    // Each section's first switch with the look ahead: (frame, share of the blend).
+    let mut first_switch: Vec<Option<(usize, f32)>> = vec![None; sections];
+    let mut previous: Vec<Level> = Vec::new();
+    for (frame, &distance) in distances.iter().enumerate() {
+        let camera = front_camera(distance);
+        let levels: Vec<Level> = ahead
+            .select(&observed, &camera, &head)
+            .unwrap()
+            .iter()
+            .map(|c| c.level)
+            .collect();
+        for section in 0..sections {
+            let share = ahead.blend_shares()[section];
+            assert!(share > 0.0 && share <= 1.0, "section {section}: {share}");
+            let switched = frame > 0 && levels[section] != previous[section];
+            if !switched {
+                continue;
+            }
+            first_switch[section].get_or_insert((frame, share));
+        }
+        previous = levels;
+    }
+    let without = levels_over(&mut now, &scene, &distances);
+    let k = LEAD_FRAMES as f32;
+    let slack = 1e-3;
+    let (mut steady, mut shortened) = (0, 0);
+    for (section, without) in without.iter().enumerate() {
+        let Some(&(m, _)) = changes(without).first() else {
+            continue;
+        };
+        let (n, share) = first_switch[section].expect("the looking selector switches too");
+        if n == m {
+            // A switch the errors do not govern (a per-section rule stops applying as the
+            // section shrinks below `rules_min_pixels`): nothing foreseen, the whole blend.
+            assert_eq!(share, 1.0, "section {section}: unforeseen switch at {m}");
+            continue;
+        }
+        let expected_n = m.saturating_sub(LEAD_FRAMES).max(1);
+        assert_eq!(n, expected_n, "section {section}: plain switch at {m}");
+        let (low, high) = if m == 1 {
+            (1.0, 1.0)
+        } else {
+            ((m - 1 - n) as f32 / k, (m - n) as f32 / k)
+        };
+        assert!(
+            share >= low - slack && share <= high + slack,
+            "section {section}: switched at {n} (plain {m}), share {share} not in [{low}, {high}]"
+        );
+        if m > LEAD_FRAMES + 1 {
+            steady += 1;
+        } else if share < 1.0 - 1.0 / k {
+            shortened += 1;
+        }
+    }
+    assert!(
+        steady >= 20,
+        "only {steady} sections switched in steady motion"
+    );
+    assert!(shortened > 0, "no switch came within the lead");
+}
+
+#[test]
 fn an_approaching_camera_is_met_early_but_never_late() {
     // The eye comes 5 cm a frame closer. The geometric extrapolation of an approach falls short
     // of a constant speed, so a section refines between 0 and k frames earlier than without the
