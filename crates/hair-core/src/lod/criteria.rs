@@ -135,7 +135,11 @@ pub fn error_ahead(previous: f32, now: f32, lead_frames: f32, near: f32) -> f32 
 /// look ahead did not bring the switch forward) or there is no look ahead. `k` is found by
 /// bisection to 1/4096 of the lead.
 pub fn foreseen_share(level_at: impl Fn(f32) -> Level, level: Level, lead_frames: f32) -> f32 {
-    if !(lead_frames > 0.0) || level_at(0.0) == level || level_at(lead_frames) != level {
+    if lead_frames.is_nan()
+        || lead_frames <= 0.0
+        || level_at(0.0) == level
+        || level_at(lead_frames) != level
+    {
         return 1.0;
     }
     // level_at(low) is not `level`, level_at(high) is.
