@@ -157,9 +157,14 @@ impl ChainOrder {
         order
     }
 
-    /// The part of run `(chain, start, end)` drawn at `coverage`: the whole run for items without
-    /// ranks, else the prefix ranked below `coverage` (the shader draws exactly these).
+    /// The part of run `(chain, start, end)` drawn at `coverage`: nothing at coverage 0 or below
+    /// (a level at the last frame of its fade shows no pixel, and a screen-doored surface would
+    /// still cost its whole fill), the whole run for items without ranks, else the prefix ranked
+    /// below `coverage` (the shader draws exactly these).
     fn drawn_run(&self, (chain, start, end): (u32, u32, u32), coverage: f32) -> (u32, u32, u32) {
+        if coverage <= 0.0 {
+            return (chain, start, start);
+        }
         if self.ranks.is_empty() || coverage >= 1.0 {
             return (chain, start, end);
         }
@@ -374,6 +379,25 @@ mod tests {
             .map(|b| (b.items.clone(), b.dissolving))
             .collect();
         assert_eq!(fading, vec![(0..1, false), (1..2, true), (2..3, false)]);
+        // A surface faded out (coverage 0: the last frame of its blend) draws nothing, in either
+        // order; the screen door would have dropped every pixel after shading none.
+        for front_to_back in [false, true] {
+            let mut batches = Vec::new();
+            let chains = [chain(1.0), chain(0.0), chain(1.0)];
+            if front_to_back {
+                order.batches_front_to_back(
+                    &chains,
+                    &[0.0, 1.0, 2.0],
+                    &mut Vec::new(),
+                    &mut batches,
+                );
+            } else {
+                order.batches(&chains, &mut batches);
+            }
+            let drawn: Vec<std::ops::Range<u32>> =
+                batches.iter().map(|b| b.items.clone()).collect();
+            assert_eq!(drawn, vec![0..1, 2..3], "front to back: {front_to_back}");
+        }
     }
 
     /// A ranked chain at coverage `c` draws `round(c·n)` of its `n` items (ranks `(k + ½)/n`
