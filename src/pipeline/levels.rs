@@ -107,17 +107,31 @@ impl SectionLevels {
     /// from 0 to 1 over the first half of the blend while the old one's falls from 1 to 0 over the
     /// whole blend (no frame shows less hair than either level; the old level's strands, drawn
     /// only as far as their coverage, cost half as much over the blend as drawing them whole).
-    /// 0 for a level the section does not draw.
+    /// A surface giving way to a surface ([`gives_way`](Self::gives_way)) instead falls as the
+    /// new one rises, to 0 at half the blend, on the complementary screen-door pixels: a
+    /// screen-doored surface costs its whole fill at any coverage, so the old one leaves as soon
+    /// as the new one is fully in. 0 for a level the section does not draw.
     pub fn coverage(&self, section: usize, level: Level, time: f64) -> f32 {
         let weight = self.blend_weight(section, time);
+        let rising = (2.0 * weight).min(1.0);
         let dissolve = if level == self.current[section] {
-            (2.0 * weight).min(1.0)
+            rising
+        } else if self.gives_way(section, level) {
+            1.0 - rising
         } else if self.previous(section) == Some(level) {
             1.0 - weight
         } else {
             return 0.0;
         };
         dissolve * self.shown_weight(section, time)
+    }
+
+    /// Whether `level` of section `section` is a surface (clusters or a patch) blending out to
+    /// another surface: the two cross-fade on complementary screen-door pixels
+    /// ([`coverage`](Self::coverage)). Strands on either side of a blend dissolve by coverage.
+    pub fn gives_way(&self, section: usize, level: Level) -> bool {
+        let surface = |level: Level| level != Level::StrandGroup;
+        self.previous(section) == Some(level) && surface(level) && surface(self.current[section])
     }
 
     /// Switches `section` to `level` at `time` [s]; with `blend` > 0 s the old level stays
@@ -174,5 +188,60 @@ impl SectionLevels {
         (0..self.current.len())
             .filter(|&s| self.current[s] == level || self.previous(s) == Some(level))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Section 0 blends from strands to clusters, section 1 from clusters to a patch, section 2
+    /// from a patch to strands, each over 1 s from t = 0: the coverage of both levels at w =
+    /// 0.25, 0.5 and 0.75 of the blend. The new level rises as `min(2w, 1)` in every case; the
+    /// old one falls as `1 − w` unless it is a surface giving way to a surface, which falls as
+    /// `1 − min(2w, 1)`, so that the two cross-fade on complementary pixels and the old one is
+    /// gone when the new one is fully in.
+    #[test]
+    fn a_surface_gives_way_to_a_surface_by_half_the_blend() {
+        let mut levels = SectionLevels::new(3, Level::StrandGroup);
+        levels.switch(1, Level::Cluster, -10.0, 0.0);
+        levels.switch(2, Level::Patch, -10.0, 0.0);
+        levels.switch(0, Level::Cluster, 0.0, 1.0);
+        levels.switch(1, Level::Patch, 0.0, 1.0);
+        levels.switch(2, Level::StrandGroup, 0.0, 1.0);
+        let cases = [
+            (0, Level::StrandGroup, false),
+            (1, Level::Cluster, true),
+            (2, Level::Patch, false),
+        ];
+        for (section, old, gives_way) in cases {
+            assert_eq!(
+                levels.gives_way(section, old),
+                gives_way,
+                "section {section}"
+            );
+            assert!(!levels.gives_way(section, levels.current()[section]));
+            for w in [0.25f32, 0.5, 0.75] {
+                let time = f64::from(w);
+                let new = levels.coverage(section, levels.current()[section], time);
+                assert!(
+                    (new - (2.0 * w).min(1.0)).abs() < 1e-6,
+                    "section {section}, w {w}"
+                );
+                let expected = if gives_way {
+                    1.0 - (2.0 * w).min(1.0)
+                } else {
+                    1.0 - w
+                };
+                let falling = levels.coverage(section, old, time);
+                assert!(
+                    (falling - expected).abs() < 1e-6,
+                    "section {section}, w {w}"
+                );
+            }
+        }
+        // A level the section does not draw has no coverage and does not give way.
+        assert_eq!(levels.coverage(0, Level::Patch, 0.5), 0.0);
+        assert!(!levels.gives_way(0, Level::Patch));
     }
 }

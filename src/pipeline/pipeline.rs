@@ -984,10 +984,15 @@ impl Pipeline {
             node_frames(&root_frame, positions, &mut self.frames_scratch);
             // While blending, the new level dissolves in over the first half of the blend while
             // the old one dissolves out over the whole blend: no frame shows less hair than
-            // either level, and the switch frame itself changes little. A section coming into
-            // view or leaving it dissolves in or out as a whole.
+            // either level, and the switch frame itself changes little. Between two surfaces
+            // the old one gives way on the complementary pixels over the first half. A section
+            // coming into view or leaving it dissolves in or out as a whole.
             let coverage = levels.coverage(section, level, display_time);
-            active.push_chain_with_coverage(positions, &self.frames_scratch, coverage)?;
+            if levels.gives_way(section, level) {
+                active.push_chain_giving_way(positions, &self.frames_scratch, coverage)?;
+            } else {
+                active.push_chain_with_coverage(positions, &self.frames_scratch, coverage)?;
+            }
         }
         Ok(())
     }

@@ -16,6 +16,7 @@ pub struct ActiveSkeletons {
     node_normals: Vec<Vec3>,
     node_binormals: Vec<Vec3>,
     chain_coverage: Vec<f32>,
+    chain_gives_way: Vec<bool>,
 }
 
 impl ActiveSkeletons {
@@ -31,6 +32,7 @@ impl ActiveSkeletons {
         self.node_normals.clear();
         self.node_binormals.clear();
         self.chain_coverage.clear();
+        self.chain_gives_way.clear();
     }
 
     /// Appends an active chain: node positions [m] and their frames, one per node.
@@ -45,6 +47,28 @@ impl ActiveSkeletons {
         node_positions: &[Vec3],
         node_frames: &[Frame],
         coverage: f32,
+    ) -> Result<()> {
+        self.push_fading_chain(node_positions, node_frames, coverage, false)
+    }
+
+    /// Appends an active chain whose cluster or patch, drawn with `coverage` in `[0, 1]`, gives
+    /// way to another surface level coming in at `1 − coverage`: it keeps the screen-door pixels
+    /// that one drops (see [`SkeletonFrame::chain_gives_way`]).
+    pub fn push_chain_giving_way(
+        &mut self,
+        node_positions: &[Vec3],
+        node_frames: &[Frame],
+        coverage: f32,
+    ) -> Result<()> {
+        self.push_fading_chain(node_positions, node_frames, coverage, true)
+    }
+
+    fn push_fading_chain(
+        &mut self,
+        node_positions: &[Vec3],
+        node_frames: &[Frame],
+        coverage: f32,
+        gives_way: bool,
     ) -> Result<()> {
         if !(0.0..=1.0).contains(&coverage) {
             return Err(invalid(format!(
@@ -70,6 +94,7 @@ impl ActiveSkeletons {
             .extend(node_frames.iter().map(|frame| frame.binormal));
         self.chain_offsets.push(self.node_positions.len() as u32);
         self.chain_coverage.push(coverage);
+        self.chain_gives_way.push(gives_way);
         Ok(())
     }
 
@@ -80,6 +105,7 @@ impl ActiveSkeletons {
         }
         self.chain_offsets.push(self.node_positions.len() as u32);
         self.chain_coverage.push(0.0);
+        self.chain_gives_way.push(false);
     }
 
     /// Refills the buffer for `groom`: section `s` is drawn at `section_levels[s]`, so its chains
@@ -166,6 +192,7 @@ impl ActiveSkeletons {
             node_normals: &self.node_normals,
             node_binormals: &self.node_binormals,
             chain_coverage: &self.chain_coverage,
+            chain_gives_way: &self.chain_gives_way,
         }
     }
 }

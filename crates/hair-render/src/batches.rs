@@ -23,7 +23,8 @@ pub(crate) struct GpuChain {
     pub thin: u32,
     /// Fraction drawn, 0..=1 (see [`SkeletonFrame::chain_coverage`]).
     pub coverage: f32,
-    pub padding: u32,
+    /// 1 when the chain's surface gives way to another (see [`SkeletonFrame::chain_gives_way`]).
+    pub gives_way: u32,
 }
 
 /// Bytes per chain-curve sample (`ChainSample` in `chain_curve_types.wgsl`: six `vec4<f32>`).
@@ -78,7 +79,9 @@ pub(crate) fn chain_table(
                     first_sample,
                     thin: u32::from(is_thin(distance)),
                     coverage: frame.chain_coverage.get(chain).copied().unwrap_or(1.0),
-                    padding: 0,
+                    gives_way: u32::from(
+                        frame.chain_gives_way.get(chain).copied().unwrap_or(false),
+                    ),
                 }
             }),
     );
@@ -494,6 +497,7 @@ mod tests {
             node_normals: &axes,
             node_binormals: &axes,
             chain_coverage: &[],
+            chain_gives_way: &[],
         };
         let mut table = Vec::new();
         let mut distances = Vec::new();

@@ -25,6 +25,11 @@ pub struct SkeletonFrame<'a> {
     /// drawn when a hash of its index is below its chain's coverage, a cluster or patch covers that
     /// fraction of its pixels (screen-door). Empty means every chain at 1 (fully drawn).
     pub chain_coverage: &'a [f32],
+    /// Chains whose cluster or patch gives way to another surface coming in at `1 − coverage`
+    /// (a cross-fade between two surface levels): such a surface keeps exactly the screen-door
+    /// pixels the incoming one drops, so that where both cover, every pixel shows one of them
+    /// and none shows both. Strands ignore it. Empty means none.
+    pub chain_gives_way: &'a [bool],
 }
 
 impl SkeletonFrame<'_> {
@@ -66,6 +71,13 @@ impl SkeletonFrame<'_> {
                     self.chain_coverage[bad]
                 )));
             }
+        }
+        if !self.chain_gives_way.is_empty() && self.chain_gives_way.len() != self.chain_count() {
+            return Err(invalid(format!(
+                "{} chain give-way flags for {} chains (give one per chain, or none)",
+                self.chain_gives_way.len(),
+                self.chain_count()
+            )));
         }
         if u32::try_from(nodes).is_err() {
             return Err(invalid(format!("{nodes} nodes exceed the u32 index range")));
@@ -255,6 +267,7 @@ mod tests {
             node_normals: axes,
             node_binormals: axes,
             chain_coverage: &[],
+            chain_gives_way: &[],
         }
     }
 
@@ -311,6 +324,7 @@ mod tests {
             node_normals: &normals,
             node_binormals: &binormals,
             chain_coverage: &[],
+            chain_gives_way: &[],
         };
         let points = f.strand_control_points(0, Vec2::new(0.1, 0.2));
         assert_eq!(

@@ -63,6 +63,7 @@
 //!     node_normals: &normals,
 //!     node_binormals: &binormals,
 //!     chain_coverage: &[],
+//!     chain_gives_way: &[],
 //! };
 //! let image = renderer.render(&frame, &FrameSettings::new(320, 240, Camera::default()))?;
 //! hair_render::output::write_png_atomic(&image, std::path::Path::new("frame_00000.png"))?;

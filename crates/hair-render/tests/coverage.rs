@@ -14,6 +14,7 @@ fn lit_pixels(renderer: &mut hair_render::Renderer, chains: &Chains, coverage: f
     let coverages = vec![coverage; base.chain_count()];
     let frame = SkeletonFrame {
         chain_coverage: &coverages,
+        chain_gives_way: &[],
         ..base
     };
     let image = renderer.render(&frame, &settings(800, 600, 1.0)).unwrap();
@@ -76,6 +77,7 @@ fn surface_coverage_keeps_that_fraction_of_the_pixels() {
             let coverages = vec![coverage; base.chain_count()];
             let frame = SkeletonFrame {
                 chain_coverage: &coverages,
+                chain_gives_way: &[],
                 ..base
             };
             let mut settings = settings(400, 300, 1.0);
@@ -98,6 +100,85 @@ fn surface_coverage_keeps_that_fraction_of_the_pixels() {
     }
 }
 
+/// A patch giving way (`chain_gives_way`) at coverage `1 − c` keeps exactly the screen-door
+/// pixels the same patch coming in at `c` drops: the same geometry rasterizes to the same
+/// pixels, the incoming one keeps thresholds below `c` and the outgoing one those at or above
+/// it, so the two lit sets are disjoint and together are the whole patch. Single-sampled the
+/// partition is exact; with 4× MSAA the pixels on the patch's edge, partly covered, may fall
+/// under the lit threshold in both, so the union is within 3 % (its border, about 4·120 of
+/// 120² pixels) of the whole.
+#[test]
+fn a_surface_giving_way_keeps_the_pixels_the_incoming_one_drops() {
+    for (name, mut renderer, exact) in [
+        ("single-sampled", single_sample_renderer(None), true),
+        ("4x MSAA", renderer(), false),
+    ] {
+        renderer
+            .upload_patches(&PatchSet {
+                patch_chain: &[0],
+                patch_widths: &[0.2],
+            })
+            .unwrap();
+        let chains = vertical_chain(0.1, 5);
+        let lit = |renderer: &mut hair_render::Renderer, coverage: f32, gives_way: bool| {
+            let base = chains.frame();
+            let coverages = vec![coverage; base.chain_count()];
+            let flags = vec![gives_way; base.chain_count()];
+            let frame = SkeletonFrame {
+                chain_coverage: &coverages,
+                chain_gives_way: &flags,
+                ..base
+            };
+            let mut settings = settings(400, 300, 1.0);
+            settings.shadows = SelfShadowing::off();
+            settings.surface_texture = SurfaceTexture::Stripes;
+            settings.light.direction = Vec3::new(0.3, 0.2, 1.0);
+            let image = renderer.render(&frame, &settings).unwrap();
+            image.pixels().map(is_lit).collect::<Vec<bool>>()
+        };
+        let full = lit(&mut renderer, 1.0, false);
+        let whole = full.iter().filter(|&&p| p).count();
+        assert!(whole > 5000, "{name}: {whole} lit pixels at full coverage");
+        // Giving way at coverage 1 is the whole patch too, at 0 nothing.
+        assert_eq!(lit(&mut renderer, 1.0, true), full, "{name}");
+        assert!(!lit(&mut renderer, 0.0, true).iter().any(|&p| p), "{name}");
+        for c in [0.25f32, 0.5, 0.75] {
+            let incoming = lit(&mut renderer, c, false);
+            let outgoing = lit(&mut renderer, 1.0 - c, true);
+            let both = incoming
+                .iter()
+                .zip(&outgoing)
+                .filter(|(a, b)| **a && **b)
+                .count();
+            let either = incoming
+                .iter()
+                .zip(&outgoing)
+                .filter(|(a, b)| **a || **b)
+                .count();
+            let kept = outgoing.iter().filter(|&&p| p).count() as f32 / whole as f32;
+            assert!(
+                (kept - (1.0 - c)).abs() < 0.07,
+                "{name}: giving way at {} kept {kept}",
+                1.0 - c
+            );
+            if exact {
+                assert_eq!(both, 0, "{name}, c = {c}: pixels in both");
+                assert_eq!(either, whole, "{name}, c = {c}: pixels in neither");
+            } else {
+                assert!(
+                    both as f32 <= 0.03 * whole as f32,
+                    "{name}, c = {c}: {both} in both"
+                );
+                let missing = (whole as f32 - either as f32).abs();
+                assert!(
+                    missing <= 0.03 * whole as f32,
+                    "{name}, c = {c}: {either} of {whole}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn bad_coverage_is_rejected() {
     let mut renderer = renderer();
@@ -107,9 +188,16 @@ fn bad_coverage_is_rejected() {
     for coverages in [vec![1.5f32], vec![f32::NAN], vec![1.0, 1.0]] {
         let frame = SkeletonFrame {
             chain_coverage: &coverages,
+            chain_gives_way: &[],
             ..base
         };
         let error = renderer.render(&frame, &settings(64, 64, 1.0)).unwrap_err();
         assert!(error.to_string().contains("coverage"), "{error}");
     }
+    let frame = SkeletonFrame {
+        chain_gives_way: &[false, true],
+        ..base
+    };
+    let error = renderer.render(&frame, &settings(64, 64, 1.0)).unwrap_err();
+    assert!(error.to_string().contains("give-way flags"), "{error}");
 }

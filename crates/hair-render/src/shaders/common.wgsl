@@ -65,7 +65,9 @@ struct Chain {
     thin: u32,
     // Fraction drawn, 0..1: a level fading in or out during a transition.
     coverage: f32,
-    pad2: u32,
+    // 1 when a surface gives way to another coming in at 1 − coverage: it keeps the screen-door
+    // pixels the other drops (see `screen_door_keeps`).
+    gives_way: u32,
 }
 
 @group(0) @binding(0) var<uniform> globals: Globals;
@@ -79,4 +81,15 @@ fn screen_door_threshold(pixel: vec2<f32>) -> f32 {
     let y = u32(pixel.y) & 3u;
     let bayer = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
     return (f32(bayer[y * 4u + x]) + 0.5) / 16.0;
+}
+
+// Whether a surface at `coverage` keeps `pixel`: the pixels whose threshold is below it, or, for
+// a surface giving way to one at c = 1 − coverage, those whose threshold is at or above c, so
+// that the two share no pixel and leave none out where both cover (a dithered cross-fade).
+fn screen_door_keeps(pixel: vec2<f32>, coverage: f32, gives_way: u32) -> bool {
+    let threshold = screen_door_threshold(pixel);
+    if (gives_way != 0u) {
+        return threshold >= 1.0 - coverage;
+    }
+    return threshold < coverage;
 }

@@ -35,6 +35,8 @@ struct SurfaceVertex {
     // per vertex as strand lines do, interpolated between: the opacity map's texels are as
     // large as the tessellation's spacing; 1 in the light passes and without shadows).
     @location(8) light: f32,
+    // 1: the surface gives way to another level's (its screen door is the complement).
+    @location(9) @interpolate(flat) gives_way: u32,
 }
 
 // Offset direction on the unit control circle [cos(j·90°), sin(j·90°)], j = 0..3, blended by the
@@ -72,6 +74,7 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.kind = kind;
     out.seed = 0u;
     out.coverage = 1.0;
+    out.gives_way = 0u;
     out.scale = 0.0;
     out.light = 1.0;
     if (index >= arrayLength(&surfaces)) {
@@ -137,6 +140,7 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     out.texcoord = vec2<f32>(across, v);
     out.seed = surface.seed;
     out.coverage = chain.coverage;
+    out.gives_way = chain.gives_way;
     out.scale = mix(surface.root_scale, surface.tip_scale, v);
     if (globals.shadow.w < 0.5) {
         out.light = shadow_transmittance(curve.position);
@@ -183,7 +187,7 @@ fn fs_surface(in: SurfaceVertex) -> @location(0) vec4<f32> {
 // Surfaces fading in or out (chain coverage below 1): screen-door dissolve, then shading.
 @fragment
 fn fs_surface_dissolving(in: SurfaceVertex) -> @location(0) vec4<f32> {
-    if (screen_door_threshold(in.clip.xy) >= in.coverage) {
+    if (!screen_door_keeps(in.clip.xy, in.coverage, in.gives_way)) {
         discard;
     }
     return surface_color(in);
@@ -194,7 +198,7 @@ fn fs_surface_dissolving(in: SurfaceVertex) -> @location(0) vec4<f32> {
 // before any shading, and the fragment stage keeps no `discard`.
 @fragment
 fn fs_surface_dissolving_coverage(in: SurfaceVertex) -> @location(0) vec4<f32> {
-    if (screen_door_threshold(in.clip.xy) >= in.coverage) {
+    if (!screen_door_keeps(in.clip.xy, in.coverage, in.gives_way)) {
         return vec4<f32>(0.0);
     }
     return surface_color(in);

@@ -113,6 +113,7 @@ impl Chains {
             node_normals: &self.normals,
             node_binormals: &self.binormals,
             chain_coverage: &[],
+            chain_gives_way: &[],
         }
     }
 }
