@@ -21,6 +21,30 @@ fn lit_pixels(renderer: &mut hair_render::Renderer, chains: &Chains, coverage: f
     image.pixels().filter(|p| is_lit(p)).count()
 }
 
+/// Which pixels of a 400×300 frame are lit by `chains`' patch (stripes, no shadows) drawn at
+/// `coverage`, giving way or not.
+fn patch_pixels(
+    renderer: &mut hair_render::Renderer,
+    chains: &Chains,
+    coverage: f32,
+    gives_way: bool,
+) -> Vec<bool> {
+    let base = chains.frame();
+    let coverages = vec![coverage; base.chain_count()];
+    let flags = vec![gives_way; base.chain_count()];
+    let frame = SkeletonFrame {
+        chain_coverage: &coverages,
+        chain_gives_way: &flags,
+        ..base
+    };
+    let mut settings = settings(400, 300, 1.0);
+    settings.shadows = SelfShadowing::off();
+    settings.surface_texture = SurfaceTexture::Stripes;
+    settings.light.direction = Vec3::new(0.3, 0.2, 1.0);
+    let image = renderer.render(&frame, &settings).unwrap();
+    image.pixels().map(is_lit).collect()
+}
+
 #[test]
 fn strand_coverage_draws_that_fraction_of_the_strands() {
     let mut renderer = renderer();
@@ -73,19 +97,8 @@ fn surface_coverage_keeps_that_fraction_of_the_pixels() {
         // Binormal +X: the strip spans x = ±0.1 m, facing the camera.
         let chains = vertical_chain(0.1, 5);
         let lit = |renderer: &mut hair_render::Renderer, coverage: f32| {
-            let base = chains.frame();
-            let coverages = vec![coverage; base.chain_count()];
-            let frame = SkeletonFrame {
-                chain_coverage: &coverages,
-                chain_gives_way: &[],
-                ..base
-            };
-            let mut settings = settings(400, 300, 1.0);
-            settings.shadows = SelfShadowing::off();
-            settings.surface_texture = SurfaceTexture::Stripes;
-            settings.light.direction = Vec3::new(0.3, 0.2, 1.0);
-            let image = renderer.render(&frame, &settings).unwrap();
-            image.pixels().filter(|p| is_lit(p)).count()
+            let pixels = patch_pixels(renderer, &chains, coverage, false);
+            pixels.into_iter().filter(|&p| p).count()
         };
         let full = lit(&mut renderer, 1.0);
         let half = lit(&mut renderer, 0.5);
@@ -121,20 +134,7 @@ fn a_surface_giving_way_keeps_the_pixels_the_incoming_one_drops() {
             .unwrap();
         let chains = vertical_chain(0.1, 5);
         let lit = |renderer: &mut hair_render::Renderer, coverage: f32, gives_way: bool| {
-            let base = chains.frame();
-            let coverages = vec![coverage; base.chain_count()];
-            let flags = vec![gives_way; base.chain_count()];
-            let frame = SkeletonFrame {
-                chain_coverage: &coverages,
-                chain_gives_way: &flags,
-                ..base
-            };
-            let mut settings = settings(400, 300, 1.0);
-            settings.shadows = SelfShadowing::off();
-            settings.surface_texture = SurfaceTexture::Stripes;
-            settings.light.direction = Vec3::new(0.3, 0.2, 1.0);
-            let image = renderer.render(&frame, &settings).unwrap();
-            image.pixels().map(is_lit).collect::<Vec<bool>>()
+            patch_pixels(renderer, &chains, coverage, gives_way)
         };
         let full = lit(&mut renderer, 1.0, false);
         let whole = full.iter().filter(|&&p| p).count();
