@@ -917,7 +917,9 @@ impl Pipeline {
 
     /// Segments drawn and pixels covered at each level by the sections shown this frame (strand
     /// groups count each of their strands drawn: a dissolving strand level draws only its
-    /// coverage's share of them; a dissolving surface is drawn whole and screen-doored).
+    /// coverage's share of them; a dissolving surface is drawn whole and screen-doored, and not
+    /// at all once its coverage is 0, as a surface that gave way is in the second half of its
+    /// blend).
     fn drawn_work(&self) -> ([usize; 3], [f64; 3]) {
         let levels = &self.state.levels;
         let display_time = self.display_time();
@@ -927,9 +929,12 @@ impl Pipeline {
                 continue;
             }
             for level in levels.drawn(section) {
+                let coverage = levels.coverage(section, level, display_time);
+                if coverage <= 0.0 {
+                    continue;
+                }
                 let whole = work.drawn_segments[level as usize];
                 segments[level as usize] += if level == Level::StrandGroup {
-                    let coverage = levels.coverage(section, level, display_time);
                     (whole as f32 * coverage).round() as usize
                 } else {
                     whole
