@@ -21,6 +21,23 @@ fn lit_pixels(renderer: &mut hair_render::Renderer, chains: &Chains, coverage: f
     image.pixels().filter(|p| is_lit(p)).count()
 }
 
+/// A single-sampled and a 4× MSAA renderer, each holding one patch 0.2 m wide on chain 0.
+fn patch_renderers() -> [(&'static str, hair_render::Renderer); 2] {
+    [
+        ("single-sampled", single_sample_renderer(None)),
+        ("4x MSAA", renderer()),
+    ]
+    .map(|(name, mut renderer)| {
+        renderer
+            .upload_patches(&PatchSet {
+                patch_chain: &[0],
+                patch_widths: &[0.2],
+            })
+            .unwrap();
+        (name, renderer)
+    })
+}
+
 /// Which pixels of a 400×300 frame are lit by `chains`' patch (stripes, no shadows) drawn at
 /// `coverage`, giving way or not.
 fn patch_pixels(
@@ -84,16 +101,7 @@ fn strand_coverage_draws_that_fraction_of_the_strands() {
 /// into no sample.
 #[test]
 fn surface_coverage_keeps_that_fraction_of_the_pixels() {
-    for (name, mut renderer) in [
-        ("single-sampled", single_sample_renderer(None)),
-        ("4x MSAA", renderer()),
-    ] {
-        renderer
-            .upload_patches(&PatchSet {
-                patch_chain: &[0],
-                patch_widths: &[0.2],
-            })
-            .unwrap();
+    for (name, mut renderer) in patch_renderers() {
         // Binormal +X: the strip spans x = ±0.1 m, facing the camera.
         let chains = vertical_chain(0.1, 5);
         let lit = |renderer: &mut hair_render::Renderer, coverage: f32| {
@@ -122,16 +130,8 @@ fn surface_coverage_keeps_that_fraction_of_the_pixels() {
 /// 120² pixels) of the whole.
 #[test]
 fn a_surface_giving_way_keeps_the_pixels_the_incoming_one_drops() {
-    for (name, mut renderer, exact) in [
-        ("single-sampled", single_sample_renderer(None), true),
-        ("4x MSAA", renderer(), false),
-    ] {
-        renderer
-            .upload_patches(&PatchSet {
-                patch_chain: &[0],
-                patch_widths: &[0.2],
-            })
-            .unwrap();
+    for (name, mut renderer) in patch_renderers() {
+        let exact = name == "single-sampled";
         let chains = vertical_chain(0.1, 5);
         let lit = |renderer: &mut hair_render::Renderer, coverage: f32, gives_way: bool| {
             patch_pixels(renderer, &chains, coverage, gives_way)
