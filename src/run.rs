@@ -202,22 +202,30 @@ pub fn run_shot(
     shot: &Shot,
     scene: &Scene,
     options: RunOptions,
-    mut renderer: Option<(&mut PipelineRenderer, &[View])>,
-    on_frame: impl FnMut(FrameOutput<'_>) -> Result<()>,
+    renderer: Option<(&mut PipelineRenderer, &[View])>,
+    mut on_frame: impl FnMut(FrameOutput<'_>) -> Result<()>,
 ) -> Result<RunResult> {
-    let RunOptions {
-        settings,
-        frames,
-        resume,
-        budget,
-    } = options;
+    let (mut renderer, views) = match renderer {
+        Some((renderer, views)) => (Some(renderer), views),
+        None => (None, &[][..]),
+    };
+    let mut frame_loop = FrameLoop::start(shot, scene, options, renderer.as_deref_mut())?;
+    while let Some(output) = frame_loop.step(renderer.as_deref_mut().map(|r| (r, views)))? {
+        on_frame(output)?;
+    }
+    Ok(frame_loop.finish())
+}
+
+/// Checks that `frames` lie within `shot` and start where the run can start: frame 0, or the
+/// checkpoint's frame.
+fn check_frames(shot: &Shot, frames: &Range<usize>, resume: Option<&Checkpoint>) -> Result<()> {
     if frames.start > frames.end || frames.end > shot.frames {
         return Err(PipelineError::State(format!(
             "frames {}..{} are not within the shot's 0..{}",
             frames.start, frames.end, shot.frames
         )));
     }
-    let start = resume.as_ref().map_or(0, |c| c.state.frame);
+    let start = resume.map_or(0, |c| c.state.frame);
     if start != frames.start {
         return Err(PipelineError::State(format!(
             "the run starts at frame {}, but {}",
@@ -229,77 +237,162 @@ pub fn run_shot(
             }
         )));
     }
-    let pipeline = shot.pipeline(scene, settings, resume)?;
-    if let Some((renderer, _)) = renderer.as_mut() {
-        renderer.bind(&pipeline)?;
-    }
-    run_frames(shot, pipeline, frames, budget, renderer, on_frame)
+    Ok(())
 }
 
 /// The frame loop itself, on a pipeline or crowd already built: for each frame of `frames`, the
 /// camera, the frame budget's tolerance (or the greedy choice within `budget`),
-/// [`Runnable::advance`], the views rendered, the budget's calibration and `on_frame`.
+/// [`Runnable::advance`], the views rendered, the budget's calibration and `on_frame`
+/// ([`FrameLoop`] one frame at a time).
 pub fn run_frames<R: Runnable>(
     shot: &Shot,
-    mut target: R,
+    target: R,
     frames: Range<usize>,
     budget: Option<BudgetSettings>,
     mut renderer: Option<(&mut R::Renderer, &[View])>,
     mut on_frame: impl FnMut(FrameOutput<'_, R>) -> Result<()>,
 ) -> Result<RunResult<R>> {
-    let mut controller = match (budget, target.pixel_tolerance()) {
-        (Some(budget), Some(tolerance)) => Some(BudgetController::new(budget, tolerance)?),
-        _ => None,
-    };
-    // The greedy method chooses levels within the budget (aiming at its margin) from costs the
-    // pipeline calibrates frame by frame; the controller then only keeps the tally.
-    if let Some(settings) = controller.as_ref().map(|c| *c.settings())
-        && settings.method == BudgetMethod::Greedy
+    let mut frame_loop = FrameLoop::new(shot, target, frames, budget)?;
+    while let Some(output) =
+        frame_loop.step(renderer.as_mut().map(|(r, views)| (&mut **r, *views)))?
     {
-        let model = CostModel::new(CostRates::default())?;
-        target.set_frame_budget(Some((settings.margin * settings.budget, model)))?;
+        on_frame(output)?;
     }
-    let mut reports = Vec::with_capacity(frames.len());
-    let mut tolerances = Vec::new();
-    let mut images = Vec::new();
-    for frame in frames {
-        let camera = shot.camera(frame);
-        if let Some(controller) = &controller {
-            target.set_pixel_tolerance(controller.tolerance())?;
+    Ok(frame_loop.finish())
+}
+
+/// The frame loop one frame at a time, so that a caller can drive several runs side by side
+/// (`bench paper` interleaves its modes frame by frame, so that each sees the same machine
+/// load). [`run_frames`] drives one to its end.
+pub struct FrameLoop<'s, R: Runnable = Pipeline> {
+    shot: &'s Shot,
+    target: R,
+    frames: Range<usize>,
+    controller: Option<BudgetController>,
+    reports: Vec<FrameReport>,
+    tolerances: Vec<f32>,
+    images: Vec<image::RgbaImage>,
+    /// The last frame's camera.
+    camera: Option<hair_core::Camera>,
+}
+
+impl<'s> FrameLoop<'s, Pipeline> {
+    /// Checks `options` against `shot`, builds the pipeline on `scene` (from the checkpoint, when
+    /// given) and binds it to `renderer`: [`run_shot`] one frame at a time. Runs driven side by
+    /// side on one renderer must share `scene` (the renderer holds the last bound groom).
+    pub fn start(
+        shot: &'s Shot,
+        scene: &Scene,
+        options: RunOptions,
+        renderer: Option<&mut PipelineRenderer>,
+    ) -> Result<Self> {
+        let RunOptions {
+            settings,
+            frames,
+            resume,
+            budget,
+        } = options;
+        check_frames(shot, &frames, resume.as_ref())?;
+        let pipeline = shot.pipeline(scene, settings, resume)?;
+        if let Some(renderer) = renderer {
+            renderer.bind(&pipeline)?;
         }
-        let tolerance = target.pixel_tolerance();
-        let mut report = target.advance(&camera)?;
-        images.clear();
-        if let Some((renderer, views)) = renderer.as_mut() {
+        FrameLoop::new(shot, pipeline, frames, budget)
+    }
+}
+
+impl<'s, R: Runnable> FrameLoop<'s, R> {
+    /// A loop over `frames` of `shot` on `target` (a pipeline or crowd already built), steered
+    /// to `budget` when given (automatic levels only).
+    pub fn new(
+        shot: &'s Shot,
+        mut target: R,
+        frames: Range<usize>,
+        budget: Option<BudgetSettings>,
+    ) -> Result<Self> {
+        let controller = match (budget, target.pixel_tolerance()) {
+            (Some(budget), Some(tolerance)) => Some(BudgetController::new(budget, tolerance)?),
+            _ => None,
+        };
+        // The greedy method chooses levels within the budget (aiming at its margin) from costs
+        // the pipeline calibrates frame by frame; the controller then only keeps the tally.
+        if let Some(settings) = controller.as_ref().map(|c| *c.settings())
+            && settings.method == BudgetMethod::Greedy
+        {
+            let model = CostModel::new(CostRates::default())?;
+            target.set_frame_budget(Some((settings.margin * settings.budget, model)))?;
+        }
+        Ok(FrameLoop {
+            shot,
+            target,
+            reports: Vec::with_capacity(frames.len()),
+            frames,
+            controller,
+            tolerances: Vec::new(),
+            images: Vec::new(),
+            camera: None,
+        })
+    }
+
+    /// Makes the next frame: the camera, the budget's tolerance, [`Runnable::advance`], each of
+    /// the views drawn with `renderer` (the first view's time is the frame's rendering time) and
+    /// the budget's calibration. Returns what the frame left, or `None` after the last frame.
+    pub fn step(
+        &mut self,
+        renderer: Option<(&mut R::Renderer, &[View])>,
+    ) -> Result<Option<FrameOutput<'_, R>>> {
+        let Some(frame) = self.frames.next() else {
+            return Ok(None);
+        };
+        let camera = self.shot.camera(frame);
+        if let Some(controller) = &self.controller {
+            self.target.set_pixel_tolerance(controller.tolerance())?;
+        }
+        let tolerance = self.target.pixel_tolerance();
+        let mut report = self.target.advance(&camera)?;
+        self.images.clear();
+        if let Some((renderer, views)) = renderer {
             for (k, view) in views.iter().enumerate() {
-                let (image, seconds) =
-                    target.render_view(renderer, &camera, (shot.width, shot.height), *view)?;
+                let (image, seconds) = self.target.render_view(
+                    renderer,
+                    &camera,
+                    (self.shot.width, self.shot.height),
+                    *view,
+                )?;
                 if k == 0 {
                     report.times.rendering = seconds;
                 }
-                images.push(image);
+                self.images.push(image);
             }
         }
-        if let Some(controller) = &mut controller {
+        if let Some(controller) = &mut self.controller {
             controller.update(report.times.total())?;
         }
-        target.observe_frame(&report);
-        tolerances.extend(tolerance);
-        on_frame(FrameOutput {
-            report: &report,
-            camera: &camera,
-            images: &images,
-            pipeline: &target,
+        self.target.observe_frame(&report);
+        self.tolerances.extend(tolerance);
+        self.reports.push(report);
+        let report = self
+            .reports
+            .last()
+            .expect("the frame's report was just pushed");
+        Ok(Some(FrameOutput {
+            report,
+            camera: self.camera.insert(camera),
+            images: &self.images,
+            pipeline: &self.target,
             tolerance,
-        })?;
-        reports.push(report);
+        }))
     }
-    Ok(RunResult {
-        run: ModeRun::new(target.mode_name(), reports),
-        budget: controller.map(|c| c.report()),
-        tolerances,
-        pipeline: target,
-    })
+
+    /// The frames made so far, summarised, with the pipeline (or crowd) as it stands.
+    pub fn finish(self) -> RunResult<R> {
+        RunResult {
+            run: ModeRun::new(self.target.mode_name(), self.reports),
+            budget: self.controller.map(|c| c.report()),
+            tolerances: self.tolerances,
+            pipeline: self.target,
+        }
+    }
 }
 
 /// One mode's run: every frame's report and the mean time per frame of each stage.

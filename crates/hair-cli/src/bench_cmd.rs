@@ -12,14 +12,14 @@ use hairlod::accuracy::{
     geometric_error_of_visible, head_sight, sample_skeletons, strand_skeletons, visible_samples,
 };
 use hairlod::benchmark::{
-    BudgetedRun, paper_figures, paper_modes, paper_shot, resized, run_budgeted, run_mode,
+    BudgetedRun, paper_figures, paper_modes, paper_shot, resized, run_budgeted,
 };
 use hairlod::core::lod::{BudgetMethod, BudgetSettings, ErrorModel, LodSettings};
 use hairlod::metrics::{luma, ssim};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::popping::{ExcessPopping, Popping, PoppingMeter, excess_popping};
 use hairlod::render::RendererOptions;
-use hairlod::run::ModeRun;
+use hairlod::run::{FrameLoop, ModeRun, RunOptions, View};
 use hairlod::scene_file::SceneFile;
 use hairlod::shot::Shot;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -304,12 +304,11 @@ pub fn paper_tables(
     };
     let mut renderer = PipelineRenderer::new(&options, &scene)?;
     renderer.set_style(shot.outputs.style());
-    // The modes run one after another on this renderer: none pays for compiling the pipelines.
+    // The modes share this renderer: none pays for compiling the pipelines.
     renderer.warm_up(&scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();
     println!("rendering on {adapter}");
     let mut modes = Vec::new();
-    let mut popping_blended = Popping::default();
     let instant = LodMode::Auto(hairlod::core::lod::LodSettings {
         blend_time: 0.0,
         ..lod
@@ -319,7 +318,6 @@ pub fn paper_tables(
         .map(|mode| (mode, mode.column_name()))
         .chain([(instant, "LODs, instant switching")])
         .collect();
-    let mut popping_instant = Popping::default();
     // Luma of the LODs and Strands frames, for SSIM against Strands (the finest level).
     let mut lod_frames = Vec::new();
     let mut strand_frames = Vec::new();
@@ -333,17 +331,36 @@ pub fn paper_tables(
     let mut lod_samples = Vec::new();
     let mut strand_samples: Vec<(Vec<glam::Vec3>, Vec<bool>)> = Vec::new();
     let mut pixel_sums = [0.0f64; 5];
-    let mut instant_run = None;
-    for (index, (mode, label)) in runs.iter().enumerate() {
-        let bar = progress_bar(shot.frames, label);
+    // The five runs are interleaved frame by frame (each makes frame k before any makes k + 1),
+    // so that every mode sees the same machine load: on a shared machine, runs one after another
+    // can differ by 10–20 % for load alone. The runs share the scene and the renderer; each
+    // frame's work is its own (bit for bit what the run alone makes, `tests/frame_loop.rs`).
+    let mut loops = Vec::with_capacity(runs.len());
+    for (mode, label) in &runs {
         let settings = PipelineSettings {
             lod: *mode,
             ..shot.settings
         };
-        let mut meter = PoppingMeter::default();
-        let run = run_mode(shot, &scene, settings, Some(&mut renderer), |output| {
+        let options = RunOptions::whole(shot, settings);
+        loops.push(
+            FrameLoop::start(shot, &scene, options, Some(&mut renderer))
+                .with_context(|| format!("the {label} run failed to start"))?,
+        );
+    }
+    let mut meters: Vec<PoppingMeter> = runs.iter().map(|_| PoppingMeter::default()).collect();
+    let views = [View::Shaded];
+    let bar = progress_bar(
+        shot.frames * runs.len(),
+        "LODs, Strands, Clusters, Patches, LODs instant, frame by frame",
+    );
+    for frame in 0..shot.frames {
+        for (index, frame_loop) in loops.iter_mut().enumerate() {
+            let label = runs[index].1;
+            let output = frame_loop
+                .step(Some((&mut renderer, &views)))
+                .with_context(|| format!("the {label} run failed at frame {frame}"))?
+                .with_context(|| format!("the {label} run ended before frame {frame}"))?;
             let report = output.report;
-            let frame = report.frame;
             // Every run's hair samples against the Strands run's (the pixel error).
             {
                 let groom = &output.pipeline.scene().groom;
@@ -373,7 +390,7 @@ pub fn paper_tables(
                 }
             }
             if let Some(image) = output.images.first() {
-                meter.add(image, report.level_changes > 0);
+                meters[index].add(image, report.level_changes > 0);
                 match index {
                     0 => lod_frames.push(luma(image)),
                     1 => {
@@ -391,15 +408,14 @@ pub fn paper_tables(
                 }
             }
             bar.inc(1);
-            Ok(())
-        })
-        .with_context(|| format!("the {label} run failed"))?;
-        bar.finish();
-        match index {
-            0 => popping_blended = meter.popping(),
-            4 => popping_instant = meter.popping(),
-            _ => {}
         }
+    }
+    bar.finish();
+    let popping_blended = meters[0].popping();
+    let popping_instant = meters[4].popping();
+    let mut instant_run = None;
+    for (index, frame_loop) in loops.into_iter().enumerate() {
+        let run = frame_loop.finish().run;
         if index < 4 {
             modes.push(run);
         } else {

@@ -1,0 +1,106 @@
+//! `hairlod bench SCENE` end to end, through the binary: the five runs (LODs, Strands, Clusters,
+//! Patches, LODs switching instantly) are interleaved frame by frame on one renderer, and each
+//! makes what it makes alone: the LODs choose, frame by frame, the levels `hairlod render`
+//! chooses for the same scene.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
+
+/// A small scene: a short curly groom (12 sections, 10 cm), the head shaking, the camera zooming
+/// out from 0.5 m to 3 m over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
+const SCENE: &str = "version = 2\n\
+    [groom]\npreset = \"curly\"\nsection_count = 12\nhair_length = 0.1\n\
+    [motion]\nkind = \"shake\"\namplitude_degrees = 30.0\npeak_speed = 4.0\n\
+    [camera]\npath = \"zoom-out\"\ndistance = 0.5\nend_distance = 3.0\n\
+    azimuth_degrees = 0.0\nelevation_degrees = 0.0\n\
+    [lod]\nmode = \"auto\"\npixel_tolerance = 2.0\n\
+    [frames]\ncount = 4\nfps = 15\nsize = \"128x80\"\n\
+    [output]\njson = \"report.json\"\n";
+
+/// Runs the binary; panics with its output when it fails.
+fn hairlod(args: &[&str]) {
+    let output = Command::new(BINARY).args(args).output().unwrap();
+    assert!(
+        output.status.success(),
+        "hairlod {args:?} failed:\n{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn read_json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Each frame's `sections_at` of a run's report.
+fn levels(run: &serde_json::Value) -> Vec<serde_json::Value> {
+    run["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|frame| frame["sections_at"].clone())
+        .collect()
+}
+
+#[test]
+fn interleaved_runs_choose_what_each_run_alone_chooses() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench_scene");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let bench_json = dir.join("bench.json");
+    hairlod(&[
+        "bench",
+        scene.to_str().unwrap(),
+        "--json",
+        bench_json.to_str().unwrap(),
+    ]);
+    let out = dir.join("render");
+    hairlod(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let bench = read_json(&bench_json);
+    let render = read_json(&out.join("report.json"));
+
+    // Every run made the shot's four frames, in order.
+    let modes = bench["modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 4);
+    for run in modes.iter().chain([&bench["lods_instant_switching"]]) {
+        let frames: Vec<u64> = run["frames"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|frame| frame["frame"].as_u64().unwrap())
+            .collect();
+        assert_eq!(frames, vec![0, 1, 2, 3], "{}", run["mode"]);
+    }
+    // The interleaved LODs chose the levels the render alone chose, frame by frame, and the shot
+    // has more than one level in it (so the comparison can fail).
+    let lods = levels(&modes[0]);
+    assert_eq!(
+        lods,
+        levels(&render),
+        "the LODs chose other levels in the bench"
+    );
+    let distinct: std::collections::HashSet<String> =
+        lods.iter().map(|levels| levels.to_string()).collect();
+    assert!(distinct.len() > 1, "the levels never change: {lods:?}");
+    // The fixed levels hold every section at their level: [patches, clusters, strands].
+    for (run, expected) in modes[1..].iter().zip(["[0,0,12]", "[0,12,0]", "[12,0,0]"]) {
+        for frame in levels(run) {
+            assert_eq!(frame.to_string(), expected, "{}", run["mode"]);
+        }
+    }
+    // SSIM against the Strands frames of the same frame: below 1 for a coarser level.
+    let ssim = &bench["mean_ssim_against_strands"];
+    for key in ["lods", "clusters", "patches"] {
+        let value = ssim[key].as_f64().unwrap();
+        assert!(value > 0.0 && value < 1.0, "{key}: SSIM {value}");
+    }
+}
