@@ -3,6 +3,8 @@
 //! shot has a budget), [`Pipeline::advance`] (levels, hand-over, dynamics with collision), the
 //! views rendered (the head mesh at its simulated pose), and the caller's hook (write images,
 //! measure, show progress). A run can start from a [`Checkpoint`] and resume bit for bit.
+//! [`FrameLoop`] is that loop one frame at a time ([`run_shot`] and [`run_frames`] drive it to
+//! the end), so that several runs can be stepped side by side.
 
 use std::ops::Range;
 
