@@ -204,18 +204,16 @@ pub fn run_shot(
     shot: &Shot,
     scene: &Scene,
     options: RunOptions,
-    renderer: Option<(&mut PipelineRenderer, &[View])>,
-    mut on_frame: impl FnMut(FrameOutput<'_>) -> Result<()>,
+    mut renderer: Option<(&mut PipelineRenderer, &[View])>,
+    on_frame: impl FnMut(FrameOutput<'_>) -> Result<()>,
 ) -> Result<RunResult> {
-    let (mut renderer, views) = match renderer {
-        Some((renderer, views)) => (Some(renderer), views),
-        None => (None, &[][..]),
-    };
-    let mut frame_loop = FrameLoop::start(shot, scene, options, renderer.as_deref_mut())?;
-    while let Some(output) = frame_loop.step(renderer.as_deref_mut().map(|r| (r, views)))? {
-        on_frame(output)?;
-    }
-    Ok(frame_loop.finish())
+    let frame_loop = FrameLoop::start(
+        shot,
+        scene,
+        options,
+        renderer.as_mut().map(|(r, _)| &mut **r),
+    )?;
+    frame_loop.run_to_end(renderer, on_frame)
 }
 
 /// Checks that `frames` lie within `shot` and start where the run can start: frame 0, or the
@@ -251,16 +249,10 @@ pub fn run_frames<R: Runnable>(
     target: R,
     frames: Range<usize>,
     budget: Option<BudgetSettings>,
-    mut renderer: Option<(&mut R::Renderer, &[View])>,
-    mut on_frame: impl FnMut(FrameOutput<'_, R>) -> Result<()>,
+    renderer: Option<(&mut R::Renderer, &[View])>,
+    on_frame: impl FnMut(FrameOutput<'_, R>) -> Result<()>,
 ) -> Result<RunResult<R>> {
-    let mut frame_loop = FrameLoop::new(shot, target, frames, budget)?;
-    while let Some(output) =
-        frame_loop.step(renderer.as_mut().map(|(r, views)| (&mut **r, *views)))?
-    {
-        on_frame(output)?;
-    }
-    Ok(frame_loop.finish())
+    FrameLoop::new(shot, target, frames, budget)?.run_to_end(renderer, on_frame)
 }
 
 /// The frame loop one frame at a time, so that a caller can drive several runs side by side
@@ -384,6 +376,21 @@ impl<'s, R: Runnable> FrameLoop<'s, R> {
             pipeline: &self.target,
             tolerance,
         }))
+    }
+
+    /// Makes every frame left, showing each to `on_frame` (an error from it stops the run), and
+    /// finishes.
+    pub fn run_to_end(
+        mut self,
+        mut renderer: Option<(&mut R::Renderer, &[View])>,
+        mut on_frame: impl FnMut(FrameOutput<'_, R>) -> Result<()>,
+    ) -> Result<RunResult<R>> {
+        while let Some(output) =
+            self.step(renderer.as_mut().map(|(r, views)| (&mut **r, *views)))?
+        {
+            on_frame(output)?;
+        }
+        Ok(self.finish())
     }
 
     /// The frames made so far, summarised, with the pipeline (or crowd) as it stands.
