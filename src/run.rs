@@ -378,6 +378,12 @@ impl<'s, R: Runnable> FrameLoop<'s, R> {
         }))
     }
 
+    /// The pipeline (or crowd) as the last frame left it, to draw that frame in ways the views
+    /// do not (`bench costs` draws each frame in several render variants).
+    pub fn target_mut(&mut self) -> &mut R {
+        &mut self.target
+    }
+
     /// Makes every frame left, showing each to `on_frame` (an error from it stops the run), and
     /// finishes.
     pub fn run_to_end(

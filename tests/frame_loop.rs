@@ -107,3 +107,73 @@ fn runs_stepped_side_by_side_make_what_each_makes_alone() {
         "the LODs and Strands runs drew the same frames"
     );
 }
+
+/// `bench costs` steps the loop without drawing and draws each frame itself, in variants: the
+/// frame with the style's own settings is the view's image bit for bit, and the frame without
+/// hair keeps the head and loses the hair (it can only uncover background, never add to it).
+#[test]
+fn a_frame_drawn_in_variants_after_a_step_without_views() {
+    let shot = shot();
+    let scene = shot.build_scene().unwrap();
+    let options = RendererOptions::from_env().unwrap();
+    let views = [View::Shaded];
+    let mut renderer = PipelineRenderer::new(&options, &scene).unwrap();
+    let mut viewed = FrameLoop::start(
+        &shot,
+        &scene,
+        RunOptions::whole(&shot, shot.settings),
+        Some(&mut renderer),
+    )
+    .unwrap();
+    let mut bare = FrameLoop::start(
+        &shot,
+        &scene,
+        RunOptions::whole(&shot, shot.settings),
+        Some(&mut renderer),
+    )
+    .unwrap();
+    let background = |image: &image::RgbaImage, x: u32, y: u32| {
+        let corner = image.get_pixel(0, 0);
+        image.get_pixel(x, y) == corner
+    };
+    for frame in 0..shot.frames {
+        let expected = viewed
+            .step(Some((&mut renderer, &views)))
+            .unwrap()
+            .expect("a frame")
+            .images[0]
+            .clone();
+        let camera = *bare.step(None).unwrap().expect("a frame").camera;
+        let settings = renderer.style().frame_settings(
+            shot.width,
+            shot.height,
+            &camera,
+            hairlod::render::ShadingMode::Shaded,
+        );
+        let pipeline = bare.target_mut();
+        let (with_hair, _) = renderer.render_with_settings(pipeline, &settings).unwrap();
+        assert!(
+            with_hair == expected,
+            "frame {frame}: differs from the view"
+        );
+        let (without, _) = renderer.render_without_hair(pipeline, &settings).unwrap();
+        let (mut covered_with, mut covered_without) = (0, 0);
+        for (x, y, _) in without.enumerate_pixels() {
+            let (hair_bg, bare_bg) = (background(&with_hair, x, y), background(&without, x, y));
+            assert!(
+                !hair_bg || bare_bg,
+                "frame {frame}: ({x}, {y}) is covered only without the hair"
+            );
+            covered_with += usize::from(!hair_bg);
+            covered_without += usize::from(!bare_bg);
+        }
+        assert!(
+            covered_without > 0,
+            "frame {frame}: the head is missing without the hair"
+        );
+        assert!(
+            covered_without < covered_with,
+            "frame {frame}: the hair covers nothing ({covered_without} of {covered_with})"
+        );
+    }
+}

@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use hair_core::{Camera, RigidTransform, Scene};
-use hair_render::{ActiveSkeletons, Renderer, RendererOptions, ShadingMode};
+use hair_render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode};
 
 use super::error::Result;
 use super::pipeline::Pipeline;
@@ -94,6 +94,11 @@ impl PipelineRenderer {
     /// has it.
     fn prepare(&mut self, pipeline: &mut Pipeline) -> Result<()> {
         pipeline.gather_drawn(&mut self.active)?;
+        self.pose_head(pipeline)
+    }
+
+    /// Poses the head mesh where the simulation has it (uploaded again only when it moved).
+    fn pose_head(&mut self, pipeline: &Pipeline) -> Result<()> {
         let pose = pipeline.head_pose();
         if pose != self.head_pose {
             let mesh = pipeline.scene().head.mesh.posed(&pose);
@@ -122,6 +127,38 @@ impl PipelineRenderer {
         self.prepare(pipeline)?;
         let settings = self.style.frame_settings(width, height, camera, mode);
         let image = self.renderer.render(&self.active.frame(), &settings)?;
+        Ok((image, started.elapsed().as_secs_f64()))
+    }
+
+    /// Renders the pipeline's current skeletons with `settings` as given, not this renderer's
+    /// style (a benchmark's variants of one frame: without shadows, other textures, other map
+    /// sizes); returns the image and the time it took [s].
+    pub fn render_with_settings(
+        &mut self,
+        pipeline: &mut Pipeline,
+        settings: &FrameSettings,
+    ) -> Result<(image::RgbaImage, f64)> {
+        let started = Instant::now();
+        self.prepare(pipeline)?;
+        let image = self.renderer.render(&self.active.frame(), settings)?;
+        Ok((image, started.elapsed().as_secs_f64()))
+    }
+
+    /// Renders the pipeline's frame with `settings` but without its hair: the head at its pose,
+    /// the target's clears, resolve and readback, which every frame pays whatever it draws.
+    /// Returns the image and the time it took [s].
+    pub fn render_without_hair(
+        &mut self,
+        pipeline: &Pipeline,
+        settings: &FrameSettings,
+    ) -> Result<(image::RgbaImage, f64)> {
+        let started = Instant::now();
+        self.pose_head(pipeline)?;
+        self.active.clear();
+        for _ in 0..pipeline.scene().groom.skeletons.chain_count() {
+            self.active.push_inactive_chain();
+        }
+        let image = self.renderer.render(&self.active.frame(), settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
     }
 

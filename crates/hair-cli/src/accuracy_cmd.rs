@@ -20,11 +20,12 @@ use hairlod::accuracy::{
     reference_settings, sample_skeletons, strand_skeletons, visible_samples,
 };
 use hairlod::benchmark::{paper_shot, resized};
+use hairlod::collide::{CollisionBody, LineOfSight};
 use hairlod::core::dynamics::{IntegratorKind, SimulationSettings};
 use hairlod::core::lod::ErrorModel;
 use hairlod::pipeline::{LodMode, PipelineError, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
-use hairlod::run::{RunOptions, View, run_shot};
+use hairlod::run::{FrameLoop, RunOptions, View};
 use hairlod::shot::Shot;
 use hairlod::{Level, Pipeline, Scene};
 
@@ -225,23 +226,36 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         args.frames,
         args.preset.name()
     );
-    let mut reference: Vec<ReferenceFrame> = Vec::with_capacity(args.frames);
-    let mut points = Vec::new();
+    // Every configuration makes frame k before any makes k + 1 (the reference first, so that
+    // each frame has its yardstick), on one renderer: on a shared machine, configurations run
+    // one after another can differ by several times in cost for load alone; interleaved, each
+    // frame's costs are measured in the same stretch of time. Each run's frames are its own (bit
+    // for bit what it makes alone, `tests/frame_loop.rs`).
+    let mut runs = Vec::with_capacity(configurations.len());
     for configuration in configurations {
-        let is_reference = reference.is_empty();
-        let outcome =
-            run_configuration(&configuration, &shot, &scene, &mut renderer, &mut reference);
-        let point = match outcome {
-            Ok(frames) => Point::new(configuration.label, configuration.group, frames),
-            Err(error) if !is_reference && error.is_unstable() => {
-                Point::failed(configuration.label, configuration.group, error.to_string())
-            }
-            Err(error) => {
-                return Err(error).with_context(|| format!("running {}", configuration.label));
-            }
-        };
-        print_point(&point);
-        points.push(point);
+        let label = configuration.label.clone();
+        runs.push(
+            ConfigurationRun::start(configuration, &shot, &scene, &mut renderer)
+                .with_context(|| format!("starting {label}"))?,
+        );
+    }
+    let mut reference: Vec<ReferenceFrame> = Vec::with_capacity(args.frames);
+    let bar = progress_bar(
+        args.frames * runs.len(),
+        "every configuration, frame by frame",
+    );
+    for frame in 0..shot.frames {
+        for run in &mut runs {
+            let label = run.label.clone();
+            run.step(&mut renderer, &mut reference, (width, height))
+                .with_context(|| format!("running {label} at frame {frame}"))?;
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    let mut points: Vec<Point> = runs.into_iter().map(ConfigurationRun::point).collect();
+    for point in &points {
+        print_point(point);
     }
     mark_pareto(&mut points);
     print_fronts(&points);
@@ -287,99 +301,142 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     Ok(())
 }
 
-/// Runs one configuration over the shot's frames (through the frame loop) and compares each
-/// frame with the reference; the first configuration run (with `reference` empty) fills
-/// `reference`.
-fn run_configuration(
-    configuration: &Configuration,
-    shot: &Shot,
-    scene: &Scene,
-    renderer: &mut PipelineRenderer,
-    reference: &mut Vec<ReferenceFrame>,
-) -> Result<Vec<FrameErrors>, PipelineError> {
-    let (width, height) = (shot.width, shot.height);
-    let is_reference = reference.is_empty();
-    let bar = progress_bar(shot.frames, &configuration.label);
-    // The head body and (for the reference) the line of sight, built once per configuration.
-    let probe = Pipeline::new(
-        scene.clone(),
-        shot.environment.clone(),
-        PipelineSettings {
-            lod: LodMode::Fixed(Level::Patch),
-            ..configuration.settings
-        },
-    )?;
-    let mut body = head_body(&probe)?;
-    // Only the reference's samples need the line of sight (the others are compared where the
-    // reference's are seen).
-    let mut sight = if is_reference {
-        Some(head_sight(&probe)?)
-    } else {
-        None
-    };
-    drop(probe);
-    let mut frames = Vec::with_capacity(shot.frames);
-    let views = [View::Shaded];
-    run_shot(
-        shot,
-        scene,
-        RunOptions::whole(shot, configuration.settings),
-        Some((renderer, &views)),
-        |output| {
-            let (pipeline, camera, frame) = (output.pipeline, output.camera, output.report.frame);
-            let image = &output.images[0];
-            let cost = output.report.times.total();
-            let samples = sample_skeletons(
-                &pipeline.scene().groom,
-                &strand_skeletons(pipeline)?,
-                SAMPLES_PER_SKELETON,
-            );
-            pose_head_body(&mut body, pipeline)?;
-            let physical = PhysicalError::of(pipeline, &body);
-            if let Some(sight) = sight.as_mut() {
-                // Against itself: SSIM 1, infinite PSNR, and the geometric error of its own
-                // samples.
-                let head = pipeline.environment().head.transform_at(pipeline.time());
-                sight.set_pose(head.rotation, head.translation)?;
-                let visible = visible_samples(camera, sight, &samples);
-                let geometric =
-                    geometric_error_of_visible(camera, width, height, &samples, &samples, &visible);
-                frames.push(FrameErrors {
-                    cost,
-                    ssim: 1.0,
-                    psnr: f64::INFINITY,
-                    geometric,
-                    physical,
-                });
-                reference.push(ReferenceFrame {
-                    image: image.clone(),
-                    samples,
-                    visible,
-                });
-            } else {
-                let reference = &reference[frame];
-                let errors = image_error(&reference.image, image);
-                frames.push(FrameErrors {
-                    cost,
-                    ssim: errors.ssim,
-                    psnr: errors.psnr,
-                    geometric: geometric_error_of_visible(
-                        camera,
-                        width,
-                        height,
-                        &reference.samples,
-                        &samples,
-                        &reference.visible,
-                    ),
-                    physical,
-                });
+/// One configuration's run in the sweep: its frame loop (until the shot ends or its integrator
+/// fails), the head body its physical errors are measured against and its frames' errors.
+struct ConfigurationRun<'s> {
+    label: String,
+    group: Group,
+    frame_loop: Option<FrameLoop<'s>>,
+    body: CollisionBody,
+    /// The reference's line of sight (the others are compared where the reference's samples
+    /// are seen); `None` for the others.
+    sight: Option<LineOfSight>,
+    frames: Vec<FrameErrors>,
+    failed: Option<String>,
+}
+
+impl<'s> ConfigurationRun<'s> {
+    /// Builds the configuration's pipeline on `scene` (bound to `renderer`) and the head body
+    /// (and, for the reference, the line of sight) once.
+    fn start(
+        configuration: Configuration,
+        shot: &'s Shot,
+        scene: &Scene,
+        renderer: &mut PipelineRenderer,
+    ) -> Result<Self, PipelineError> {
+        let probe = Pipeline::new(
+            scene.clone(),
+            shot.environment.clone(),
+            PipelineSettings {
+                lod: LodMode::Fixed(Level::Patch),
+                ..configuration.settings
+            },
+        )?;
+        let body = head_body(&probe)?;
+        let sight = if configuration.group == Group::Reference {
+            Some(head_sight(&probe)?)
+        } else {
+            None
+        };
+        drop(probe);
+        let frame_loop = FrameLoop::start(
+            shot,
+            scene,
+            RunOptions::whole(shot, configuration.settings),
+            Some(renderer),
+        )?;
+        Ok(ConfigurationRun {
+            label: configuration.label,
+            group: configuration.group,
+            frame_loop: Some(frame_loop),
+            body,
+            sight,
+            frames: Vec::with_capacity(shot.frames),
+            failed: None,
+        })
+    }
+
+    /// Makes the run's next frame and compares it with the reference's (the reference's own
+    /// frame fills `reference`). An unstable step ends a run other than the reference's, which
+    /// is then reported as failed; any other error stops the sweep.
+    fn step(
+        &mut self,
+        renderer: &mut PipelineRenderer,
+        reference: &mut Vec<ReferenceFrame>,
+        (width, height): (u32, u32),
+    ) -> Result<(), PipelineError> {
+        let Some(frame_loop) = self.frame_loop.as_mut() else {
+            return Ok(());
+        };
+        let output = match frame_loop.step(Some((renderer, &[View::Shaded]))) {
+            Ok(Some(output)) => output,
+            Ok(None) => return Ok(()),
+            Err(error) if self.sight.is_none() && error.is_unstable() => {
+                self.failed = Some(error.to_string());
+                self.frame_loop = None;
+                return Ok(());
             }
-            bar.inc(1);
-            Ok(())
-        },
-    )?;
-    bar.finish_and_clear();
-    Ok(frames)
+            Err(error) => return Err(error),
+        };
+        let (pipeline, camera, frame) = (output.pipeline, output.camera, output.report.frame);
+        let image = &output.images[0];
+        let cost = output.report.times.total();
+        let samples = sample_skeletons(
+            &pipeline.scene().groom,
+            &strand_skeletons(pipeline)?,
+            SAMPLES_PER_SKELETON,
+        );
+        pose_head_body(&mut self.body, pipeline)?;
+        let physical = PhysicalError::of(pipeline, &self.body);
+        if let Some(sight) = self.sight.as_mut() {
+            // Against itself: SSIM 1, infinite PSNR, and the geometric error of its own samples.
+            let head = pipeline.environment().head.transform_at(pipeline.time());
+            sight.set_pose(head.rotation, head.translation)?;
+            let visible = visible_samples(camera, sight, &samples);
+            let geometric =
+                geometric_error_of_visible(camera, width, height, &samples, &samples, &visible);
+            self.frames.push(FrameErrors {
+                cost,
+                ssim: 1.0,
+                psnr: f64::INFINITY,
+                geometric,
+                physical,
+            });
+            reference.push(ReferenceFrame {
+                image: image.clone(),
+                samples,
+                visible,
+            });
+        } else {
+            let reference = reference.get(frame).ok_or_else(|| {
+                PipelineError::State(format!("the reference has no frame {frame}"))
+            })?;
+            let errors = image_error(&reference.image, image);
+            self.frames.push(FrameErrors {
+                cost,
+                ssim: errors.ssim,
+                psnr: errors.psnr,
+                geometric: geometric_error_of_visible(
+                    camera,
+                    width,
+                    height,
+                    &reference.samples,
+                    &samples,
+                    &reference.visible,
+                ),
+                physical,
+            });
+        }
+        Ok(())
+    }
+
+    /// The run's point: its frames summarised, or its failure.
+    fn point(self) -> Point {
+        match self.failed {
+            Some(reason) => Point::failed(self.label, self.group, reason),
+            None => Point::new(self.label, self.group, self.frames),
+        }
+    }
 }
 
 fn print_point(point: &Point) {

@@ -1,23 +1,24 @@
 //! `hairlod bench costs`: where a paper-table frame's time goes, LODs against Strands. Runs the
-//! paper's zoom-out (Table 1, or Table 2 with `--wind`) in both modes and renders every frame in
-//! several variants, interleaved so that each sees the same machine load: the bench's default
-//! frame (self-shadowing on, maps matched to the hair's screen size, hair-textured surfaces),
-//! without shadows, with striped surfaces, with 512² shadow maps whatever the hair's screen size,
-//! and an empty frame (no hair: the target's clears, resolve, head and readback alone). Prints
-//! each stage's mean per frame [ms] and the default frame's split into upload, encode, device
-//! wait and readback copy.
+//! paper's zoom-out (Table 1, or Table 2 with `--wind`) in both modes through the frame loop,
+//! interleaved frame by frame, and draws every frame in several variants, so that each mode and
+//! variant sees the same machine load: the bench's default frame (self-shadowing on, maps matched
+//! to the hair's screen size, hair-textured surfaces), without shadows, with striped surfaces,
+//! with 512² shadow maps whatever the hair's screen size, with maps of at most 256², and an empty
+//! frame (no hair: the target's clears, resolve, head and readback alone). Prints each stage's
+//! mean per frame [ms] and the default frame's split into upload, encode, device wait and
+//! readback copy.
 
-use std::time::Instant;
-
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
+use hairlod::core::Level;
 use hairlod::core::lod::{ErrorModel, LodSettings};
-use hairlod::core::{Level, RigidTransform};
-use hairlod::pipeline::{LodMode, PipelineSettings};
+use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::{
-    ActiveSkeletons, FrameSettings, RenderTimings, Renderer, RendererOptions, SelfShadowing,
-    SurfaceTexture,
+    FrameSettings, RenderTimings, RendererOptions, SelfShadowing, ShadingMode, SurfaceTexture,
 };
+use hairlod::run::{FrameLoop, RunOptions};
+
+use crate::bench_cmd::progress_bar;
 
 /// The variants rendered per frame, in the columns' order.
 const VARIANTS: [&str; 6] = [
@@ -65,7 +66,6 @@ struct Sums {
     lod: f64,
     dynamics: f64,
     collision: f64,
-    prepare: f64,
     variants: [f64; VARIANTS.len()],
     split: RenderTimings,
     /// The default frame's render time, frame by frame [s].
@@ -85,71 +85,74 @@ pub struct CostsArgs {
 
 /// Runs `hairlod bench costs`.
 pub fn run(args: &CostsArgs) -> Result<()> {
-    let (wind, frames, tolerance) = (args.shot.wind, args.shot.frames, args.pixel_tolerance);
+    let (wind, tolerance) = (args.shot.wind, args.pixel_tolerance);
     let (width, height) = args.shot.size;
     let shot = args.shot.shot()?;
+    let frames = shot.frames;
     let scene = shot.build_scene()?;
     let lod = LodSettings {
         pixel_tolerance: tolerance,
         error_model: ErrorModel::Chord,
         ..shot.lod_settings()
     };
-    let mut renderer = Renderer::new(&RendererOptions::from_env()?)?;
+    let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &scene)?;
+    renderer.warm_up(&scene)?;
     println!(
         "{} table {}, {frames} frames, {width}x{height}, τ = {tolerance} px, on {}",
         if wind { "wind" } else { "calm" },
         if wind { 2 } else { 1 },
-        renderer.adapter_report()
+        renderer.renderer().adapter_report()
     );
-    renderer.upload_groom(&scene.groom)?;
-    renderer.set_head_mesh(Some(&scene.head.mesh))?;
-    renderer.warm_up(&scene.groom)?;
-    let mut empty = ActiveSkeletons::new();
-    for _ in 0..scene.groom.skeletons.chain_count() {
-        empty.push_inactive_chain();
-    }
-    let mut totals = Vec::new();
-    for mode in [LodMode::Auto(lod), LodMode::Fixed(Level::StrandGroup)] {
-        let settings = PipelineSettings {
-            lod: mode,
-            ..shot.settings
+    let modes = [LodMode::Auto(lod), LodMode::Fixed(Level::StrandGroup)];
+    let mut loops = Vec::with_capacity(modes.len());
+    for mode in modes {
+        let options = RunOptions {
+            settings: PipelineSettings {
+                lod: mode,
+                ..shot.settings
+            },
+            frames: 0..frames,
+            resume: None,
+            budget: None,
         };
-        let mut pipeline = shot.pipeline(&scene, settings, None)?;
-        renderer.set_head_mesh(Some(&scene.head.mesh))?;
-        let mut head_pose = RigidTransform::IDENTITY;
-        let mut head_uploads = 0;
-        let mut active = ActiveSkeletons::new();
-        let mut sums = Sums::default();
-        for frame in 0..frames {
-            let camera = shot.camera(frame);
-            let report = pipeline.advance(&camera)?;
-            sums.lod += report.times.lod;
-            sums.dynamics += report.times.dynamics;
-            sums.collision += report.times.collision;
-            let started = Instant::now();
-            pipeline.gather_drawn(&mut active)?;
-            let pose = pipeline.head_pose();
-            if pose != head_pose {
-                renderer.set_head_mesh(Some(&scene.head.mesh.posed(&pose)))?;
-                head_pose = pose;
-                head_uploads += 1;
-            }
-            sums.prepare += started.elapsed().as_secs_f64();
-            let base = FrameSettings::new(width, height, camera);
+        loops.push(
+            FrameLoop::start(&shot, &scene, options, Some(&mut renderer))
+                .with_context(|| format!("the {} run failed to start", mode.column_name()))?,
+        );
+    }
+    let mut sums: Vec<Sums> = modes.iter().map(|_| Sums::default()).collect();
+    // Both modes make frame k before either makes k + 1 (through the one frame loop, without
+    // its own drawing), and each frame is then drawn in every variant, so that every mode and
+    // variant sees the same machine load.
+    let bar = progress_bar(frames * modes.len(), "LODs and Strands, frame by frame");
+    for frame in 0..frames {
+        for ((frame_loop, sums), mode) in loops.iter_mut().zip(&mut sums).zip(&modes) {
+            let name = mode.column_name();
+            let output = frame_loop
+                .step(None)
+                .with_context(|| format!("the {name} run failed at frame {frame}"))?
+                .with_context(|| format!("the {name} run ended before frame {frame}"))?;
+            let (times, camera) = (output.report.times, *output.camera);
+            sums.lod += times.lod;
+            sums.dynamics += times.dynamics;
+            sums.collision += times.collision;
+            let pipeline = frame_loop.target_mut();
+            let base = renderer
+                .style()
+                .frame_settings(width, height, &camera, ShadingMode::Shaded);
             // Rotate the order so that no variant always runs first (or last) after the dynamics.
             for k in 0..VARIANTS.len() {
                 let variant = (k + frame) % VARIANTS.len();
-                let frame_data = if VARIANTS[variant] == "empty" {
-                    empty.frame()
+                let settings = settings_of(variant, base);
+                let (_, seconds) = if VARIANTS[variant] == "empty" {
+                    renderer.render_without_hair(pipeline, &settings)?
                 } else {
-                    active.frame()
+                    renderer.render_with_settings(pipeline, &settings)?
                 };
-                let started = Instant::now();
-                renderer.render(&frame_data, &settings_of(variant, base))?;
-                sums.variants[variant] += started.elapsed().as_secs_f64();
+                sums.variants[variant] += seconds;
                 if variant == 0 {
-                    sums.per_frame.push(started.elapsed().as_secs_f64());
-                    let t = renderer.last_timings();
+                    sums.per_frame.push(seconds);
+                    let t = renderer.renderer().last_timings();
                     sums.split.upload += t.upload;
                     sums.split.encode += t.encode;
                     sums.split.gpu += t.gpu;
@@ -157,17 +160,20 @@ pub fn run(args: &CostsArgs) -> Result<()> {
                 }
             }
             sums.frames += 1;
+            bar.inc(1);
         }
+    }
+    bar.finish_and_clear();
+    let mut totals = Vec::new();
+    for (sums, mode) in sums.iter().zip(&modes) {
         let n = sums.frames.max(1) as f64;
         let ms = |s: f64| s / n * 1e3;
         println!(
-            "\n{} ({head_uploads} head uploads): lod {:.1}, dynamics {:.1}, collision {:.1}, \
-             prepare (gather + head) {:.1} ms per frame",
+            "\n{}: lod {:.1}, dynamics {:.1}, collision {:.1} ms per frame",
             mode.column_name(),
             ms(sums.lod),
             ms(sums.dynamics),
             ms(sums.collision),
-            ms(sums.prepare)
         );
         for (name, value) in VARIANTS.iter().zip(sums.variants) {
             println!("  render {name:<11} {:>8.1} ms", ms(value));
@@ -180,14 +186,13 @@ pub fn run(args: &CostsArgs) -> Result<()> {
             ms(s.gpu),
             ms(s.readback)
         );
-        let sim = sums.dynamics + sums.collision;
         totals.push((
-            (sim + sums.prepare) / n,
+            (sums.lod + sums.dynamics + sums.collision) / n,
             sums.variants.map(|v| v / n),
-            sums.per_frame,
+            &sums.per_frame,
         ));
     }
-    println!("\nStrands / LODs, table total (dynamics + collision + prepare + render):");
+    println!("\nStrands / LODs, table total (level selection + dynamics + collision + render):");
     let (lods, strands) = (&totals[0], &totals[1]);
     for (k, name) in VARIANTS.iter().enumerate().take(VARIANTS.len() - 1) {
         println!(
@@ -200,7 +205,7 @@ pub fn run(args: &CostsArgs) -> Result<()> {
     println!(
         "\nthe default frame's render time [ms], frame by frame: frame, distance, LODs, Strands"
     );
-    for (frame, (l, s)) in lods.2.iter().zip(&strands.2).enumerate() {
+    for (frame, (l, s)) in lods.2.iter().zip(strands.2.iter()).enumerate() {
         let camera = shot.camera(frame);
         let distance = camera.position.distance(camera.target);
         println!(
