@@ -1,8 +1,9 @@
 //! Crowd scenes (scene files with `[[character]]` tables) in `hairlod render` and `hairlod
 //! bench`: every character simulated, collided and drawn in one frame, levels chosen across the
 //! crowd. The bench runs LODs, all-strands, all-clusters and all-patches in the paper's table
-//! layout, then the frame budget (greedy and tolerance controller) at a tenth of the all-strands
-//! cost, with SSIM and luma error of every mode against the all-strands frames.
+//! layout, interleaved frame by frame, then the frame budget (greedy and tolerance controller,
+//! side by side) at a tenth of the all-strands cost, with SSIM and luma error of every mode
+//! against the all-strands frames.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -10,11 +11,11 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use hairlod::benchmark::paper_modes;
 use hairlod::core::lod::{BudgetMethod, BudgetReport, BudgetSettings};
-use hairlod::crowd::{CrowdModel, CrowdRenderer, run_crowd};
+use hairlod::crowd::{Crowd, CrowdModel, CrowdRenderer, run_crowd};
 use hairlod::metrics::{luma, luma_difference, ssim};
 use hairlod::pipeline::{DrawStyle, LodMode, PipelineSettings};
 use hairlod::render::{RendererOptions, output};
-use hairlod::run::{ModeRun, View};
+use hairlod::run::{FrameLoop, ModeRun, View};
 use hairlod::shot::Shot;
 use serde::Serialize;
 
@@ -161,23 +162,23 @@ pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result
     let lod = shot.lod_settings();
     let [lods, strands, clusters, patches] = paper_modes(lod);
     let mut strand_frames: Vec<image::GrayImage> = Vec::new();
-    let mut runs: Vec<(ModeRun, AgainstStrands)> = Vec::new();
-    // The all-strands frames first: every other mode is measured against them.
-    for mode in [strands, lods, clusters, patches] {
-        let (run, against) = run_against(
-            shot,
-            &model,
-            &mut renderer,
-            &views,
-            PipelineSettings {
+    // The all-strands run first in each frame: every other mode is measured against its frame.
+    let runs = [strands, lods, clusters, patches]
+        .into_iter()
+        .map(|mode| CrowdRun {
+            label: mode.column_name().to_string(),
+            settings: PipelineSettings {
                 lod: mode,
                 ..shot.settings
             },
-            None,
-            &mut strand_frames,
-        )?;
-        runs.push((run.run, against));
-    }
+            budget: None,
+        })
+        .collect();
+    let mut runs: Vec<(ModeRun, AgainstStrands)> =
+        run_interleaved(&model, &mut renderer, &views, runs, &mut strand_frames)?
+            .into_iter()
+            .map(|(result, against)| (result.run, against))
+            .collect();
     // Back to the paper's column order: LODs, Strands, Clusters, Patches.
     runs.swap(0, 1);
     let (modes, against): (Vec<ModeRun>, Vec<AgainstStrands>) = runs.into_iter().unzip();
@@ -210,6 +211,9 @@ pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result
     let budget = budget_ms.map_or(strands_cost / 10.0, |ms| ms / 1e3);
     let mut budgets = Vec::new();
     if let LodMode::Auto(lod) = lods {
+        // Both methods side by side, frame by frame, so their costs are measured under the same
+        // load (they are compared at the same cost).
+        let mut runs = Vec::new();
         for method in [BudgetMethod::Greedy, BudgetMethod::Tolerance] {
             let frame_time = shot.settings.dynamics.time_step;
             let settings = BudgetSettings {
@@ -218,18 +222,20 @@ pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result
                 ..BudgetSettings::new(budget)
             };
             settings.validate()?;
-            let (result, against) = run_against(
-                shot,
-                &model,
-                &mut renderer,
-                &views,
-                PipelineSettings {
+            runs.push(CrowdRun {
+                label: format!("LODs, budget ({method})"),
+                settings: PipelineSettings {
                     lod: lods,
                     ..shot.settings
                 },
-                Some(settings),
-                &mut strand_frames,
-            )?;
+                budget: Some(settings),
+            });
+        }
+        for ((result, against), method) in
+            run_interleaved(&model, &mut renderer, &views, runs, &mut strand_frames)?
+                .into_iter()
+                .zip([BudgetMethod::Greedy, BudgetMethod::Tolerance])
+        {
             let report = result.budget.context("a budgeted run keeps its tally")?;
             println!(
                 "frame budget {:.1} ms ({method}): met in {} of {} frames, mean cost {:.1} ms, \
@@ -263,47 +269,72 @@ pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result
     Ok(())
 }
 
-/// Runs one mode of the crowd and measures its frames against `strand_frames` (which an
-/// all-strands run fills when it is empty).
-fn run_against(
-    shot: &Shot,
+/// One run of the crowd: its label, settings and frame budget.
+struct CrowdRun {
+    label: String,
+    settings: PipelineSettings,
+    budget: Option<BudgetSettings>,
+}
+
+/// Runs `runs` of the crowd interleaved frame by frame (each makes frame k before any makes
+/// k + 1, in the order given, on one renderer), so that every run sees the same machine load,
+/// and measures each frame against `strand_frames`, which the first run fills when it is empty
+/// (an all-strands run). Returns each run's result and its frames against the all-strands ones.
+fn run_interleaved(
     model: &CrowdModel,
     renderer: &mut CrowdRenderer,
     views: &[View],
-    settings: PipelineSettings,
-    budget: Option<BudgetSettings>,
+    runs: Vec<CrowdRun>,
     strand_frames: &mut Vec<image::GrayImage>,
-) -> Result<(hairlod::run::RunResult<hairlod::Crowd>, AgainstStrands)> {
-    let label = match budget {
-        Some(budget) => format!("LODs, budget ({})", budget.method),
-        None => settings.lod.column_name().to_string(),
-    };
-    let reference = strand_frames.is_empty();
-    let bar = progress_bar(shot.frames, &label);
-    let (mut ssim_sum, mut luma_sum) = (0.0, 0.0);
-    let result = run_crowd(model, settings, budget, Some((renderer, views)), |frame| {
-        let gray = luma(&frame.images[0]);
-        if reference {
-            strand_frames.push(gray);
-            ssim_sum += 1.0;
-        } else if let Some(strands) = strand_frames.get(frame.report.frame) {
-            ssim_sum += ssim(strands, &gray);
-            luma_sum += luma_difference(strands, &gray);
+) -> Result<Vec<(hairlod::run::RunResult<Crowd>, AgainstStrands)>> {
+    let shot = &model.shot;
+    let fills_reference = strand_frames.is_empty();
+    let mut loops = Vec::with_capacity(runs.len());
+    for run in &runs {
+        let crowd = Crowd::new(model, run.settings)
+            .with_context(|| format!("the crowd's {} run failed to start", run.label))?;
+        loops.push(FrameLoop::new(shot, crowd, 0..shot.frames, run.budget)?);
+    }
+    let names: Vec<&str> = runs.iter().map(|r| r.label.as_str()).collect();
+    let bar = progress_bar(shot.frames * runs.len(), &names.join(", "));
+    let mut sums = vec![(0.0, 0.0); runs.len()];
+    for frame in 0..shot.frames {
+        for (index, (frame_loop, run)) in loops.iter_mut().zip(&runs).enumerate() {
+            let label = &run.label;
+            let output = frame_loop
+                .step(Some((&mut *renderer, views)))
+                .with_context(|| format!("the crowd's {label} run failed at frame {frame}"))?
+                .with_context(|| format!("the crowd's {label} run ended before frame {frame}"))?;
+            let gray = luma(&output.images[0]);
+            let (ssim_sum, luma_sum) = &mut sums[index];
+            if fills_reference && index == 0 {
+                strand_frames.push(gray);
+                *ssim_sum += 1.0;
+            } else if let Some(strands) = strand_frames.get(frame) {
+                *ssim_sum += ssim(strands, &gray);
+                *luma_sum += luma_difference(strands, &gray);
+            }
+            bar.inc(1);
         }
-        bar.inc(1);
-        Ok(())
-    })
-    .with_context(|| format!("the crowd's {label} run failed"))?;
+    }
     bar.finish();
     let frames = shot.frames.max(1) as f64;
-    let against = AgainstStrands {
-        mode: label,
-        mean_cost: mean_cost(&result.run),
-        median_cost: result.run.median_total,
-        mean_ssim: ssim_sum / frames,
-        mean_luma_error: luma_sum / frames,
-    };
-    Ok((result, against))
+    Ok(loops
+        .into_iter()
+        .zip(runs)
+        .zip(sums)
+        .map(|((frame_loop, run), (ssim_sum, luma_sum))| {
+            let result = frame_loop.finish();
+            let against = AgainstStrands {
+                mode: run.label,
+                mean_cost: mean_cost(&result.run),
+                median_cost: result.run.median_total,
+                mean_ssim: ssim_sum / frames,
+                mean_luma_error: luma_sum / frames,
+            };
+            (result, against)
+        })
+        .collect())
 }
 
 /// `hairlod accuracy --crowd SCENE`: the crowd's speed against accuracy. The all-strands run is
@@ -331,24 +362,23 @@ pub fn accuracy(shot: &Shot, tolerances: &[f32], json: Option<&Path>) -> Result<
         lod.validate()?;
         modes.push((format!("LODs {tolerance} px"), LodMode::Auto(lod)));
     }
-    let mut strand_frames = Vec::new();
-    let mut points = Vec::new();
-    for (label, mode) in modes {
-        let (_, mut against) = run_against(
-            shot,
-            &model,
-            &mut renderer,
-            &views,
-            PipelineSettings {
+    let runs = modes
+        .into_iter()
+        .map(|(label, mode)| CrowdRun {
+            label,
+            settings: PipelineSettings {
                 lod: mode,
                 ..shot.settings
             },
-            None,
-            &mut strand_frames,
-        )?;
-        against.mode = label;
-        points.push(against);
-    }
+            budget: None,
+        })
+        .collect();
+    let mut strand_frames = Vec::new();
+    let points: Vec<AgainstStrands> =
+        run_interleaved(&model, &mut renderer, &views, runs, &mut strand_frames)?
+            .into_iter()
+            .map(|(_, against)| against)
+            .collect();
     println!();
     println!(
         "{:<24}{:>14}{:>14}{:>12}{:>14}",

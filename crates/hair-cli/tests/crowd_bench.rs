@@ -1,0 +1,122 @@
+//! `hairlod bench CROWD` end to end, through the binary: the crowd's four modes run interleaved
+//! frame by frame on one renderer (all-strands first, the yardstick of the others), then the two
+//! frame-budget methods side by side; each run makes what it makes alone: the LODs choose, frame
+//! by frame, the levels `hairlod render` chooses for the same crowd.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
+
+/// Two small heads (12 sections, 10 cm of hair), one shaking, one in wind, the camera moving in
+/// over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
+const SCENE: &str = "version = 2\n\
+    [camera]\npath = \"keyframes\"\nfov_degrees = 35.0\nkeyframes = [\n\
+    { time = 0.0, position = [0.0, 0.1, 2.0], target = [0.0, 0.0, -1.0] },\n\
+    { time = 0.2, position = [0.1, 0.1, 0.6], target = [0.0, 0.0, -1.0] },\n]\n\
+    [lod]\nmode = \"auto\"\npixel_tolerance = 2.0\n\
+    [frames]\ncount = 4\nfps = 15.0\nsize = \"128x80\"\n\
+    [output]\njson = \"report.json\"\n\
+    [[character]]\nname = \"curly\"\nposition = [0.0, 0.0, 0.0]\nyaw_degrees = 180.0\n\
+    groom = { preset = \"curly\", section_count = 12, hair_length = 0.1 }\n\
+    motion = { kind = \"shake\", amplitude_degrees = 30.0, peak_speed = 4.0 }\n\
+    [[character]]\nname = \"wavy\"\nposition = [0.3, 0.0, -0.5]\nyaw_degrees = 160.0\n\
+    groom = { preset = \"wavy\", section_count = 12, hair_length = 0.1 }\n\
+    wind = { speed = 3.0, gusts = 2.0, direction = [1.0, 0.0, 0.3], seed = 2 }\n";
+
+/// Runs the binary; panics with its output when it fails.
+fn hairlod(args: &[&str]) {
+    let output = Command::new(BINARY).args(args).output().unwrap();
+    assert!(
+        output.status.success(),
+        "hairlod {args:?} failed:\n{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn read_json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Each frame's `sections_at` of a run's report.
+fn levels(run: &serde_json::Value) -> Vec<String> {
+    run["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|frame| frame["sections_at"].to_string())
+        .collect()
+}
+
+#[test]
+fn interleaved_crowd_runs_choose_what_each_run_alone_chooses() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("crowd_bench");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("crowd.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let bench_json = dir.join("bench.json");
+    hairlod(&[
+        "bench",
+        scene.to_str().unwrap(),
+        "--json",
+        bench_json.to_str().unwrap(),
+    ]);
+    let out = dir.join("render");
+    hairlod(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let bench = read_json(&bench_json);
+    let render = read_json(&out.join("report.json"));
+
+    let modes = bench["modes"].as_array().unwrap();
+    let names: Vec<&str> = modes.iter().map(|m| m["mode"].as_str().unwrap()).collect();
+    assert_eq!(names, ["LODs", "Strands", "Clusters", "Patches"]);
+    for run in modes {
+        let frames: Vec<u64> = run["frames"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|frame| frame["frame"].as_u64().unwrap())
+            .collect();
+        assert_eq!(frames, vec![0, 1, 2, 3], "{}", run["mode"]);
+    }
+    // The interleaved LODs chose the levels the render alone chose, frame by frame, and they
+    // change within the shot (so the comparison can fail).
+    let lods = levels(&modes[0]);
+    assert_eq!(
+        lods,
+        levels(&render),
+        "the LODs chose other levels in the bench"
+    );
+    assert!(
+        lods.iter().any(|l| l != &lods[0]),
+        "the levels never change: {lods:?}"
+    );
+    // The fixed levels hold all 24 sections at their level: [patches, clusters, strands].
+    for (run, expected) in modes[1..].iter().zip(["[0,0,24]", "[0,24,0]", "[24,0,0]"]) {
+        for frame in levels(run) {
+            assert_eq!(frame, expected, "{}", run["mode"]);
+        }
+    }
+    // Against the all-strands frames: the all-strands run is its own yardstick, the coarse
+    // levels are not.
+    let against = bench["against_strands"].as_array().unwrap();
+    assert_eq!(against[1]["mode"], "Strands");
+    assert_eq!(against[1]["mean_ssim"].as_f64(), Some(1.0));
+    assert_eq!(against[1]["mean_luma_error"].as_f64(), Some(0.0));
+    for a in [&against[2], &against[3]] {
+        let ssim = a["mean_ssim"].as_f64().unwrap();
+        assert!(ssim > 0.0 && ssim < 1.0, "{}: SSIM {ssim}", a["mode"]);
+    }
+    // Both budget methods ran every frame.
+    let budgets = bench["budgets"].as_array().unwrap();
+    assert_eq!(budgets.len(), 2);
+    for (report, _) in budgets.iter().map(|b| (&b[0], &b[1])) {
+        assert_eq!(report["frames"].as_u64(), Some(4), "{report}");
+    }
+}
