@@ -2,40 +2,31 @@
 //! by frame on one renderer (the reference first), and each is measured on its own frames: adding
 //! a configuration to the sweep changes no other configuration's errors.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
+use std::path::Path;
+
+use common::{folder, hairlod, read_json};
 
 /// Runs `hairlod accuracy` on the curly preset (3 frames at 96×54, no integrator sweep) with
 /// LODs at `tolerances`; returns the JSON report's points.
 fn accuracy(dir: &Path, tolerances: &str) -> Vec<serde_json::Value> {
     let json = dir.join(format!("accuracy-{tolerances}.json"));
-    let output = Command::new(BINARY)
-        .args([
-            "accuracy",
-            "--preset",
-            "curly",
-            "--frames",
-            "3",
-            "--size",
-            "96x54",
-            "--no-integrators",
-            "--tolerances",
-            tolerances,
-            "--json",
-            json.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "hairlod accuracy failed:\n{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    hairlod(&[
+        "accuracy",
+        "--preset",
+        "curly",
+        "--frames",
+        "3",
+        "--size",
+        "96x54",
+        "--no-integrators",
+        "--tolerances",
+        tolerances,
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    let report = read_json(&json);
     report["points"].as_array().unwrap().clone()
 }
 
@@ -63,9 +54,7 @@ fn labels(points: &[serde_json::Value]) -> Vec<&str> {
 
 #[test]
 fn interleaved_configurations_measure_what_each_makes_alone() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("accuracy_cli");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = folder("accuracy_cli");
     let one = accuracy(&dir, "2");
     let two = accuracy(&dir, "2,8");
     assert_eq!(

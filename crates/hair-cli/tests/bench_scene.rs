@@ -3,10 +3,9 @@
 //! makes what it makes alone: the LODs choose, frame by frame, the levels `hairlod render`
 //! chooses for the same scene.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
-const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
+use common::{folder, hairlod, levels, read_json};
 
 /// A small scene: a short curly groom (12 sections, 10 cm), the head shaking, the camera zooming
 /// out from 0.5 m to 3 m over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
@@ -19,36 +18,9 @@ const SCENE: &str = "version = 2\n\
     [frames]\ncount = 4\nfps = 15\nsize = \"128x80\"\n\
     [output]\njson = \"report.json\"\n";
 
-/// Runs the binary; panics with its output when it fails.
-fn hairlod(args: &[&str]) {
-    let output = Command::new(BINARY).args(args).output().unwrap();
-    assert!(
-        output.status.success(),
-        "hairlod {args:?} failed:\n{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-}
-
-fn read_json(path: &std::path::Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// Each frame's `sections_at` of a run's report.
-fn levels(run: &serde_json::Value) -> Vec<serde_json::Value> {
-    run["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|frame| frame["sections_at"].clone())
-        .collect()
-}
-
 #[test]
 fn interleaved_runs_choose_what_each_run_alone_chooses() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench_scene");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = folder("bench_scene");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, SCENE).unwrap();
     let bench_json = dir.join("bench.json");
@@ -88,13 +60,12 @@ fn interleaved_runs_choose_what_each_run_alone_chooses() {
         levels(&render),
         "the LODs chose other levels in the bench"
     );
-    let distinct: std::collections::HashSet<String> =
-        lods.iter().map(|levels| levels.to_string()).collect();
+    let distinct: std::collections::HashSet<&String> = lods.iter().collect();
     assert!(distinct.len() > 1, "the levels never change: {lods:?}");
     // The fixed levels hold every section at their level: [patches, clusters, strands].
     for (run, expected) in modes[1..].iter().zip(["[0,0,12]", "[0,12,0]", "[12,0,0]"]) {
         for frame in levels(run) {
-            assert_eq!(frame.to_string(), expected, "{}", run["mode"]);
+            assert_eq!(frame, expected, "{}", run["mode"]);
         }
     }
     // SSIM against the Strands frames of the same frame: below 1 for a coarser level.

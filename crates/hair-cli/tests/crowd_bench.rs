@@ -3,10 +3,9 @@
 //! frame-budget methods side by side; each run makes what it makes alone: the LODs choose, frame
 //! by frame, the levels `hairlod render` chooses for the same crowd.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
-const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
+use common::{folder, hairlod, levels, read_json};
 
 /// Two small heads (12 sections, 10 cm of hair), one shaking, one in wind, the camera moving in
 /// over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
@@ -24,36 +23,9 @@ const SCENE: &str = "version = 2\n\
     groom = { preset = \"wavy\", section_count = 12, hair_length = 0.1 }\n\
     wind = { speed = 3.0, gusts = 2.0, direction = [1.0, 0.0, 0.3], seed = 2 }\n";
 
-/// Runs the binary; panics with its output when it fails.
-fn hairlod(args: &[&str]) {
-    let output = Command::new(BINARY).args(args).output().unwrap();
-    assert!(
-        output.status.success(),
-        "hairlod {args:?} failed:\n{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-}
-
-fn read_json(path: &std::path::Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// Each frame's `sections_at` of a run's report.
-fn levels(run: &serde_json::Value) -> Vec<String> {
-    run["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|frame| frame["sections_at"].to_string())
-        .collect()
-}
-
 #[test]
 fn interleaved_crowd_runs_choose_what_each_run_alone_chooses() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("crowd_bench");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = folder("crowd_bench");
     let scene = dir.join("crowd.toml");
     std::fs::write(&scene, SCENE).unwrap();
     let bench_json = dir.join("bench.json");

@@ -8,14 +8,13 @@ use hairlod::core::representation::drawn::strand_last_point;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const BINARY: &str = env!("CARGO_BIN_EXE_hairlod");
+mod common;
+
+use common::{BINARY, hairlod};
 
 /// A fresh folder under the target's temporary directory.
 fn folder(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("render_scene_{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::folder(&format!("render_scene_{name}"))
 }
 
 /// The head swaying sideways: 5 cm along +X over the first 0.2 s, then held.
@@ -43,18 +42,6 @@ fn scene(dir: &Path, motion: &str) -> PathBuf {
     );
     std::fs::write(&path, text).unwrap();
     path
-}
-
-/// Runs the binary; panics with its output when it fails.
-fn hairlod(args: &[&str]) -> String {
-    let output = Command::new(BINARY).args(args).output().unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    assert!(output.status.success(), "hairlod {args:?} failed:\n{text}");
-    text
 }
 
 fn frame(dir: &Path, index: usize) -> image::RgbaImage {
