@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{folder, hairlod, levels, read_json};
+use common::{bench_and_render, folder, levels};
 
 /// A small scene: a short curly groom (12 sections, 10 cm), the head shaking, the camera zooming
 /// out from 0.5 m to 3 m over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
@@ -20,25 +20,7 @@ const SCENE: &str = "version = 2\n\
 
 #[test]
 fn interleaved_runs_choose_what_each_run_alone_chooses() {
-    let dir = folder("bench_scene");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, SCENE).unwrap();
-    let bench_json = dir.join("bench.json");
-    hairlod(&[
-        "bench",
-        scene.to_str().unwrap(),
-        "--json",
-        bench_json.to_str().unwrap(),
-    ]);
-    let out = dir.join("render");
-    hairlod(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let bench = read_json(&bench_json);
-    let render = read_json(&out.join("report.json"));
+    let (bench, render) = bench_and_render(&folder("bench_scene"), SCENE);
 
     // Every run made the shot's four frames, in order.
     let modes = bench["modes"].as_array().unwrap();

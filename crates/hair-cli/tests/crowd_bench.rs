@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{folder, hairlod, levels, read_json};
+use common::{bench_and_render, folder, levels};
 
 /// Two small heads (12 sections, 10 cm of hair), one shaking, one in wind, the camera moving in
 /// over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
@@ -25,25 +25,7 @@ const SCENE: &str = "version = 2\n\
 
 #[test]
 fn interleaved_crowd_runs_choose_what_each_run_alone_chooses() {
-    let dir = folder("crowd_bench");
-    let scene = dir.join("crowd.toml");
-    std::fs::write(&scene, SCENE).unwrap();
-    let bench_json = dir.join("bench.json");
-    hairlod(&[
-        "bench",
-        scene.to_str().unwrap(),
-        "--json",
-        bench_json.to_str().unwrap(),
-    ]);
-    let out = dir.join("render");
-    hairlod(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let bench = read_json(&bench_json);
-    let render = read_json(&out.join("report.json"));
+    let (bench, render) = bench_and_render(&folder("crowd_bench"), SCENE);
 
     let modes = bench["modes"].as_array().unwrap();
     let names: Vec<&str> = modes.iter().map(|m| m["mode"].as_str().unwrap()).collect();

@@ -44,3 +44,26 @@ pub fn levels(run: &serde_json::Value) -> Vec<String> {
         .map(|frame| frame["sections_at"].to_string())
         .collect()
 }
+
+/// Writes `scene` (a scene file's text) into `dir`, runs `hairlod bench` on it and `hairlod
+/// render` on it alone (the scene's `[output] json` names the render's report), and returns the
+/// bench's JSON report and the render's.
+pub fn bench_and_render(dir: &Path, scene: &str) -> (serde_json::Value, serde_json::Value) {
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, scene).unwrap();
+    let bench_json = dir.join("bench.json");
+    hairlod(&[
+        "bench",
+        path.to_str().unwrap(),
+        "--json",
+        bench_json.to_str().unwrap(),
+    ]);
+    let out = dir.join("render");
+    hairlod(&[
+        "render",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    (read_json(&bench_json), read_json(&out.join("report.json")))
+}
