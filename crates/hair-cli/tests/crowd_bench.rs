@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{bench_and_render, folder, levels};
+use common::{assert_levels_as_alone, bench_and_render, folder, frame_numbers, levels};
 
 /// Two small heads (12 sections, 10 cm of hair), one shaking, one in wind, the camera moving in
 /// over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
@@ -31,26 +31,9 @@ fn interleaved_crowd_runs_choose_what_each_run_alone_chooses() {
     let names: Vec<&str> = modes.iter().map(|m| m["mode"].as_str().unwrap()).collect();
     assert_eq!(names, ["LODs", "Strands", "Clusters", "Patches"]);
     for run in modes {
-        let frames: Vec<u64> = run["frames"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|frame| frame["frame"].as_u64().unwrap())
-            .collect();
-        assert_eq!(frames, vec![0, 1, 2, 3], "{}", run["mode"]);
+        assert_eq!(frame_numbers(run), [0, 1, 2, 3], "{}", run["mode"]);
     }
-    // The interleaved LODs chose the levels the render alone chose, frame by frame, and they
-    // change within the shot (so the comparison can fail).
-    let lods = levels(&modes[0]);
-    assert_eq!(
-        lods,
-        levels(&render),
-        "the LODs chose other levels in the bench"
-    );
-    assert!(
-        lods.iter().any(|l| l != &lods[0]),
-        "the levels never change: {lods:?}"
-    );
+    assert_levels_as_alone(&modes[0], &render);
     // The fixed levels hold all 24 sections at their level: [patches, clusters, strands].
     for (run, expected) in modes[1..].iter().zip(["[0,0,24]", "[0,24,0]", "[24,0,0]"]) {
         for frame in levels(run) {

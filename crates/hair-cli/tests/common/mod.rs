@@ -67,3 +67,29 @@ pub fn bench_and_render(dir: &Path, scene: &str) -> (serde_json::Value, serde_js
     ]);
     (read_json(&bench_json), read_json(&out.join("report.json")))
 }
+
+/// The frame numbers of a run's report, in order.
+pub fn frame_numbers(run: &serde_json::Value) -> Vec<u64> {
+    run["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|frame| frame["frame"].as_u64().unwrap())
+        .collect()
+}
+
+/// Asserts that an interleaved LODs run chose, frame by frame, the levels `render` (the same
+/// scene rendered alone) chose, and that the levels change within the shot (so that the
+/// comparison can fail).
+pub fn assert_levels_as_alone(lods: &serde_json::Value, render: &serde_json::Value) {
+    let chosen = levels(lods);
+    assert_eq!(
+        chosen,
+        levels(render),
+        "the LODs chose other levels in the bench"
+    );
+    assert!(
+        chosen.iter().any(|l| l != &chosen[0]),
+        "the levels never change: {chosen:?}"
+    );
+}
