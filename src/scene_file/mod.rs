@@ -322,6 +322,10 @@ pub struct LodTable {
     /// The motion criterion and the part/face rule apply only to sections whose chord spans at
     /// least this many pixels [pixels], ≥ 0 (default 20; 0: always, the paper's rule).
     pub rules_min_pixels: Option<f32>,
+    /// How a section is found hidden behind the head: `section` (default: all of it, samples of
+    /// its skeletons widened by half its width) or `ends` (the paper's test: the root and tip of
+    /// its centre skeleton, §7.1).
+    pub occlusion_test: Option<String>,
 }
 
 /// `[dynamics]`.

@@ -577,6 +577,10 @@ impl SceneFile {
             one_of("lod.error_model", name, &["deviation", "chord"])?;
             lod.error_model = name.parse().expect("checked above");
         }
+        if let Some(name) = table.occlusion_test.as_deref() {
+            one_of("lod.occlusion_test", name, &["section", "ends"])?;
+            lod.occlusion_test = name.parse().expect("checked above");
+        }
         lod.validate()
             .map_err(|error| SceneFileError::new(format!("[lod]: {error}")))?;
         Ok(match mode {
@@ -657,6 +661,11 @@ mod tests {
             ),
             ("[lod]\nmode = \"voxels\"", "lod.mode", "auto"),
             ("[lod]\nbudget_ms = 0.0", "lod.budget_ms", "> 0"),
+            (
+                "[lod]\nocclusion_test = \"raycast\"",
+                "lod.occlusion_test",
+                "ends",
+            ),
             (
                 "[dynamics]\nintegrator = \"rk4\"",
                 "dynamics.integrator",

@@ -22,7 +22,7 @@ use hairlod::accuracy::{
 use hairlod::benchmark::{paper_shot, resized};
 use hairlod::collide::{CollisionBody, LineOfSight};
 use hairlod::core::dynamics::{IntegratorKind, SimulationSettings};
-use hairlod::core::lod::ErrorModel;
+use hairlod::core::lod::{ErrorModel, OcclusionTest};
 use hairlod::pipeline::{LodMode, PipelineError, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
 use hairlod::run::{FrameLoop, RunOptions, View};
@@ -78,6 +78,10 @@ pub struct AccuracyArgs {
     /// `chord` (the paper's rule), comma-separated to run the LODs with each.
     #[arg(long, value_delimiter = ',', default_value = "deviation")]
     pub error_models: Vec<ErrorModel>,
+    /// How the LODs find a section hidden behind the head: `section` (all of it, the default),
+    /// `ends` (the paper's root-and-tip test), comma-separated to run the LODs with each.
+    #[arg(long, value_delimiter = ',', default_value = "section")]
+    pub occlusion_tests: Vec<OcclusionTest>,
     /// How far ahead the LODs' level choice looks, as fractions of the blend time in 0..=1,
     /// comma-separated to run the LODs with each (default: the library's, 0.5; 0: the current
     /// frame only).
@@ -148,23 +152,28 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
     } else {
         args.blend_leads.clone()
     };
-    for ((&tolerance, &error_model), &blend_lead) in args
+    for (((&tolerance, &error_model), &blend_lead), &occlusion_test) in args
         .tolerances
         .iter()
         .flat_map(|t| args.error_models.iter().map(move |m| (t, m)))
         .flat_map(|pair| leads.iter().map(move |lead| (pair, lead)))
+        .flat_map(|triple| args.occlusion_tests.iter().map(move |o| (triple, o)))
     {
         let lod = hairlod::core::lod::LodSettings {
             pixel_tolerance: tolerance,
             error_model,
             blend_lead,
+            occlusion_test,
             ..shot.lod_settings()
         };
         lod.validate()?;
-        let model = match error_model {
+        let mut model = match error_model {
             ErrorModel::Deviation => String::new(),
             other => format!(" ({other})"),
         };
+        if occlusion_test != OcclusionTest::default() {
+            model.push_str(&format!(" ({occlusion_test} occlusion)"));
+        }
         let lead = if blend_lead == default_lead {
             String::new()
         } else {

@@ -36,10 +36,12 @@ pub fn segment_hits_box(from: Vec3, to: Vec3, min: Vec3, max: Vec3) -> bool {
     true
 }
 
-/// The paper's conservative occlusion test (§7.1), with a union of boxes: the segments from the
-/// camera to the top (root) and to the bottom (tip) of a section both cross some box of
-/// `occluders` (head space [m], all inside the head, see
-/// [`Head::occluder_boxes`](crate::Head::occluder_boxes)) posed by `head`.
+/// The paper's occlusion test (§7.1), with a union of boxes: the segments from the camera to the
+/// top (root) and to the bottom (tip) of a section both cross some box of `occluders` (head space
+/// [m], all inside the head, see [`Head::occluder_boxes`](crate::Head::occluder_boxes)) posed by
+/// `head`. It misses the rest of the section: a wavy or curly section, or one beside the head's
+/// silhouette, can show between root and tip or beside them while both ends are hidden (see
+/// [`is_section_occluded`]).
 pub fn is_occluded(
     camera_position: Vec3,
     top: Vec3,
@@ -47,15 +49,46 @@ pub fn is_occluded(
     occluders: &[(Vec3, Vec3)],
     head: &RigidTransform,
 ) -> bool {
+    is_section_occluded(camera_position, &[top, bottom], 0.0, occluders, head)
+}
+
+/// Whether every point of `points` [m] is hidden from `camera_position` by `occluders` (head space
+/// [m], posed by `head`), each point widened by `radius` [m]: the sight lines to the point and to
+/// the four points `radius` away from it across the line of sight (up, down, left, right) must all
+/// cross some box. With a section's skeleton nodes as `points` and half its width as `radius`,
+/// a section is hidden only when all of it is (the paper's "completely occluded", §7.1), as far
+/// as the samples see. No occluders hide nothing.
+pub fn is_section_occluded(
+    camera_position: Vec3,
+    points: &[Vec3],
+    radius: f32,
+    occluders: &[(Vec3, Vec3)],
+    head: &RigidTransform,
+) -> bool {
+    if occluders.is_empty() || points.is_empty() {
+        return false;
+    }
     let to_head = head.inverse();
     let eye = to_head.transform_point(camera_position);
     let blocked = |point: Vec3| {
-        let point = to_head.transform_point(point);
         occluders
             .iter()
             .any(|&(min, max)| segment_hits_box(eye, point, min, max))
     };
-    !occluders.is_empty() && blocked(top) && blocked(bottom)
+    points.iter().all(|&point| {
+        let point = to_head.transform_point(point);
+        if !blocked(point) {
+            return false;
+        }
+        if radius <= 0.0 {
+            return true;
+        }
+        let sight = (point - eye).normalize_or(Vec3::Z);
+        let (across, up) = sight.any_orthonormal_pair();
+        [across, -across, up, -up]
+            .into_iter()
+            .all(|offset| blocked(point + radius * offset))
+    })
 }
 
 /// Length [pixels] of the line from `first` to `last` [m] projected into a `width`×`height` image;

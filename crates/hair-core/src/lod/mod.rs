@@ -35,16 +35,18 @@ pub use budget::{BudgetController, BudgetMethod, BudgetReport, BudgetSettings};
 pub use cost_model::{CostModel, CostRates, RenderSample, SectionWork};
 pub use criteria::{
     distance_limits, error_ahead, foreseen_share, head_point_acceleration,
-    head_point_acceleration_from_poses, is_occluded, level_with_hysteresis, motion_measure,
-    projected_length, segment_hits_box,
+    head_point_acceleration_from_poses, is_occluded, is_section_occluded, level_with_hysteresis,
+    motion_measure, projected_length, segment_hits_box,
 };
 pub use deviation::{
     DEVIATION_PERCENTILE, DRAWN_TUBE_RADIUS, LevelDeviation, PointGrid, level_deviations,
     level_deviations_at,
 };
 pub use greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
-pub use selector::{LodSelector, Reason, SectionChoice, SectionObservation, covered_pixels};
-pub use settings::{ErrorModel, LodSettings};
+pub use selector::{
+    LodSelector, Reason, SIGHT_SAMPLES, SectionChoice, SectionObservation, covered_pixels,
+};
+pub use settings::{ErrorModel, LodSettings, OcclusionTest};
 pub use transfer::{SectionStateRef, hand_over};
 #[cfg(test)]
 mod tests_deviation;

@@ -7,12 +7,12 @@ use serde::{Deserialize, Serialize};
 
 use super::cost_model::{CostModel, SectionWork};
 use super::criteria::{
-    distance_limits, error_ahead, foreseen_share, is_occluded, level_with_hysteresis,
-    projected_length,
+    distance_limits, error_ahead, foreseen_share, is_occluded, is_section_occluded,
+    level_with_hysteresis, projected_length,
 };
 use super::deviation::{LevelDeviation, level_deviations};
 use super::greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
-use super::settings::{ErrorModel, LodSettings};
+use super::settings::{ErrorModel, LodSettings, OcclusionTest};
 use crate::camera::Camera;
 use crate::error::{HairError, Result};
 use crate::groom::Groom;
@@ -32,6 +32,35 @@ pub struct SectionObservation {
     pub bound_radius: f32,
     /// Motion measure [m/s²] (see [`motion_measure`](super::motion_measure)).
     pub motion: f32,
+    /// Samples of the section for the occlusion test [m]: nodes of the centre skeleton from root
+    /// to tip, then of the outermost skeletons (the centre's again at patch level).
+    pub sight: [Vec3; SIGHT_SAMPLES],
+    /// How far the section reaches across its skeletons [m]: half its width, the margin by
+    /// which the occlusion test widens each sample.
+    pub sight_radius: f32,
+}
+
+/// Samples of a section in the occlusion test: 7 along the centre skeleton, 3 along each of the
+/// two outermost.
+pub const SIGHT_SAMPLES: usize = 13;
+
+/// The `k`-th of `n` samples along a chain of `count` nodes starting at `first` in `positions`:
+/// node `round(k·(count − 1)/(n − 1))`, or `round((k + 1)·(count − 1)/n)` with `skip_root`.
+fn chain_sample(
+    positions: &[Vec3],
+    first: usize,
+    count: usize,
+    k: usize,
+    n: usize,
+    skip_root: bool,
+) -> Vec3 {
+    let last = count.saturating_sub(1) as f32;
+    let t = if skip_root {
+        (k + 1) as f32 / n as f32
+    } else {
+        k as f32 / (n - 1).max(1) as f32
+    };
+    positions[first + (t * last).round() as usize]
 }
 
 impl SectionObservation {
@@ -51,6 +80,18 @@ impl SectionObservation {
             .sum();
         let count = groom.skeletons.chain_node_count(centre);
         let (top, bottom) = (positions[before], positions[before + count - 1]);
+        // The outermost skeletons: the first and the last of the section's chains at this level.
+        let first_count = groom.skeletons.chain_node_count(chains.start);
+        let last_count = groom.skeletons.chain_node_count(chains.end - 1);
+        let last_start = positions.len() - last_count;
+        let mut sight = [top; SIGHT_SAMPLES];
+        for (k, point) in sight[..7].iter_mut().enumerate() {
+            *point = chain_sample(positions, before, count, k, 7, false);
+        }
+        for k in 0..3 {
+            sight[7 + k] = chain_sample(positions, 0, first_count, k, 3, true);
+            sight[10 + k] = chain_sample(positions, last_start, last_count, k, 3, true);
+        }
         let (min, max) = positions.iter().fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(min, max), &p| (min.min(p), max.max(p)),
@@ -67,6 +108,8 @@ impl SectionObservation {
             bound_centre,
             bound_radius,
             motion,
+            sight,
+            sight_radius: 0.5 * groom.sections[section].width,
         }
     }
 }
@@ -595,13 +638,22 @@ fn hidden_reason(
         return Some(Reason::OutsideView);
     }
     let occluded = settings.occlusion
-        && is_occluded(
-            camera.position,
-            observation.top,
-            observation.bottom,
-            occluders,
-            head,
-        );
+        && match settings.occlusion_test {
+            OcclusionTest::Section => is_section_occluded(
+                camera.position,
+                &observation.sight,
+                observation.sight_radius,
+                occluders,
+                head,
+            ),
+            OcclusionTest::Ends => is_occluded(
+                camera.position,
+                observation.top,
+                observation.bottom,
+                occluders,
+                head,
+            ),
+        };
     occluded.then_some(Reason::Occluded)
 }
 

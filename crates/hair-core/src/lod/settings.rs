@@ -50,6 +50,52 @@ impl std::str::FromStr for ErrorModel {
     }
 }
 
+/// How the occlusion test (§7.1) decides that a section is hidden behind the head.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OcclusionTest {
+    /// The whole section: sight lines to samples of its centre skeleton's nodes (root to tip)
+    /// and of its outermost skeletons', each widened by half the section's width across the line
+    /// of sight, must all be blocked
+    /// ([`is_section_occluded`](super::criteria::is_section_occluded)).
+    #[default]
+    Section,
+    /// The paper's test: the root and the tip of the centre skeleton
+    /// ([`is_occluded`](super::criteria::is_occluded)). It hides sections that show between or
+    /// beside their ends (wavy and curly hair, sections beside the head's silhouette).
+    Ends,
+}
+
+impl OcclusionTest {
+    /// Both tests, the default first.
+    pub const ALL: [OcclusionTest; 2] = [OcclusionTest::Section, OcclusionTest::Ends];
+
+    /// The name used in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            OcclusionTest::Section => "section",
+            OcclusionTest::Ends => "ends",
+        }
+    }
+}
+
+impl std::fmt::Display for OcclusionTest {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for OcclusionTest {
+    type Err = HairError;
+
+    fn from_str(text: &str) -> Result<Self> {
+        OcclusionTest::ALL
+            .into_iter()
+            .find(|test| test.name() == text)
+            .ok_or_else(|| HairError::invalid("occlusion test", text, "section or ends"))
+    }
+}
+
 /// Settings of the level-of-detail selector.
 ///
 /// A section takes the cheapest level whose estimated screen-space error is within one pixel
@@ -85,6 +131,8 @@ pub struct LodSettings {
     pub keep_part_and_face_detailed: bool,
     /// Occlusion test on (§7.1): hidden sections become patches and are not drawn.
     pub occlusion: bool,
+    /// Which occlusion test decides that a section is hidden.
+    pub occlusion_test: OcclusionTest,
     /// Duration of a transition's blend [s] (0: instant switching, as in the paper).
     pub blend_time: f32,
     /// How far ahead the error-driven choice looks, as a fraction of
@@ -121,6 +169,7 @@ impl Default for LodSettings {
             crown_boost: 0.5,
             keep_part_and_face_detailed: true,
             occlusion: true,
+            occlusion_test: OcclusionTest::Section,
             blend_time: 0.25,
             blend_lead: 0.5,
             error_model: ErrorModel::Deviation,

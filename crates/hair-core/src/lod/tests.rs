@@ -582,3 +582,39 @@ fn the_union_of_boxes_hides_long_hair_behind_the_neck() {
     // No box, nothing hidden.
     assert_eq!(count(&[]), 0);
 }
+
+#[test]
+fn a_widened_sample_is_hidden_only_while_its_widening_stays_behind_the_box() {
+    // The box [-1, 1]³, the eye at z = 10, a sample at (0, 0, −2) behind it. The sight line to
+    // the sample widened by r across it, (r, 0, −2), is at x(z) = r·(10 − z)/12; it enters the
+    // box through its front face z = 1 while x(1) = 9r/12 ≤ 1, so the sample is hidden for
+    // r ≤ 4/3 and shows beside the box beyond.
+    let boxes = [(Vec3::splat(-1.0), Vec3::splat(1.0))];
+    let eye = Vec3::new(0.0, 0.0, 10.0);
+    let sample = [Vec3::new(0.0, 0.0, -2.0)];
+    let pose = RigidTransform::IDENTITY;
+    assert!(is_section_occluded(eye, &sample, 0.0, &boxes, &pose));
+    assert!(is_section_occluded(eye, &sample, 1.3, &boxes, &pose));
+    assert!(!is_section_occluded(eye, &sample, 1.4, &boxes, &pose));
+    // Every sample must be hidden: one in front of the box shows the section.
+    let two = [sample[0], Vec3::new(0.0, 0.0, 2.0)];
+    assert!(!is_section_occluded(eye, &two, 0.0, &boxes, &pose));
+    // The paper's test is the same with the two ends and no widening.
+    let (top, bottom) = (Vec3::new(0.3, 0.2, -1.5), Vec3::new(-0.2, -0.4, -3.0));
+    for far in [bottom, Vec3::new(5.0, 0.0, -3.0)] {
+        assert_eq!(
+            is_occluded(eye, top, far, &boxes, &pose),
+            is_section_occluded(eye, &[top, far], 0.0, &boxes, &pose)
+        );
+    }
+    assert!(is_occluded(eye, top, bottom, &boxes, &pose));
+    assert!(!is_occluded(
+        eye,
+        top,
+        Vec3::new(5.0, 0.0, -3.0),
+        &boxes,
+        &pose
+    ));
+    // No occluders, nothing hidden.
+    assert!(!is_section_occluded(eye, &sample, 0.0, &[], &pose));
+}
