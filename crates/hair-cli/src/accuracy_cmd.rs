@@ -4,38 +4,35 @@
 //! levels (Strands, Clusters, Patches at the default integrator), LODs at several pixel
 //! tolerances, and strands under each integrator at several steps. For each it prints the median
 //! cost per frame against its error (mean SSIM loss and mean screen-space pixel error against the
-//! reference, frame by frame), marks the Pareto fronts, and can chart them (`--chart`).
+//! reference, frame by frame), marks the Pareto fronts, and can chart them (`--chart`). The
+//! configurations run interleaved frame by frame (`configuration_run`), so that every frame's
+//! costs are measured under the same machine load.
 //!
 //! A configuration whose integrator fails (an unstable step, detected by the dynamics) is
 //! reported as failed with the error, and the sweep goes on.
 
+mod configuration_run;
 mod sweep;
+
+use configuration_run::{ConfigurationRun, ReferenceFrame};
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use hairlod::accuracy::{
-    PhysicalError, geometric_error_of_visible, head_body, head_sight, image_error, pose_head_body,
-    reference_settings, sample_skeletons, strand_skeletons, visible_samples,
-};
+use hairlod::Level;
+use hairlod::accuracy::reference_settings;
 use hairlod::benchmark::{paper_shot, resized};
-use hairlod::collide::{CollisionBody, LineOfSight};
 use hairlod::core::dynamics::{IntegratorKind, SimulationSettings};
 use hairlod::core::lod::{ErrorModel, OcclusionTest};
-use hairlod::pipeline::{LodMode, PipelineError, PipelineRenderer, PipelineSettings};
+use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
-use hairlod::run::{FrameLoop, RunOptions, View};
 use hairlod::shot::Shot;
-use hairlod::{Level, Pipeline, Scene};
 
 use crate::bench_cmd::{progress_bar, write_json};
 use crate::charts::{ACCURACY_PANELS, GROUP_COLOURS, ParetoChart, write_png_and_svg};
 use crate::cli_args::Preset;
-use sweep::{FrameErrors, Group, Point, mark_pareto};
-
-/// Samples per strand-group skeleton for the geometric error.
-const SAMPLES_PER_SKELETON: usize = 8;
+use sweep::{Group, Point, mark_pareto};
 
 /// The integrator sweep: each integrator at a coarser and a finer step around its recommended
 /// substeps per 60 Hz frame (16, 4, 4, 8), XPBD at its recommended too. Linear-implicit ×4 is the
@@ -109,18 +106,10 @@ pub struct AccuracyArgs {
 }
 
 /// One configuration to run.
-struct Configuration {
+pub(crate) struct Configuration {
     label: String,
     group: Group,
     settings: PipelineSettings,
-}
-
-/// What the reference leaves per frame for the others to be compared with.
-struct ReferenceFrame {
-    image: image::RgbaImage,
-    samples: Vec<glam::Vec3>,
-    /// Which samples the viewer sees past the head.
-    visible: Vec<bool>,
 }
 
 /// The sweep's configurations, the reference first.
@@ -308,144 +297,6 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         println!("wrote {} and {}", png.display(), svg.display());
     }
     Ok(())
-}
-
-/// One configuration's run in the sweep: its frame loop (until the shot ends or its integrator
-/// fails), the head body its physical errors are measured against and its frames' errors.
-struct ConfigurationRun<'s> {
-    label: String,
-    group: Group,
-    frame_loop: Option<FrameLoop<'s>>,
-    body: CollisionBody,
-    /// The reference's line of sight (the others are compared where the reference's samples
-    /// are seen); `None` for the others.
-    sight: Option<LineOfSight>,
-    frames: Vec<FrameErrors>,
-    failed: Option<String>,
-}
-
-impl<'s> ConfigurationRun<'s> {
-    /// Builds the configuration's pipeline on `scene` (bound to `renderer`) and the head body
-    /// (and, for the reference, the line of sight) once.
-    fn start(
-        configuration: Configuration,
-        shot: &'s Shot,
-        scene: &Scene,
-        renderer: &mut PipelineRenderer,
-    ) -> Result<Self, PipelineError> {
-        let probe = Pipeline::new(
-            scene.clone(),
-            shot.environment.clone(),
-            PipelineSettings {
-                lod: LodMode::Fixed(Level::Patch),
-                ..configuration.settings
-            },
-        )?;
-        let body = head_body(&probe)?;
-        let sight = if configuration.group == Group::Reference {
-            Some(head_sight(&probe)?)
-        } else {
-            None
-        };
-        drop(probe);
-        let frame_loop = FrameLoop::start(
-            shot,
-            scene,
-            RunOptions::whole(shot, configuration.settings),
-            Some(renderer),
-        )?;
-        Ok(ConfigurationRun {
-            label: configuration.label,
-            group: configuration.group,
-            frame_loop: Some(frame_loop),
-            body,
-            sight,
-            frames: Vec::with_capacity(shot.frames),
-            failed: None,
-        })
-    }
-
-    /// Makes the run's next frame and compares it with the reference's (the reference's own
-    /// frame fills `reference`). An unstable step ends a run other than the reference's, which
-    /// is then reported as failed; any other error stops the sweep.
-    fn step(
-        &mut self,
-        renderer: &mut PipelineRenderer,
-        reference: &mut Vec<ReferenceFrame>,
-        (width, height): (u32, u32),
-    ) -> Result<(), PipelineError> {
-        let Some(frame_loop) = self.frame_loop.as_mut() else {
-            return Ok(());
-        };
-        let output = match frame_loop.step(Some((renderer, &[View::Shaded]))) {
-            Ok(Some(output)) => output,
-            Ok(None) => return Ok(()),
-            Err(error) if self.sight.is_none() && error.is_unstable() => {
-                self.failed = Some(error.to_string());
-                self.frame_loop = None;
-                return Ok(());
-            }
-            Err(error) => return Err(error),
-        };
-        let (pipeline, camera, frame) = (output.pipeline, output.camera, output.report.frame);
-        let image = &output.images[0];
-        let cost = output.report.times.total();
-        let samples = sample_skeletons(
-            &pipeline.scene().groom,
-            &strand_skeletons(pipeline)?,
-            SAMPLES_PER_SKELETON,
-        );
-        pose_head_body(&mut self.body, pipeline)?;
-        let physical = PhysicalError::of(pipeline, &self.body);
-        if let Some(sight) = self.sight.as_mut() {
-            // Against itself: SSIM 1, infinite PSNR, and the geometric error of its own samples.
-            let head = pipeline.environment().head.transform_at(pipeline.time());
-            sight.set_pose(head.rotation, head.translation)?;
-            let visible = visible_samples(camera, sight, &samples);
-            let geometric =
-                geometric_error_of_visible(camera, width, height, &samples, &samples, &visible);
-            self.frames.push(FrameErrors {
-                cost,
-                ssim: 1.0,
-                psnr: f64::INFINITY,
-                geometric,
-                physical,
-            });
-            reference.push(ReferenceFrame {
-                image: image.clone(),
-                samples,
-                visible,
-            });
-        } else {
-            let reference = reference.get(frame).ok_or_else(|| {
-                PipelineError::State(format!("the reference has no frame {frame}"))
-            })?;
-            let errors = image_error(&reference.image, image);
-            self.frames.push(FrameErrors {
-                cost,
-                ssim: errors.ssim,
-                psnr: errors.psnr,
-                geometric: geometric_error_of_visible(
-                    camera,
-                    width,
-                    height,
-                    &reference.samples,
-                    &samples,
-                    &reference.visible,
-                ),
-                physical,
-            });
-        }
-        Ok(())
-    }
-
-    /// The run's point: its frames summarised, or its failure.
-    fn point(self) -> Point {
-        match self.failed {
-            Some(reason) => Point::failed(self.label, self.group, reason),
-            None => Point::new(self.label, self.group, self.frames),
-        }
-    }
 }
 
 fn print_point(point: &Point) {
