@@ -4,6 +4,8 @@
 use std::ops::Range;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use hair_core::lod::{BudgetOutcome, CostModel, SectionOptions, refine_within_budget};
 use hair_core::{Camera, Level};
 
@@ -169,13 +171,35 @@ impl Crowd {
                 }
             }
         }
-        let mut reports = Vec::with_capacity(self.pipelines.len());
-        for pipeline in &mut self.pipelines {
-            reports.push(pipeline.finish_frame()?);
-        }
+        // The characters step side by side (each is independent of the others, so the frame is
+        // the same whatever the order or the thread count).
+        let started = Instant::now();
+        let reports = self
+            .pipelines
+            .par_iter_mut()
+            .map(Pipeline::finish_frame)
+            .collect::<Result<Vec<FrameReport>>>()?;
         let mut report = sum_reports(&reports);
         report.times.lod += shared_lod;
+        charge_wall_time(&mut report, started.elapsed().as_secs_f64());
         Ok(report)
+    }
+}
+
+/// Characters stepped side by side measure, each, the time its own dynamics and collision took;
+/// summed, those exceed the time the frame took. Scales the summed dynamics, collision and
+/// per-level times so that dynamics and collision add up to `wall` [s], the time the stepping
+/// took, shared between them (and between the levels) as the characters' own times share it.
+pub(super) fn charge_wall_time(report: &mut FrameReport, wall: f64) {
+    let busy = report.times.dynamics + report.times.collision;
+    if !(busy > 0.0 && wall.is_finite()) {
+        return;
+    }
+    let scale = wall / busy;
+    report.times.dynamics *= scale;
+    report.times.collision *= scale;
+    for seconds in &mut report.level_seconds {
+        *seconds *= scale;
     }
 }
 
