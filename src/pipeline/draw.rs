@@ -123,11 +123,8 @@ impl PipelineRenderer {
         height: u32,
         mode: ShadingMode,
     ) -> Result<(image::RgbaImage, f64)> {
-        let started = Instant::now();
-        self.prepare(pipeline)?;
         let settings = self.style.frame_settings(width, height, camera, mode);
-        let image = self.renderer.render(&self.active.frame(), &settings)?;
-        Ok((image, started.elapsed().as_secs_f64()))
+        self.render_with_settings(pipeline, &settings)
     }
 
     /// Renders the pipeline's current skeletons with `settings` as given, not this renderer's
