@@ -6,7 +6,7 @@
 use std::f32::consts::TAU;
 
 use glam::Vec3;
-use hair_core::dynamics::Environment;
+use hair_core::dynamics::{Environment, SimulationSettings};
 use hair_core::fit::bind_profiles;
 use hair_core::lod::{BudgetSettings, LodSettings};
 use hair_core::{Camera, GroomParams, HeadParams, Scene};
@@ -248,7 +248,9 @@ impl Shot {
     /// from [`Shot::groom_file`] and [`Shot::body_file`] ([`load_scene`]); then, as
     /// [`Shot::rest_pose`] says, hung on the body under this shot's gravity (with collision as
     /// the shot has it; [`RestPose::Hanging`]), or kept in the file's shape and made an
-    /// equilibrium there ([`RestPose::Loaded`]), see [`hang_groom`].
+    /// equilibrium there ([`RestPose::Loaded`]), see [`hang_groom`]. The hair falls into place
+    /// with this shot's integrator at that integrator's recommended step
+    /// ([`SimulationSettings::recommended`]).
     pub fn build_scene(&self) -> Result<Scene> {
         Ok(self.build_loaded_scene()?.0)
     }
@@ -283,6 +285,11 @@ impl Shot {
                     collision: self.settings.collision,
                     gravity: self.environment.gravity,
                     fall: self.rest_pose == RestPose::Hanging,
+                    // The scene's integrator, at its recommended step: the default one cannot
+                    // hold curly skeletons much finer than the presets', so a scene that picks
+                    // another for them must hang with it too (docs/dynamics.md, "Where the
+                    // default fails").
+                    dynamics: SimulationSettings::recommended(self.settings.dynamics.integrator),
                     ..HangSettings::default()
                 },
             )?;
