@@ -29,8 +29,9 @@ fn a_fine_curly_groom_hangs_like_hair_with_the_scenes_integrator() {
         "the premise: 32 nodes per skeleton"
     );
     // The presets' checks (tests/rest_pose.rs): no strand longer than 10 cm has its tip above
-    // its root, and seen from behind the hair is at most 2.5 times as wide as the head. Hung with the
-    // default integrator instead (before), this groom could not be built (the step became
-    // unstable at t = 0), and at `smoothness = 0.0137` (20 nodes) it came out as a porcupine.
+    // its root, and seen from behind the hair is at most 2.5 times as wide as the head. Hung
+    // with the default integrator instead (before), this groom could not be built (the step
+    // became unstable at t = 0), and at `smoothness = 0.0137` (20 nodes) it came out as a
+    // porcupine.
     common::assert_hangs_like_hair("paper-curly, 32 nodes, xpbd", &scene);
 }

@@ -5,8 +5,8 @@ use hairlod::{RigidTransform, Scene};
 
 /// Checks that `scene`'s groom hangs like hair at rest: no strand longer than 10 cm has its tip
 /// above its root, and seen from behind (along X) the hair is at most 2.5 times as wide as the
-/// head. `name` labels the failures. Returns that width ratio.
-pub fn assert_hangs_like_hair(name: &str, scene: &Scene) -> f32 {
+/// head. `name` labels the failures.
+pub fn assert_hangs_like_hair(name: &str, scene: &Scene) {
     let strands = strand_skeletons(&scene.groom).unwrap();
     let positions = strands.rest_positions(&RigidTransform::IDENTITY);
     let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
@@ -37,5 +37,4 @@ pub fn assert_hangs_like_hair(name: &str, scene: &Scene) -> f32 {
         ratio <= 2.5,
         "{name}: the hair is {ratio}× the head's width"
     );
-    ratio
 }
