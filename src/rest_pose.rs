@@ -37,15 +37,16 @@ use std::time::Instant;
 
 use glam::Vec3;
 use hair_core::dynamics::{
-    DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY, SagFreeReport,
-    SimulationSettings, TurnLimit, WindField, level_skeletons, make_sag_free,
+    DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY,
+    SagFreeReport, SimulationSettings, TurnLimit, WindField, kinetic_energy_per_mass,
+    level_skeletons, make_sag_free,
 };
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::skeleton::measure_chain;
 use hair_core::{Groom, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
 use serde::{Deserialize, Serialize};
 
-use crate::pipeline::{LodMode, Pipeline, PipelineSettings, Result};
+use crate::pipeline::{LodMode, Pipeline, PipelineError, PipelineSettings, Result};
 
 /// The shape a groom is drawn in at rest and starts every run from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -250,6 +251,7 @@ fn settle_level(
         params,
     )?;
     pipeline.settle(settings.seconds)?;
+    let mut fallen = settings.seconds;
     if until_still {
         let fastest = |pipeline: &Pipeline| {
             pipeline
@@ -260,18 +262,65 @@ fn settle_level(
                 .map(|v| v.length())
                 .fold(0.0f32, f32::max)
         };
-        let mut fallen = settings.seconds;
         while fastest(&pipeline) > STILL_SPEED && fallen < FINAL_FALL_LIMIT * settings.seconds {
             pipeline.settle(0.5 * settings.seconds)?;
             fallen += 0.5 * settings.seconds;
         }
     }
+    check_energy(scene, level, &pipeline, &params, settings, fallen)?;
     let block = pipeline.block(level);
     set_rest_shapes(
         &mut scene.groom.skeletons,
         &block.chains,
         &block.state.node_positions,
     )
+}
+
+/// Fails with [`PipelineError::Unsettled`] when a chain of `level` has more kinetic energy per
+/// unit mass after its fall than gravity could give it. The fall starts at rest and nothing but
+/// gravity does work on the hair (the head is still, the air calm; drag and friction take energy
+/// out), so `½·Σm|v|²/Σm ≤ g·Δh` for the drop `Δh` of the chain's centre of mass, and with every
+/// node within the chain's length `L` of its root, `Δh ≤ 2L`. More is energy the integrator made.
+fn check_energy(
+    scene: &Scene,
+    level: Level,
+    pipeline: &Pipeline,
+    params: &DynamicsParams,
+    settings: &HangSettings,
+    seconds: f32,
+) -> Result<()> {
+    let rest = level_skeletons(&scene.groom, level)?;
+    let model = DynamicsModel::new(rest, *params)?;
+    let block = pipeline.block(level);
+    let gravity = settings.gravity.length();
+    let mut start = 0;
+    let mut worst: Option<(f32, usize, usize, f32)> = None;
+    for (local, &chain) in block.chains.iter().enumerate() {
+        let nodes = model.rest.nodes(local);
+        let count = nodes.len();
+        let velocities = &block.state.node_velocities[start..start + count];
+        start += count;
+        let energy = kinetic_energy_per_mass(&model.node_masses[nodes], velocities);
+        let limit = 2.0 * gravity * model.rest.chain_length(local);
+        // NaN counts as over (a non-finite velocity is energy made too).
+        let over = energy.is_nan() || energy > limit;
+        if over && worst.is_none_or(|(e, ..)| energy / limit > e) {
+            worst = Some((energy / limit, chain, count, limit));
+        }
+    }
+    match worst {
+        None => Ok(()),
+        Some((ratio, chain, nodes, limit)) => Err(PipelineError::Unsettled {
+            level,
+            chain,
+            nodes,
+            seconds,
+            energy_per_mass: ratio * limit,
+            limit,
+            integrator: settings.dynamics.integrator,
+            substep: settings.dynamics.time_step / settings.dynamics.substeps as f32,
+        }),
+    }
 }
 
 /// Gives `level`'s skeletons, section by section, the shapes that handing the strand groups'

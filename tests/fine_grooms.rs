@@ -5,9 +5,10 @@
 
 mod common;
 
-use hairlod::Level;
+use hairlod::core::dynamics::IntegratorKind;
 use hairlod::core::dynamics::level_skeletons;
 use hairlod::scene_file::SceneFile;
+use hairlod::{Level, PipelineError};
 
 const FINE_XPBD: &str = r#"
 version = 2
@@ -34,4 +35,37 @@ fn a_fine_curly_groom_hangs_like_hair_with_the_scenes_integrator() {
     // became unstable at t = 0), and at `smoothness = 0.0137` (20 nodes) it came out as a
     // porcupine.
     common::assert_hangs_like_hair("paper-curly, 32 nodes, xpbd", &scene);
+}
+
+const FINE_DEFAULT: &str = r#"
+version = 2
+[groom]
+preset = "paper-curly"
+smoothness = 0.0137
+"#;
+
+#[test]
+fn a_fine_curly_groom_on_the_default_integrator_is_refused_with_the_fix_named() {
+    // 20 nodes per skeleton: the default integrator does not blow up on them but flails, and
+    // the groom used to hang as a porcupine with no error. The hang starts at rest with
+    // gravity the only input, so a chain's kinetic energy per unit mass can never pass
+    // `2·g·L`; flailing passes it several times over.
+    let shot = SceneFile::parse(FINE_DEFAULT).unwrap().resolve().unwrap();
+    let error = shot.build_scene().unwrap_err();
+    let PipelineError::Unsettled {
+        nodes,
+        energy_per_mass,
+        limit,
+        integrator,
+        ..
+    } = &error
+    else {
+        panic!("expected the hang to be refused as unsettled, got: {error}");
+    };
+    assert_eq!(*integrator, IntegratorKind::LinearImplicit);
+    assert_eq!(*nodes, 20);
+    assert!(energy_per_mass > limit, "{error}");
+    assert!(error.is_unstable());
+    let message = error.to_string();
+    assert!(message.contains("integrator = \"xpbd\""), "{message}");
 }

@@ -1,7 +1,11 @@
 //! The error of the frame pipeline: whichever stage failed, with its own message.
+//!
+//! A variant that wraps a stage's error prints that error's message after its own prefix and so
+//! reports no [`source`](std::error::Error::source): an error-chain printer (`anyhow`'s `{:#}`)
+//! would print the inner message twice otherwise.
 
-use hair_core::HairError;
-use hair_core::dynamics::DynamicsError;
+use hair_core::dynamics::{DynamicsError, IntegratorKind};
+use hair_core::{HairError, Level};
 
 /// What went wrong in a frame.
 #[derive(Debug, thiserror::Error)]
@@ -11,13 +15,44 @@ pub enum PipelineError {
     Model(#[from] HairError),
     /// The dynamics failed (an unstable step, an invalid setting).
     #[error("dynamics: {0}")]
-    Dynamics(#[from] DynamicsError),
+    Dynamics(DynamicsError),
     /// Collision detection failed.
     #[error("collision: {0}")]
-    Collision(#[from] hair_collide::CollideError),
+    Collision(hair_collide::CollideError),
     /// The renderer failed.
     #[error("rendering: {0}")]
-    Render(#[from] hair_render::RenderError),
+    Render(hair_render::RenderError),
+    /// A chain came out of [`hang_groom`](crate::rest_pose::hang_groom)'s fall (still head, calm
+    /// air, gravity the only input) with more kinetic energy than gravity could have given it:
+    /// the integrator made energy on these skeletons. Without this check such a groom hangs as
+    /// a porcupine, flailing, with no error.
+    #[error(
+        "hanging the groom: chain {chain} of the {} level ({nodes} nodes) ended its {seconds} s \
+         fall with {energy_per_mass:.3} J/kg of kinetic energy, more than the {limit:.3} J/kg \
+         that falling twice its length under gravity can give: the {} integrator at substep \
+         {substep:.3e} s makes energy on these skeletons; {}",
+        .level.name(),
+        .integrator.name(),
+        unsettled_hint(*.integrator)
+    )]
+    Unsettled {
+        /// The level that was falling.
+        level: Level,
+        /// The groom chain with the most kinetic energy per unit mass.
+        chain: usize,
+        /// Its node count.
+        nodes: usize,
+        /// Simulated seconds of the fall [s].
+        seconds: f32,
+        /// Its kinetic energy per unit mass at the end of the fall [J/kg].
+        energy_per_mass: f32,
+        /// The most gravity can give it, `2·g·L` for its length `L` [J/kg].
+        limit: f32,
+        /// The integrator of the fall.
+        integrator: IntegratorKind,
+        /// Its substep [s].
+        substep: f32,
+    },
     /// A state handed to the pipeline (a checkpoint) does not fit its scene.
     #[error("pipeline state: {0}")]
     State(String),
@@ -31,14 +66,50 @@ pub enum PipelineError {
     },
 }
 
+/// What to do about an [`PipelineError::Unsettled`] groom hung with `integrator`.
+fn unsettled_hint(integrator: IntegratorKind) -> &'static str {
+    match integrator {
+        IntegratorKind::LinearImplicit => {
+            "linear-implicit fails on curly skeletons finer than the presets' (docs/dynamics.md, \
+             \"Where the default fails\"): set `integrator = \"xpbd\"` in the scene's [dynamics], or \
+             a larger `smoothness` in its [groom]"
+        }
+        IntegratorKind::Xpbd => {
+            "a smaller time step in the scene's [dynamics] or a larger `smoothness` in its [groom] \
+             may hold it"
+        }
+        _ => "set `integrator = \"xpbd\"` in the scene's [dynamics], or a smaller time step",
+    }
+}
+
+impl From<DynamicsError> for PipelineError {
+    fn from(error: DynamicsError) -> Self {
+        PipelineError::Dynamics(error)
+    }
+}
+
+impl From<hair_collide::CollideError> for PipelineError {
+    fn from(error: hair_collide::CollideError) -> Self {
+        PipelineError::Collision(error)
+    }
+}
+
+impl From<hair_render::RenderError> for PipelineError {
+    fn from(error: hair_render::RenderError) -> Self {
+        PipelineError::Render(error)
+    }
+}
+
 impl PipelineError {
     /// Whether the method failed rather than the run: an integrator step that went unstable
-    /// (detected by the dynamics, whether it surfaced there or inside the collision stage).
+    /// (detected by the dynamics, whether it surfaced there or inside the collision stage), or a
+    /// groom whose hang made energy.
     /// Sweeps report such a configuration as failed and go on.
     pub fn is_unstable(&self) -> bool {
         matches!(
             self,
             PipelineError::Dynamics(DynamicsError::Unstable(_))
+                | PipelineError::Unsettled { .. }
                 | PipelineError::Collision(hair_collide::CollideError::Dynamics(
                     DynamicsError::Unstable(_)
                 ))
@@ -48,3 +119,40 @@ impl PipelineError {
 
 /// Result alias of the pipeline.
 pub type Result<T, E = PipelineError> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hair_core::dynamics::{ChainFailure, FailedQuantity, IntegratorKind};
+
+    /// Every message along an error's source chain, joined as `anyhow`'s `{:#}` prints them.
+    fn chain(error: &dyn std::error::Error) -> String {
+        let mut text = error.to_string();
+        let mut next = error.source();
+        while let Some(cause) = next {
+            text.push_str(": ");
+            text.push_str(&cause.to_string());
+            next = cause.source();
+        }
+        text
+    }
+
+    #[test]
+    fn an_unstable_step_inside_the_collision_stage_is_reported_once() {
+        let unstable = DynamicsError::Unstable(ChainFailure {
+            integrator: IntegratorKind::LinearImplicit,
+            time: 0.0,
+            substep: 1.0 / 240.0,
+            halvings: 0,
+            chain: 372,
+            node: None,
+            quantity: FailedQuantity::NonFiniteVelocity,
+        });
+        let message = unstable.to_string();
+        let error = PipelineError::from(hair_collide::CollideError::from(unstable));
+        assert!(error.is_unstable());
+        let printed = chain(&error);
+        assert_eq!(printed, format!("collision: dynamics: {message}"));
+        assert_eq!(printed.matches("became unstable").count(), 1, "{printed}");
+    }
+}

@@ -1,4 +1,7 @@
 //! The error type of `hair-collide`: bad sizes, non-finite numbers and broken meshes, named.
+//!
+//! A variant that wraps another crate's error prints its message and so reports no
+//! [`source`](std::error::Error::source) (an error-chain printer would print it twice).
 
 use thiserror::Error;
 
@@ -41,10 +44,22 @@ pub enum CollideError {
     },
     /// A mesh fails [`hair_core::TriangleMesh::validate_surface`]: the error names the problem.
     #[error("invalid mesh: {0}")]
-    Mesh(#[from] hair_core::mesh::MeshError),
+    Mesh(hair_core::mesh::MeshError),
     /// The dynamics step failed (see [`hair_core::dynamics::DynamicsError`]).
     #[error("dynamics: {0}")]
-    Dynamics(#[from] hair_core::dynamics::DynamicsError),
+    Dynamics(hair_core::dynamics::DynamicsError),
+}
+
+impl From<hair_core::mesh::MeshError> for CollideError {
+    fn from(error: hair_core::mesh::MeshError) -> Self {
+        CollideError::Mesh(error)
+    }
+}
+
+impl From<hair_core::dynamics::DynamicsError> for CollideError {
+    fn from(error: hair_core::dynamics::DynamicsError) -> Self {
+        CollideError::Dynamics(error)
+    }
 }
 
 /// Result alias for `hair-collide`.

@@ -1,4 +1,7 @@
 //! The renderer's error type: device, input validation, GPU and output failures.
+//!
+//! Every message is whole (a wrapped error's message is part of it), so no variant reports a
+//! [`source`](std::error::Error::source): an error-chain printer would print it twice.
 
 use std::path::PathBuf;
 
@@ -39,28 +42,32 @@ pub enum RenderError {
     InvalidInput(String),
     /// The head mesh fails [`hair_core::TriangleMesh::validate`]: the error names the problem.
     #[error("invalid head mesh: {0}")]
-    InvalidMesh(#[from] hair_core::mesh::MeshError),
+    InvalidMesh(hair_core::mesh::MeshError),
     /// A wgpu validation or out-of-memory error, or a failed readback.
     #[error("GPU error: {0}")]
     Gpu(String),
     /// Writing a file failed.
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {path}: {cause}")]
     Io {
         /// The file or folder that could not be written.
         path: PathBuf,
         /// The underlying error.
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// Encoding an image failed.
-    #[error("cannot encode {path}: {source}")]
+    #[error("cannot encode {path}: {cause}")]
     Encode {
         /// The file that was being written.
         path: PathBuf,
         /// The underlying error.
-        #[source]
-        source: image::ImageError,
+        cause: image::ImageError,
     },
+}
+
+impl From<hair_core::mesh::MeshError> for RenderError {
+    fn from(error: hair_core::mesh::MeshError) -> Self {
+        RenderError::InvalidMesh(error)
+    }
 }
 
 /// Shorthand for the renderer's results.

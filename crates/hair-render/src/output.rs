@@ -46,9 +46,9 @@ pub fn write_png_atomic(image: &image::RgbaImage, path: &Path) -> Result<()> {
     let temp_path = path.with_file_name(temp_name);
 
     let result = write_png_to(image, &temp_path).and_then(|()| {
-        std::fs::rename(&temp_path, path).map_err(|source| RenderError::Io {
+        std::fs::rename(&temp_path, path).map_err(|cause| RenderError::Io {
             path: path.to_owned(),
-            source,
+            cause,
         })
     });
     if result.is_err() {
@@ -59,17 +59,17 @@ pub fn write_png_atomic(image: &image::RgbaImage, path: &Path) -> Result<()> {
 }
 
 fn write_png_to(image: &image::RgbaImage, path: &Path) -> Result<()> {
-    let io_error = |source| RenderError::Io {
+    let io_error = |cause| RenderError::Io {
         path: path.to_owned(),
-        source,
+        cause,
     };
     let file = File::create(path).map_err(io_error)?;
     let mut writer = BufWriter::new(file);
     image
         .write_to(&mut writer, image::ImageFormat::Png)
-        .map_err(|source| RenderError::Encode {
+        .map_err(|cause| RenderError::Encode {
             path: path.to_owned(),
-            source,
+            cause,
         })?;
     writer.flush().map_err(io_error)?;
     let file = writer

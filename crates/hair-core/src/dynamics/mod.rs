@@ -84,7 +84,7 @@ pub use sag_free::{
     MAX_NATURAL_TURN, SAG_FREE_MAX_ITERATIONS, SAG_FREE_TOLERANCE, SagFreeReport, TurnLimit,
     make_sag_free,
 };
-pub use simulation::{Environment, Simulation, StepReport};
+pub use simulation::{Environment, Simulation, StepReport, kinetic_energy_per_mass};
 pub use state::SimulationState;
 pub use strands::{level_skeletons, strand_skeletons};
 pub use wind::{GUST_WAVE_COUNT, GustWave, WindField};

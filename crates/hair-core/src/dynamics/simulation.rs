@@ -488,6 +488,18 @@ fn step_chain(
     }
 }
 
+/// The kinetic energy per unit mass `½·Σ m|v|² / Σ m` [J/kg] of nodes of masses `masses` [kg]
+/// moving at `velocities` [m/s] (0 for no mass).
+pub fn kinetic_energy_per_mass(masses: &[f32], velocities: &[Vec3]) -> f32 {
+    let mut kinetic = 0.0f32;
+    let mut mass = 0.0f32;
+    for (m, v) in masses.iter().zip(velocities) {
+        kinetic += 0.5 * m * v.length_squared();
+        mass += m;
+    }
+    kinetic / mass.max(f32::MIN_POSITIVE)
+}
+
 /// The failure of one chain's state, if any: the first non-finite position or velocity, or an
 /// energy blow-up (`½·Σ m|v|² / Σ m > ½·max_speed²`).
 fn check_chain(
@@ -502,13 +514,7 @@ fn check_chain(
     if let Some(node) = velocities.iter().position(|v| !v.is_finite()) {
         return Some((FailedQuantity::NonFiniteVelocity, Some(node)));
     }
-    let mut kinetic = 0.0f32;
-    let mut mass = 0.0f32;
-    for (m, v) in masses.iter().zip(velocities) {
-        kinetic += 0.5 * m * v.length_squared();
-        mass += m;
-    }
-    let energy_per_mass = kinetic / mass.max(f32::MIN_POSITIVE);
+    let energy_per_mass = kinetic_energy_per_mass(masses, velocities);
     let limit = 0.5 * max_speed * max_speed;
     if energy_per_mass.is_nan() || energy_per_mass > limit {
         return Some((
