@@ -250,7 +250,19 @@ fn settle_level(
         level_settings(level, settings, settings.collision),
         params,
     )?;
-    pipeline.settle(settings.seconds)?;
+    // An unstable step while falling says which level and what to change.
+    let in_the_hang = |error: PipelineError| {
+        if error.is_unstable() {
+            PipelineError::HangUnstable {
+                level,
+                integrator: settings.dynamics.integrator,
+                error: Box::new(error),
+            }
+        } else {
+            error
+        }
+    };
+    pipeline.settle(settings.seconds).map_err(in_the_hang)?;
     let mut fallen = settings.seconds;
     if until_still {
         let fastest = |pipeline: &Pipeline| {
@@ -263,7 +275,9 @@ fn settle_level(
                 .fold(0.0f32, f32::max)
         };
         while fastest(&pipeline) > STILL_SPEED && fallen < FINAL_FALL_LIMIT * settings.seconds {
-            pipeline.settle(0.5 * settings.seconds)?;
+            pipeline
+                .settle(0.5 * settings.seconds)
+                .map_err(in_the_hang)?;
             fallen += 0.5 * settings.seconds;
         }
     }

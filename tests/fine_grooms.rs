@@ -69,3 +69,24 @@ fn a_fine_curly_groom_on_the_default_integrator_is_refused_with_the_fix_named() 
     let message = error.to_string();
     assert!(message.contains("integrator = \"xpbd\""), "{message}");
 }
+
+#[test]
+fn a_groom_whose_fall_blows_up_is_refused_with_the_level_and_the_fix_named() {
+    // 32 nodes on the default integrator: a step of the fall itself fails (a non-finite
+    // velocity), and the error says it was the hang, at which level, and what to change.
+    let fine_default = FINE_XPBD.replace("integrator = \"xpbd\"", "");
+    let shot = SceneFile::parse(&fine_default).unwrap().resolve().unwrap();
+    let error = shot.build_scene().unwrap_err();
+    let PipelineError::HangUnstable {
+        level, integrator, ..
+    } = &error
+    else {
+        panic!("expected the hang's step to fail, got: {error}");
+    };
+    assert_eq!(*level, Level::StrandGroup);
+    assert_eq!(*integrator, IntegratorKind::LinearImplicit);
+    assert!(error.is_unstable());
+    let message = error.to_string();
+    assert_eq!(message.matches("became unstable").count(), 1, "{message}");
+    assert!(message.contains("integrator = \"xpbd\""), "{message}");
+}

@@ -53,6 +53,21 @@ pub enum PipelineError {
         /// Its substep [s].
         substep: f32,
     },
+    /// The dynamics went unstable while [`hang_groom`](crate::rest_pose::hang_groom) let the
+    /// groom fall into its hanging shape (the message adds what to change to the stage's).
+    #[error(
+        "hanging the groom at the {} level: {error}; {}",
+        .level.name(),
+        unsettled_hint(*.integrator)
+    )]
+    HangUnstable {
+        /// The level that was falling.
+        level: Level,
+        /// The integrator of the fall.
+        integrator: IntegratorKind,
+        /// The stage's error (an unstable step).
+        error: Box<PipelineError>,
+    },
     /// A state handed to the pipeline (a checkpoint) does not fit its scene.
     #[error("pipeline state: {0}")]
     State(String),
@@ -66,7 +81,8 @@ pub enum PipelineError {
     },
 }
 
-/// What to do about an [`PipelineError::Unsettled`] groom hung with `integrator`.
+/// What to do about a groom that [`PipelineError::Unsettled`] or [`PipelineError::HangUnstable`]
+/// refused, hung with `integrator`.
 fn unsettled_hint(integrator: IntegratorKind) -> &'static str {
     match integrator {
         IntegratorKind::LinearImplicit => {
@@ -106,14 +122,17 @@ impl PipelineError {
     /// groom whose hang made energy.
     /// Sweeps report such a configuration as failed and go on.
     pub fn is_unstable(&self) -> bool {
-        matches!(
-            self,
-            PipelineError::Dynamics(DynamicsError::Unstable(_))
-                | PipelineError::Unsettled { .. }
-                | PipelineError::Collision(hair_collide::CollideError::Dynamics(
-                    DynamicsError::Unstable(_)
-                ))
-        )
+        match self {
+            PipelineError::HangUnstable { error, .. } => error.is_unstable(),
+            _ => matches!(
+                self,
+                PipelineError::Dynamics(DynamicsError::Unstable(_))
+                    | PipelineError::Unsettled { .. }
+                    | PipelineError::Collision(hair_collide::CollideError::Dynamics(
+                        DynamicsError::Unstable(_)
+                    ))
+            ),
+        }
     }
 }
 
