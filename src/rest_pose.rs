@@ -306,6 +306,18 @@ fn check_energy(
     let rest = level_skeletons(&scene.groom, level)?;
     let model = DynamicsModel::new(rest, *params)?;
     let block = pipeline.block(level);
+    // A fixed level lays its sections out in the groom's chain order, as `level_skeletons` does.
+    if !block
+        .chains
+        .iter()
+        .copied()
+        .eq(scene.groom.level_chains(level))
+    {
+        return Err(PipelineError::State(format!(
+            "the hang's {} block does not hold that level's chains in order",
+            level.name()
+        )));
+    }
     let gravity = settings.gravity.length();
     let mut start = 0;
     let mut worst: Option<(f32, usize, usize, f32)> = None;
