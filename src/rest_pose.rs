@@ -37,9 +37,9 @@ use std::time::Instant;
 
 use glam::Vec3;
 use hair_core::dynamics::{
-    DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY,
-    SagFreeReport, SimulationSettings, TurnLimit, WindField, kinetic_energy_per_mass,
-    level_skeletons, make_sag_free,
+    DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY, SagFreeReport,
+    SimulationSettings, TurnLimit, WindField, kinetic_energy_per_mass, level_skeletons,
+    make_sag_free,
 };
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::skeleton::measure_chain;
@@ -281,7 +281,7 @@ fn settle_level(
             fallen += 0.5 * settings.seconds;
         }
     }
-    check_energy(scene, level, &pipeline, &params, settings, fallen)?;
+    check_energy(level, &pipeline, settings, fallen)?;
     let block = pipeline.block(level);
     set_rest_shapes(
         &mut scene.groom.skeletons,
@@ -296,57 +296,44 @@ fn settle_level(
 /// out), so `½·Σm|v|²/Σm ≤ g·Δh` for the drop `Δh` of the chain's centre of mass, and with every
 /// node within the chain's length `L` of its root, `Δh ≤ 2L`. More is energy the integrator made.
 fn check_energy(
-    scene: &Scene,
     level: Level,
     pipeline: &Pipeline,
-    params: &DynamicsParams,
     settings: &HangSettings,
     seconds: f32,
 ) -> Result<()> {
-    let rest = level_skeletons(&scene.groom, level)?;
-    let model = DynamicsModel::new(rest, *params)?;
+    let Some(model) = pipeline.level_model(level) else {
+        return Ok(());
+    };
     let block = pipeline.block(level);
-    // A fixed level lays its sections out in the groom's chain order, as `level_skeletons` does.
-    if !block
-        .chains
-        .iter()
-        .copied()
-        .eq(scene.groom.level_chains(level))
-    {
-        return Err(PipelineError::State(format!(
-            "the hang's {} block does not hold that level's chains in order",
-            level.name()
-        )));
-    }
     let gravity = settings.gravity.length();
-    let mut start = 0;
-    let mut worst: Option<(f32, usize, usize, f32)> = None;
-    for (local, &chain) in block.chains.iter().enumerate() {
+    // The chain (of the model) furthest over its bound: energy [J/kg], bound [J/kg], index.
+    let mut worst: Option<(f32, f32, usize)> = None;
+    for local in 0..model.rest.chain_count() {
         let nodes = model.rest.nodes(local);
-        let count = nodes.len();
-        let velocities = &block.state.node_velocities[start..start + count];
-        start += count;
-        let energy = kinetic_energy_per_mass(&model.node_masses[nodes], velocities);
+        let energy = kinetic_energy_per_mass(
+            &model.node_masses[nodes.clone()],
+            &block.state.node_velocities[nodes],
+        );
         let limit = 2.0 * gravity * model.rest.chain_length(local);
         // NaN counts as over (a non-finite velocity is energy made too).
         let over = energy.is_nan() || energy > limit;
-        if over && worst.is_none_or(|(e, ..)| energy / limit > e) {
-            worst = Some((energy / limit, chain, count, limit));
+        if over && worst.is_none_or(|(e, l, _)| energy / limit > e / l) {
+            worst = Some((energy, limit, local));
         }
     }
-    match worst {
-        None => Ok(()),
-        Some((ratio, chain, nodes, limit)) => Err(PipelineError::Unsettled {
-            level,
-            chain,
-            nodes,
-            seconds,
-            energy_per_mass: ratio * limit,
-            limit,
-            integrator: settings.dynamics.integrator,
-            substep: settings.dynamics.time_step / settings.dynamics.substeps as f32,
-        }),
-    }
+    let Some((energy_per_mass, limit, local)) = worst else {
+        return Ok(());
+    };
+    Err(PipelineError::Unsettled {
+        level,
+        chain: block.chains[local],
+        nodes: model.rest.chain_node_count(local),
+        seconds,
+        energy_per_mass,
+        limit,
+        integrator: settings.dynamics.integrator,
+        substep: settings.dynamics.substep(),
+    })
 }
 
 /// Gives `level`'s skeletons, section by section, the shapes that handing the strand groups'

@@ -589,6 +589,12 @@ impl Pipeline {
         &self.state.blocks[level]
     }
 
+    /// The dynamics model `level`'s block is stepped with (none while the block is empty): its
+    /// chains are the block's, in the block's order, and its nodes index the block's state.
+    pub fn level_model(&self, level: Level) -> Option<&DynamicsModel> {
+        self.work[level].simulation.as_ref().map(Simulation::model)
+    }
+
     /// The head's pose at the time the skeletons are at (the end of the last frame stepped).
     pub fn head_pose(&self) -> RigidTransform {
         self.environment.head.transform_at(self.state.time)
