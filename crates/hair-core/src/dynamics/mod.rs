@@ -88,4 +88,4 @@ pub use simulation::{Environment, Simulation, StepReport, kinetic_energy_per_mas
 pub use state::SimulationState;
 pub use strands::{level_skeletons, strand_skeletons};
 pub use wind::{GUST_WAVE_COUNT, GustWave, WindField};
-pub use xpbd::LINE_SEARCH_HALVINGS;
+pub use xpbd::{LINE_SEARCH_HALVINGS, MAX_ADAPTIVE_HALVINGS};

@@ -19,7 +19,7 @@ use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings}
 use crate::dynamics::position_based_lanes::{BatchState, BatchStep, step_batch};
 use crate::dynamics::state::SimulationState;
 use crate::dynamics::wind::WindField;
-use crate::dynamics::xpbd::xpbd;
+use crate::dynamics::xpbd::{MAX_ADAPTIVE_HALVINGS, XpbdOutcome, xpbd};
 use crate::transform::RigidTransform;
 
 /// The control inputs of a simulation: head motion, wind and gravity.
@@ -47,7 +47,9 @@ impl Default for Environment {
 /// What one step did.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct StepReport {
-    /// Number of chains whose substep had to be halved at least once.
+    /// Number of chains whose substep had to be halved at least once: after a failure (with
+    /// [`FailurePolicy::HalveSubstep`]), or, with the XPBD integrator, because a substep was too
+    /// long for the chain's motion (its adaptive substeps, whatever the failure policy).
     pub halved_chains: usize,
     /// The most halvings any chain needed.
     pub max_halvings: u32,
@@ -205,7 +207,9 @@ impl Simulation {
     /// After each chain's step its positions and velocities are checked: a non-finite value or a
     /// kinetic energy per unit mass above `½·max_speed²` is a failure. With
     /// [`FailurePolicy::HalveSubstep`] the chain's step is redone from its start with half the
-    /// substep, up to the limit. A failure that remains restores the whole state to its value
+    /// substep, up to the limit. The XPBD integrator also redoes a chain's step with half the
+    /// substep where a first Newton step moves a node by more than two segment lengths (the
+    /// substep is too long for that chain's motion), up to five times, whatever the policy. A failure that remains restores the whole state to its value
     /// before the step and returns [`DynamicsError::Unstable`] for the lowest failing chain.
     pub fn step(
         &mut self,
@@ -413,6 +417,10 @@ fn step_chain(
         let substeps = (settings.substeps as usize) << halvings;
         let h = settings.time_step / substeps as f32;
         let mut solved = true;
+        // XPBD doubles a chain's substeps where one was too long for its motion (see
+        // `TOO_LONG_MOVE`), whatever the failure policy; the last try is taken as it is.
+        let adaptive = halvings < MAX_ADAPTIVE_HALVINGS;
+        let mut too_long = false;
         for k in 0..substeps {
             let pose = |index: usize| {
                 if halvings == 0 {
@@ -446,13 +454,24 @@ fn step_chain(
                         break;
                     }
                 }
-                IntegratorKind::Xpbd => {
-                    if !xpbd(constants, &mut arrays, &step) {
+                IntegratorKind::Xpbd => match xpbd(constants, &mut arrays, &step, adaptive) {
+                    XpbdOutcome::Done => {}
+                    XpbdOutcome::Failed => {
                         solved = false;
                         break;
                     }
-                }
+                    XpbdOutcome::TooLong => {
+                        too_long = true;
+                        break;
+                    }
+                },
             }
+        }
+        if too_long {
+            arrays.positions.copy_from_slice(backup_positions);
+            arrays.velocities.copy_from_slice(backup_velocities);
+            halvings += 1;
+            continue;
         }
         let quantity = if solved {
             check_chain(

@@ -358,3 +358,82 @@ fn failures_are_detected_and_roll_back() {
         IntegratorKind::Xpbd
     );
 }
+
+#[test]
+fn a_too_long_substep_is_redone_with_twice_the_substeps() {
+    // The curly test chain at 100× its style's stiffness, one substep per 1/15 s, in a 3 rad/s
+    // head shake (the stability map's stiffest scenario at its longest step). Some step finds its
+    // substep too long (a first Newton step moving a node by more than two segment lengths) and
+    // is redone with 2^k substeps: its result must be, bit for bit, the step taken with 2^k
+    // substeps from the same state (the same head poses, wind samples and arithmetic), and that
+    // step must need no halving of its own.
+    let chain = TestChain::Curly;
+    let mut params = DynamicsParams::for_style(&chain.style());
+    params.bending_stiffness = params.linear_density
+        * DynamicsParams::stiffness_per_mass(crate::style::StyleKind::Curly)
+        * 100.0;
+    let model = DynamicsModel::new(chain.rest(), params).unwrap();
+    let environment = Environment {
+        head: HeadMotion::shake(0.5, 3.0),
+        wind: WindField::Calm,
+        gravity: Vec3::new(0.0, -G, 0.0),
+    };
+    let h = 1.0 / 15.0;
+    let mut adaptive = Simulation::new(
+        model.clone(),
+        SimulationSettings::new(IntegratorKind::Xpbd, h, 1),
+    )
+    .unwrap();
+    adaptive.set_lanes(false);
+    let mut state = adaptive.rest_state(&environment, 0.0);
+    let mut checked = 0;
+    for _ in 0..30 {
+        let before = state.clone();
+        let report = adaptive.step(&mut state, &environment).unwrap();
+        let k = report.max_halvings;
+        if k == 0 || k >= MAX_ADAPTIVE_HALVINGS {
+            continue;
+        }
+        assert_eq!(report.halved_chains, 1);
+        let mut plain = Simulation::new(
+            model.clone(),
+            SimulationSettings::new(IntegratorKind::Xpbd, h, 1 << k),
+        )
+        .unwrap();
+        plain.set_lanes(false);
+        let mut again = before;
+        let plain_report = plain.step(&mut again, &environment).unwrap();
+        assert_eq!(plain_report.max_halvings, 0, "{} substeps", 1 << k);
+        assert_eq!(again.node_positions, state.node_positions, "k = {k}");
+        assert_eq!(again.node_velocities, state.node_velocities, "k = {k}");
+        checked += 1;
+    }
+    assert!(checked > 0, "no step of the 30 doubled its substeps");
+}
+
+#[test]
+fn the_lane_step_hands_a_too_long_substep_to_the_adaptive_one_chain_step() {
+    // The same chain and step through the lane-parallel step: a chain whose substep is too long
+    // leaves the lanes (counted as redone there) for the adaptive one-chain step, so every step
+    // that halved is a redo, and some do.
+    let chain = TestChain::Curly;
+    let mut params = DynamicsParams::for_style(&chain.style());
+    params.bending_stiffness = params.linear_density
+        * DynamicsParams::stiffness_per_mass(crate::style::StyleKind::Curly)
+        * 100.0;
+    let model = DynamicsModel::new(chain.rest(), params).unwrap();
+    let environment = Environment {
+        head: HeadMotion::shake(0.5, 3.0),
+        wind: WindField::Calm,
+        gravity: Vec3::new(0.0, -G, 0.0),
+    };
+    let settings = SimulationSettings::new(IntegratorKind::Xpbd, 1.0 / 15.0, 1);
+    let mut lanes = Simulation::new(model.clone(), settings).unwrap();
+    let mut state = lanes.rest_state(&environment, 0.0);
+    let mut halved = 0;
+    for _ in 0..30 {
+        halved += lanes.step(&mut state, &environment).unwrap().halved_chains;
+    }
+    assert!(halved > 0);
+    assert!(lanes.lane_redos() >= halved, "{} redos", lanes.lane_redos());
+}

@@ -45,6 +45,14 @@
 //! position solve (XPBD's `γ̃`) shifts the static equilibrium (measured: by 64 % of a
 //! cantilever's deflection at `h·ω = 0.23` with a Gauss-Seidel sweep).
 //!
+//! **Adaptive substeps.** Where the first Newton step of a substep moves a node by more than
+//! [`TOO_LONG_MOVE`] segment lengths, the substep is too long for that chain's motion (a stiff
+//! curly chain turned far in one substep): the chain's whole step is redone with twice the
+//! substeps, up to [`MAX_ADAPTIVE_HALVINGS`] times, whatever the failure policy
+//! ([`StepReport`](crate::dynamics::StepReport) counts the chains). At the recommended substeps it
+//! does not happen on the presets' motions; at one substep per 1/15 s it is what keeps the
+//! stiffest chains of the stability map from moving several times their reference.
+//!
 //! The step works on the displacements `δ = x − x_n`, not on the positions: a bending correction
 //! of a short substep, `h²·F/m`, is far below the rounding of a position (`~1e-8 m` at 0.3 m from
 //! the origin) and would be lost in it, but not in a displacement.
@@ -76,6 +84,35 @@ pub(crate) const SMALL_STEP: f32 = 1e-3;
 /// A Newton step that moves no node by more than this fraction of its segment ends the iteration.
 pub(crate) const NEWTON_TOLERANCE: f32 = 0.03;
 
+/// A first Newton step that moves a node by more than this many lengths of its segment says the
+/// substep is too long for the chain's motion: the step then lies far outside the region where
+/// the bending energy is close to its quadratic model, and Newton steps capped at
+/// [`NEWTON_ITERATIONS`] leave a stiff curly chain looser than its springs, or walk it into
+/// another twisted minimum of the bending energy (measured on the stability map: motion ratios of
+/// 2.2–11.7 at 10× and 100× the curly stiffness at 1/30–1/15 s). Such a chain's step is redone
+/// with twice the substeps ([`XpbdOutcome::TooLong`], up to [`MAX_ADAPTIVE_HALVINGS`] times).
+///
+/// The value comes from the map (`docs/dynamics.md`, *Adaptive substeps*): at 1.5 the curly test
+/// chain in a 3 rad/s shake at 1/60 s already doubles its substeps (one substep per frame cost
+/// 5.4× more), at 2 it never does and no run of the map is unstable, at 3 two runs stay unstable.
+pub(crate) const TOO_LONG_MOVE: f32 = 2.0;
+
+/// How many times a chain's step may double its substeps because a substep was too long
+/// ([`TOO_LONG_MOVE`]); the last try is taken as it is.
+pub const MAX_ADAPTIVE_HALVINGS: u32 = 5;
+
+/// How one XPBD substep of a chain ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum XpbdOutcome {
+    /// The substep is done.
+    Done,
+    /// A value was not finite or the system could not be factorised (the state is not usable).
+    Failed,
+    /// The first Newton step moved a node by more than [`TOO_LONG_MOVE`] segments: the state is
+    /// mid-step (not usable) and the chain's step should be redone with shorter substeps.
+    TooLong,
+}
+
 /// The relative rounding of `Φ` (sums of a few dozen f32 terms) below which the line search
 /// does not tell a rise from noise.
 pub(crate) const ROUNDING: f32 = 1e-6;
@@ -84,10 +121,15 @@ pub(crate) const ROUNDING: f32 = 1e-6;
 pub const LINE_SEARCH_HALVINGS: usize = 6;
 
 /// One XPBD substep of one chain (module docs). `arrays.forces` holds `δ = x − x_n` during the
-/// step, `arrays.corrections` the prediction's `δ`. Returns `false` when a value was not finite
-/// or the system could not be factorised (the state is then not usable; the caller treats it as
-/// a failure).
-pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) -> bool {
+/// step, `arrays.corrections` the prediction's `δ`. With `adaptive`, a first Newton step that
+/// moves a node by more than [`TOO_LONG_MOVE`] segment lengths stops the substep
+/// ([`XpbdOutcome::TooLong`]).
+pub(crate) fn xpbd(
+    chain: &ChainConstants,
+    arrays: &mut ChainArrays,
+    step: &Substep,
+    adaptive: bool,
+) -> XpbdOutcome {
     let h = step.h;
     let params = step.params;
     let n = arrays.positions.len();
@@ -120,7 +162,7 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
     // divides by 1 + h·γ), so that drag slows motion but does not lift a hanging chain.
     let inertia_scale = (1.0 + h * gamma) * inverse_h_squared;
     let Some(implicit) = arrays.implicit.as_mut() else {
-        return false;
+        return XpbdOutcome::Failed;
     };
     let inertia = |moved: &[Vec3], predicted: &[Vec3]| {
         (first..n)
@@ -210,13 +252,19 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
             }
         }
         let Some(objective) = solved else {
-            return false;
+            return XpbdOutcome::Failed;
         };
         // A first step that turns no segment by more than SMALL_STEP rad is taken as it is: there
         // the objective is quadratic to ~1e-6 of the step, so the line search could only confirm
         // it (it costs a walk of the chain; a substep at ×32 costs 15 % less). At 0.01 rad a
         // substep at ×8 cost 18 % less too, but the free swing of a curly chain at 100× stiffness
         // gained three times the energy (1.8 % of m·g·L in 3 s against 0.55 %).
+        if adaptive
+            && iteration == 0
+            && !turns_within(chain, first, implicit.rhs, 1.0, TOO_LONG_MOVE)
+        {
+            return XpbdOutcome::TooLong;
+        }
         let small = iteration == 0 && turns_within(chain, first, implicit.rhs, 1.0, SMALL_STEP);
         if small {
             for i in first..n {
@@ -327,11 +375,16 @@ pub(crate) fn xpbd(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Subs
             attached,
         );
     }
-    arrays
+    let finite = arrays
         .velocities
         .iter()
         .chain(arrays.positions.iter())
-        .all(|v| v.is_finite())
+        .all(|v| v.is_finite());
+    if finite {
+        XpbdOutcome::Done
+    } else {
+        XpbdOutcome::Failed
+    }
 }
 
 /// The step's energy [J] of one chain at `positions`: the bending energy `Σ ½·k_i·α_i²`, with

@@ -29,7 +29,7 @@ use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
 use crate::dynamics::position_based_lanes::{BatchState, BatchStep, carried_roots};
 use crate::dynamics::xpbd::{
     LENGTH_ITERATIONS, LINE_SEARCH_HALVINGS, NEWTON_ITERATIONS, NEWTON_TOLERANCE, ROUNDING,
-    SMALL_STEP,
+    SMALL_STEP, TOO_LONG_MOVE,
 };
 
 /// The Levenberg-Marquardt terms, relative to the largest diagonal entry, tried in turn where a
@@ -232,6 +232,21 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
                 );
             }
             let newton = &system.rhs;
+            // A first step that moves a node by more than TOO_LONG_MOVE segments: the substep is
+            // too long for that chain, which the one-chain step redoes with more substeps.
+            if iteration == 0 {
+                let too_long = and_not(
+                    active,
+                    turns_within(newton, one, &s.lever, n, TOO_LONG_MOVE),
+                );
+                if too_long.any() {
+                    unsolved = unsolved.max(too_long);
+                    active = and_not(active, too_long);
+                    if !active.any() {
+                        break;
+                    }
+                }
+            }
             // A first step that turns no segment by more than SMALL_STEP rad is taken whole.
             if iteration == 0 {
                 let small = active * turns_within(newton, one, &s.lever, n, SMALL_STEP);
