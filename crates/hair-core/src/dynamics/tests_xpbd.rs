@@ -359,14 +359,9 @@ fn failures_are_detected_and_roll_back() {
     );
 }
 
-#[test]
-fn a_too_long_substep_is_redone_with_twice_the_substeps() {
-    // The curly test chain at 100× its style's stiffness, one substep per 1/15 s, in a 3 rad/s
-    // head shake (the stability map's stiffest scenario at its longest step). Some step finds its
-    // substep too long (a first Newton step moving a node by more than two segment lengths) and
-    // is redone with 2^k substeps: its result must be, bit for bit, the step taken with 2^k
-    // substeps from the same state (the same head poses, wind samples and arithmetic), and that
-    // step must need no halving of its own.
+/// The curly test chain at 100× its style's stiffness in a 3 rad/s head shake (the stability
+/// map's stiffest scenario).
+fn stiff_curl_in_a_shake() -> (DynamicsModel, Environment) {
     let chain = TestChain::Curly;
     let mut params = DynamicsParams::for_style(&chain.style());
     params.bending_stiffness = params.linear_density
@@ -378,6 +373,18 @@ fn a_too_long_substep_is_redone_with_twice_the_substeps() {
         wind: WindField::Calm,
         gravity: Vec3::new(0.0, -G, 0.0),
     };
+    (model, environment)
+}
+
+#[test]
+fn a_too_long_substep_is_redone_with_twice_the_substeps() {
+    // The curly test chain at 100× its style's stiffness, one substep per 1/15 s, in a 3 rad/s
+    // head shake (the stability map's stiffest scenario at its longest step). Some step finds its
+    // substep too long (a first Newton step moving a node by more than two segment lengths) and
+    // is redone with 2^k substeps: its result must be, bit for bit, the step taken with 2^k
+    // substeps from the same state (the same head poses, wind samples and arithmetic), and that
+    // step must need no halving of its own.
+    let (model, environment) = stiff_curl_in_a_shake();
     let h = 1.0 / 15.0;
     let mut adaptive = Simulation::new(
         model.clone(),
@@ -416,17 +423,7 @@ fn the_lane_step_hands_a_too_long_substep_to_the_adaptive_one_chain_step() {
     // The same chain and step through the lane-parallel step: a chain whose substep is too long
     // leaves the lanes (counted as redone there) for the adaptive one-chain step, so every step
     // that halved is a redo, and some do.
-    let chain = TestChain::Curly;
-    let mut params = DynamicsParams::for_style(&chain.style());
-    params.bending_stiffness = params.linear_density
-        * DynamicsParams::stiffness_per_mass(crate::style::StyleKind::Curly)
-        * 100.0;
-    let model = DynamicsModel::new(chain.rest(), params).unwrap();
-    let environment = Environment {
-        head: HeadMotion::shake(0.5, 3.0),
-        wind: WindField::Calm,
-        gravity: Vec3::new(0.0, -G, 0.0),
-    };
+    let (model, environment) = stiff_curl_in_a_shake();
     let settings = SimulationSettings::new(IntegratorKind::Xpbd, 1.0 / 15.0, 1);
     let mut lanes = Simulation::new(model.clone(), settings).unwrap();
     let mut state = lanes.rest_state(&environment, 0.0);
