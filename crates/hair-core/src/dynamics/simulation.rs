@@ -209,7 +209,8 @@ impl Simulation {
     /// [`FailurePolicy::HalveSubstep`] the chain's step is redone from its start with half the
     /// substep, up to the limit. The XPBD integrator also redoes a chain's step with half the
     /// substep where a first Newton step moves a node by more than two segment lengths (the
-    /// substep is too long for that chain's motion), up to five times, whatever the policy. A failure that remains restores the whole state to its value
+    /// substep is too long for that chain's motion), up to five times and while halving shortens
+    /// that move, whatever the policy. A failure that remains restores the whole state to its value
     /// before the step and returns [`DynamicsError::Unstable`] for the lowest failing chain.
     pub fn step(
         &mut self,
@@ -387,6 +388,11 @@ impl Simulation {
     }
 }
 
+/// XPBD's adaptive substeps halve again only while a halving shrinks the first Newton move
+/// below this fraction of the last one (a step too long for the motion moves about half as far
+/// at half the substep; a fold moves as far at any substep).
+const SHRINKING_MOVE: f32 = 0.75;
+
 /// Steps one chain through all its substeps, halving on failure where allowed; returns the
 /// failure that remains (the chain restored to its start) and the halvings used.
 #[allow(clippy::too_many_arguments)]
@@ -413,14 +419,18 @@ fn step_chain(
         FailurePolicy::HalveSubstep { max_halvings } => max_halvings,
     };
     let mut halvings = 0;
+    // XPBD's adaptive substeps: whether they may still halve, and the largest first Newton
+    // move (over its segment) of the last try that was too long.
+    let mut adapting = true;
+    let mut last_move = f32::INFINITY;
     loop {
         let substeps = (settings.substeps as usize) << halvings;
         let h = settings.time_step / substeps as f32;
         let mut solved = true;
         // XPBD doubles a chain's substeps where one was too long for its motion (see
         // `TOO_LONG_MOVE`), whatever the failure policy; the last try is taken as it is.
-        let adaptive = halvings < MAX_ADAPTIVE_HALVINGS;
-        let mut too_long = false;
+        let adaptive = adapting && halvings < MAX_ADAPTIVE_HALVINGS;
+        let mut too_long = None;
         for k in 0..substeps {
             let pose = |index: usize| {
                 if halvings == 0 {
@@ -460,17 +470,25 @@ fn step_chain(
                         solved = false;
                         break;
                     }
-                    XpbdOutcome::TooLong => {
-                        too_long = true;
+                    XpbdOutcome::TooLong(moved) => {
+                        too_long = Some(moved);
                         break;
                     }
                 },
             }
         }
-        if too_long {
+        if let Some(moved) = too_long {
             arrays.positions.copy_from_slice(backup_positions);
             arrays.velocities.copy_from_slice(backup_velocities);
-            halvings += 1;
+            if moved < SHRINKING_MOVE * last_move {
+                halvings += 1;
+                last_move = moved;
+            } else {
+                // Halving did not shorten the move: the step is not too long, the chain is in
+                // a configuration where the Newton step is large at any substep (a fold).
+                // Redo this count without adapting.
+                adapting = false;
+            }
             continue;
         }
         let quantity = if solved {

@@ -382,8 +382,9 @@ fn a_too_long_substep_is_redone_with_twice_the_substeps() {
     // head shake (the stability map's stiffest scenario at its longest step). Some step finds its
     // substep too long (a first Newton step moving a node by more than two segment lengths) and
     // is redone with 2^k substeps: its result must be, bit for bit, the step taken with 2^k
-    // substeps from the same state (the same head poses, wind samples and arithmetic), and that
-    // step must need no halving of its own.
+    // substeps from the same state (the same head poses, wind samples and arithmetic), where
+    // that step needs no halving of its own (else the adaptive step stopped at k on a fold,
+    // which must be the rarer case here).
     let (model, environment) = stiff_curl_in_a_shake();
     let h = 1.0 / 15.0;
     let mut adaptive = Simulation::new(
@@ -393,7 +394,7 @@ fn a_too_long_substep_is_redone_with_twice_the_substeps() {
     .unwrap();
     adaptive.set_lanes(false);
     let mut state = adaptive.rest_state(&environment, 0.0);
-    let mut checked = 0;
+    let (mut checked, mut folds) = (0, 0);
     for _ in 0..30 {
         let before = state.clone();
         let report = adaptive.step(&mut state, &environment).unwrap();
@@ -410,12 +411,25 @@ fn a_too_long_substep_is_redone_with_twice_the_substeps() {
         plain.set_lanes(false);
         let mut again = before;
         let plain_report = plain.step(&mut again, &environment).unwrap();
-        assert_eq!(plain_report.max_halvings, 0, "{} substeps", 1 << k);
+        if plain_report.max_halvings > 0 {
+            // The adaptive step stopped halving at k because halving no longer shortened the
+            // move (a fold), and took 2^k substeps without adapting; the plain step adapts.
+            folds += 1;
+            continue;
+        }
         assert_eq!(again.node_positions, state.node_positions, "k = {k}");
         assert_eq!(again.node_velocities, state.node_velocities, "k = {k}");
         checked += 1;
     }
-    assert!(checked > 0, "no step of the 30 doubled its substeps");
+    println!("{checked} steps redone with more substeps, {folds} stopped on a fold");
+    assert!(
+        checked > 0,
+        "no step of the 30 doubled its substeps ({folds} folds)"
+    );
+    assert!(
+        folds < checked,
+        "{folds} folds against {checked} long steps"
+    );
 }
 
 #[test]
