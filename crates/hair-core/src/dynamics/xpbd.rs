@@ -424,22 +424,19 @@ fn turns_within(
     scale: f32,
     fraction: f32,
 ) -> bool {
-    (first..step.len()).all(|i| {
-        let segment =
-            chain.rest_lengths[i].max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0));
-        (step[i] * scale).length() <= fraction * segment
-    })
+    (first..step.len()).all(|i| (step[i] * scale).length() <= fraction * lever(chain, i))
 }
 
-/// The largest move of a node `first..` in `step`, over its segment (the longer of the two it
-/// joins, as [`turns_within`] measures it).
+/// The longer of the two segments node `i` joins [m]: the length its moves are measured in.
+fn lever(chain: &ChainConstants, i: usize) -> f32 {
+    chain.rest_lengths[i].max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0))
+}
+
+/// The largest move of a node `first..` in `step`, over its [`lever`] (as [`turns_within`]
+/// measures it).
 fn largest_move(chain: &ChainConstants, first: usize, step: &[Vec3]) -> f32 {
     (first..step.len())
-        .map(|i| {
-            let segment =
-                chain.rest_lengths[i].max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0));
-            step[i].length() / segment
-        })
+        .map(|i| step[i].length() / lever(chain, i))
         .fold(0.0, f32::max)
 }
 
