@@ -1,7 +1,8 @@
 //! Grooms with skeletons finer than the presets': paper-curly with `smoothness = 0.00825` (32
-//! nodes of 3–11 mm per skeleton). The default integrator cannot step them (docs/dynamics.md,
-//! "Where the default fails"); a scene that picks XPBD for them must get a groom that hangs like
-//! hair, which needs the hang to run with the scene's integrator too.
+//! nodes of 3–11 mm per skeleton). Linear-implicit, the default until 2026-11-28, cannot step
+//! them (docs/dynamics.md, "Where linear-implicit fails"), and a scene that picks it must be
+//! refused with the fix named; XPBD, the default now, must give a groom that hangs like hair,
+//! which needs the hang to run with the scene's integrator too.
 
 mod common;
 
@@ -31,26 +32,30 @@ fn a_fine_curly_groom_hangs_like_hair_with_the_scenes_integrator() {
     );
     // The presets' checks (tests/rest_pose.rs): no strand longer than 10 cm has its tip above
     // its root, and seen from behind the hair is at most 2.5 times as wide as the head. Hung
-    // with the default integrator instead (before), this groom could not be built (the step
-    // became unstable at t = 0), and at `smoothness = 0.0137` (20 nodes) it came out as a
-    // porcupine.
+    // with linear-implicit instead (before), this groom could not be built (the step became
+    // unstable at t = 0), and at `smoothness = 0.0137` (20 nodes) it came out as a porcupine.
     common::assert_hangs_like_hair("paper-curly, 32 nodes, xpbd", &scene);
 }
 
-const FINE_DEFAULT: &str = r#"
+const FINE_LINEAR_IMPLICIT: &str = r#"
 version = 2
 [groom]
 preset = "paper-curly"
 smoothness = 0.0137
+[dynamics]
+integrator = "linear-implicit"
 "#;
 
 #[test]
-fn a_fine_curly_groom_on_the_default_integrator_is_refused_with_the_fix_named() {
-    // 20 nodes per skeleton: the default integrator does not blow up on them but flails, and
+fn a_fine_curly_groom_on_linear_implicit_is_refused_with_the_fix_named() {
+    // 20 nodes per skeleton: linear-implicit does not blow up on them but flails, and
     // the groom used to hang as a porcupine with no error. The hang starts at rest with
     // gravity the only input, so a chain's kinetic energy per unit mass can never pass
     // `2·g·L`; flailing passes it several times over.
-    let shot = SceneFile::parse(FINE_DEFAULT).unwrap().resolve().unwrap();
+    let shot = SceneFile::parse(FINE_LINEAR_IMPLICIT)
+        .unwrap()
+        .resolve()
+        .unwrap();
     let error = shot.build_scene().unwrap_err();
     let PipelineError::Unsettled {
         nodes,
@@ -72,10 +77,14 @@ fn a_fine_curly_groom_on_the_default_integrator_is_refused_with_the_fix_named() 
 
 #[test]
 fn a_groom_whose_fall_blows_up_is_refused_with_the_level_and_the_fix_named() {
-    // 32 nodes on the default integrator: a step of the fall itself fails (a non-finite
-    // velocity), and the error says it was the hang, at which level, and what to change.
-    let fine_default = FINE_XPBD.replace("integrator = \"xpbd\"", "");
-    let shot = SceneFile::parse(&fine_default).unwrap().resolve().unwrap();
+    // 32 nodes on linear-implicit: a step of the fall itself fails (a non-finite velocity),
+    // and the error says it was the hang, at which level, and what to change.
+    let fine_linear_implicit =
+        FINE_XPBD.replace("integrator = \"xpbd\"", "integrator = \"linear-implicit\"");
+    let shot = SceneFile::parse(&fine_linear_implicit)
+        .unwrap()
+        .resolve()
+        .unwrap();
     let error = shot.build_scene().unwrap_err();
     let PipelineError::HangUnstable {
         level, integrator, ..

@@ -41,12 +41,12 @@ pub struct PipelineSettings {
 }
 
 impl Default for PipelineSettings {
-    /// Automatic levels with default settings, the linear-implicit integrator at its recommended
-    /// 60 Hz × 4 substeps, collision on.
+    /// Automatic levels with default settings, the default integrator
+    /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on.
     fn default() -> Self {
         PipelineSettings {
             lod: LodMode::Auto(LodSettings::default()),
-            dynamics: SimulationSettings::recommended(IntegratorKind::LinearImplicit),
+            dynamics: SimulationSettings::recommended(IntegratorKind::DEFAULT),
             collision: true,
         }
     }

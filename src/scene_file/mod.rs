@@ -332,7 +332,7 @@ pub struct LodTable {
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicsTable {
-    /// `linear-implicit` (default), `semi-implicit-euler`, `position-based` or `xpbd`.
+    /// `xpbd` (default), `linear-implicit`, `semi-implicit-euler` or `position-based`.
     pub integrator: Option<String>,
     /// Substeps per frame, 1..=10000 (default: the integrator's recommended substeps per 1/60 s,
     /// scaled to the frame time).

@@ -591,7 +591,10 @@ impl SceneFile {
 
     fn dynamics_settings(&self, fps: f32) -> Result<SimulationSettings> {
         let table = &self.dynamics;
-        let name = table.integrator.as_deref().unwrap_or("linear-implicit");
+        let name = table
+            .integrator
+            .as_deref()
+            .unwrap_or(IntegratorKind::DEFAULT.name());
         let integrator: IntegratorKind = name.parse().map_err(|_| {
             let names: Vec<&str> = IntegratorKind::ALL.iter().map(|kind| kind.name()).collect();
             SceneFileError::new(format!(
@@ -635,7 +638,7 @@ mod tests {
         // 60 Hz: the integrator's own recommendation.
         assert_eq!(
             shot.settings.dynamics,
-            SimulationSettings::recommended(IntegratorKind::LinearImplicit)
+            SimulationSettings::recommended(IntegratorKind::DEFAULT)
         );
         assert!(shot.outputs.shaded && !shot.outputs.color_coded);
     }

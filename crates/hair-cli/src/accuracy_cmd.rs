@@ -35,15 +35,17 @@ use crate::cli_args::Preset;
 use sweep::{Group, Point, mark_pareto};
 
 /// The integrator sweep: each integrator at a coarser and a finer step around its recommended
-/// substeps per 60 Hz frame (16, 4, 4, 8), XPBD at its recommended too. Linear-implicit ×4 is the
-/// `Strands` point itself.
-const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 10] = [
+/// substeps per 60 Hz frame (16, 4, 4, 16), and linear-implicit (the default until 2026-11-28)
+/// and XPBD at the old recommendation (×8) too. XPBD ×16, the default, is the `Strands` point
+/// itself.
+const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 11] = [
     (IntegratorKind::SemiImplicitEuler, 4),
     (IntegratorKind::SemiImplicitEuler, 16),
     (IntegratorKind::SemiImplicitEuler, 64),
     (IntegratorKind::PositionBased, 1),
     (IntegratorKind::PositionBased, 16),
     (IntegratorKind::LinearImplicit, 1),
+    (IntegratorKind::LinearImplicit, 4),
     (IntegratorKind::LinearImplicit, 16),
     (IntegratorKind::Xpbd, 2),
     (IntegratorKind::Xpbd, 8),
@@ -179,7 +181,9 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
         });
     }
     if !args.no_integrators {
-        for (integrator, substeps) in INTEGRATOR_SWEEP {
+        // The Strands point already runs the levels' own integrator and substeps.
+        let own = (args.integrator, args.substeps);
+        for (integrator, substeps) in INTEGRATOR_SWEEP.into_iter().filter(|&pair| pair != own) {
             list.push(Configuration {
                 label: format!("{integrator} ×{substeps}"),
                 group: Group::Integrator,
