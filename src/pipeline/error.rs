@@ -87,7 +87,7 @@ fn unsettled_hint(integrator: IntegratorKind) -> &'static str {
     match integrator {
         IntegratorKind::LinearImplicit => {
             "linear-implicit fails on curly skeletons finer than the presets' (docs/dynamics.md, \
-             \"Where the default fails\"): set `integrator = \"xpbd\"` in the scene's [dynamics], or \
+             \"Where linear-implicit fails\"): set `integrator = \"xpbd\"` in the scene's [dynamics], or \
              a larger `smoothness` in its [groom]"
         }
         IntegratorKind::Xpbd => {
