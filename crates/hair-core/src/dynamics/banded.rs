@@ -20,20 +20,35 @@ pub fn cross_matrix(a: Vec3) -> Mat3 {
 }
 
 /// Solves `A·x = b` for a symmetric positive definite matrix `A` of `n × n` blocks of 3×3 with
-/// blocks only on the diagonal and the first two sub-diagonals (and their transposes above).
+/// blocks only on the diagonal and the first two sub-diagonals (and their transposes above):
+/// [`factorise_block_pentadiagonal`], then [`substitute_block_pentadiagonal`].
 ///
 /// On entry `diagonal[i] = A_ii`, `first[i] = A_{i,i−1}` (`first[0]` unused), `second[i] =
-/// A_{i,i−2}` (`second[0..2]` unused), `rhs = b`. On exit `rhs = x`; the matrices are overwritten by
-/// the factorisation (`diagonal[i] = D_i⁻¹`, `first[i] = L_{i,i−1}·D_{i−1}`). Uses `A = L·D·Lᵀ`
-/// with `W_ij = L_ij·D_j`: `W_{i,i−2} = A_{i,i−2}`,
-/// `W_{i,i−1} = A_{i,i−1} − W_{i,i−2}·D_{i−2}⁻¹·W_{i−1,i−2}ᵀ`,
-/// `D_i = A_ii − Σ_j W_ij·D_j⁻¹·W_ijᵀ`. Returns `false` when a pivot block is singular or not
-/// finite.
+/// A_{i,i−2}` (`second[0..2]` unused), `rhs = b`. On exit `rhs = x` and the matrices hold the
+/// factorisation. Returns `false` when a pivot block is singular or not finite.
 pub fn solve_block_pentadiagonal(
     diagonal: &mut [Mat3],
     first: &mut [Mat3],
     second: &[Mat3],
     rhs: &mut [Vec3],
+) -> bool {
+    if !factorise_block_pentadiagonal(diagonal, first, second) {
+        return false;
+    }
+    substitute_block_pentadiagonal(diagonal, first, second, rhs);
+    true
+}
+
+/// Factorises in place the block-pentadiagonal SPD matrix of [`solve_block_pentadiagonal`]
+/// (`diagonal[i] = D_i⁻¹`, `first[i] = L_{i,i−1}·D_{i−1}` on exit). Uses `A = L·D·Lᵀ` with
+/// `W_ij = L_ij·D_j`: `W_{i,i−2} = A_{i,i−2}`,
+/// `W_{i,i−1} = A_{i,i−1} − W_{i,i−2}·D_{i−2}⁻¹·W_{i−1,i−2}ᵀ`,
+/// `D_i = A_ii − Σ_j W_ij·D_j⁻¹·W_ijᵀ`. Returns `false` when a pivot block is singular or not
+/// finite.
+pub fn factorise_block_pentadiagonal(
+    diagonal: &mut [Mat3],
+    first: &mut [Mat3],
+    second: &[Mat3],
 ) -> bool {
     let n = diagonal.len();
     for i in 0..n {
@@ -54,6 +69,18 @@ pub fn solve_block_pentadiagonal(
         }
         diagonal[i] = d.inverse();
     }
+    true
+}
+
+/// Replaces `rhs` by `A⁻¹·rhs`, `A` factorised by [`factorise_block_pentadiagonal`] (which can
+/// be followed by any number of substitutions).
+pub fn substitute_block_pentadiagonal(
+    diagonal: &[Mat3],
+    first: &[Mat3],
+    second: &[Mat3],
+    rhs: &mut [Vec3],
+) {
+    let n = diagonal.len();
     // Forward: y_i = b_i − W_{i,i−1}·z_{i−1} − W_{i,i−2}·z_{i−2}, z_i = D_i⁻¹·y_i (stored in rhs).
     for i in 0..n {
         let mut y = rhs[i];
@@ -76,7 +103,6 @@ pub fn solve_block_pentadiagonal(
         }
         rhs[i] -= diagonal[i] * sum;
     }
-    true
 }
 
 #[cfg(test)]
@@ -142,5 +168,9 @@ mod tests {
                 .sum();
             assert!((ax - b[r / 3][r % 3] as f64).abs() < 1e-4, "row {r}: {ax}");
         }
+        // A second substitution with the same factorisation solves again, bit for bit.
+        let mut again = b.clone();
+        substitute_block_pentadiagonal(&diagonal, &first, &second, &mut again);
+        assert_eq!(again, x);
     }
 }

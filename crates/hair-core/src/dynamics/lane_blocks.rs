@@ -267,6 +267,23 @@ impl<const N: usize> LaneSystem<N> {
     /// determinants positive), 0.0 in the others (their solution is not usable).
     #[inline(always)]
     pub(crate) fn solve(&mut self, start: usize, n: usize) -> Lanes {
+        let good = self.factorise(start, n);
+        substitute(
+            &self.diagonal,
+            &self.first,
+            &self.second,
+            &mut self.rhs,
+            start,
+            n,
+        );
+        good
+    }
+
+    /// Factorises the blocks of unknowns `start..n` in place (as
+    /// [`factorise_block_pentadiagonal`](crate::dynamics::banded::factorise_block_pentadiagonal),
+    /// lane-wise); returns 1.0 in the lanes whose pivots were all positive definite and finite.
+    #[inline(always)]
+    pub(crate) fn factorise(&mut self, start: usize, n: usize) -> Lanes {
         let zero = Lanes::splat(0.0);
         let mut good = Lanes::splat(1.0);
         for i in start..n {
@@ -290,29 +307,48 @@ impl<const N: usize> LaneSystem<N> {
             good = good * ok;
             self.diagonal[i] = inverse;
         }
-        // Forward: y_i = b_i − W_{i,i−1}·z_{i−1} − W_{i,i−2}·z_{i−2}, z_i = D_i⁻¹·y_i.
-        for i in start..n {
-            let mut y = self.rhs[i];
-            if i > start {
-                y -= self.first[i].mul_vec(self.rhs[i - 1]);
-            }
-            if i >= start + 2 {
-                y -= self.second[i].mul_vec(self.rhs[i - 2]);
-            }
-            self.rhs[i] = self.diagonal[i].mul_vec(y);
-        }
-        // Backward: x_i = z_i − D_i⁻¹·(W_{i+1,i}ᵀ·x_{i+1} + W_{i+2,i}ᵀ·x_{i+2}).
-        for i in (start..n).rev() {
-            let mut sum = LaneVec3::default();
-            if i + 1 < n {
-                sum += self.first[i + 1].transpose_mul_vec(self.rhs[i + 1]);
-            }
-            if i + 2 < n {
-                sum += self.second[i + 2].transpose_mul_vec(self.rhs[i + 2]);
-            }
-            self.rhs[i] -= self.diagonal[i].mul_vec(sum);
-        }
         good
+    }
+
+    /// Replaces `v` (unknowns `start..n`) by `A⁻¹·v` with the factorisation
+    /// [`LaneSystem::factorise`] left in the blocks (any number of times).
+    #[inline(always)]
+    pub(crate) fn substitute(&self, v: &mut [LaneVec3; N], start: usize, n: usize) {
+        substitute(&self.diagonal, &self.first, &self.second, v, start, n);
+    }
+}
+
+/// The forward and backward substitutions of [`LaneSystem::solve`] on `v`.
+#[inline(always)]
+fn substitute<const N: usize>(
+    diagonal: &[SymLanes; N],
+    first: &[MatLanes; N],
+    second: &[MatLanes; N],
+    v: &mut [LaneVec3; N],
+    start: usize,
+    n: usize,
+) {
+    // Forward: y_i = b_i − W_{i,i−1}·z_{i−1} − W_{i,i−2}·z_{i−2}, z_i = D_i⁻¹·y_i.
+    for i in start..n {
+        let mut y = v[i];
+        if i > start {
+            y -= first[i].mul_vec(v[i - 1]);
+        }
+        if i >= start + 2 {
+            y -= second[i].mul_vec(v[i - 2]);
+        }
+        v[i] = diagonal[i].mul_vec(y);
+    }
+    // Backward: x_i = z_i − D_i⁻¹·(W_{i+1,i}ᵀ·x_{i+1} + W_{i+2,i}ᵀ·x_{i+2}).
+    for i in (start..n).rev() {
+        let mut sum = LaneVec3::default();
+        if i + 1 < n {
+            sum += first[i + 1].transpose_mul_vec(v[i + 1]);
+        }
+        if i + 2 < n {
+            sum += second[i + 2].transpose_mul_vec(v[i + 2]);
+        }
+        v[i] -= diagonal[i].mul_vec(sum);
     }
 }
 

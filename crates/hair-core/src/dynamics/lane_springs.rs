@@ -33,6 +33,9 @@ pub(crate) struct SpringScratch<const N: usize> {
     pub inverse_lengths: [Lanes; N],
     /// Twist torque of every spring on its parent frame [N·m].
     pub twist: [Lanes; N],
+    /// Rest directions `r_i` in the transported parent frames (the XPBD step's assembly writes
+    /// them, for its twisted step).
+    pub rests: [LaneVec3; N],
 }
 
 impl<const N: usize> SpringScratch<N> {
@@ -45,6 +48,7 @@ impl<const N: usize> SpringScratch<N> {
             half_binormals: v,
             inverse_lengths: s,
             twist: s,
+            rests: v,
         }
     }
 }

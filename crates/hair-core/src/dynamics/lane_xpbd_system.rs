@@ -78,6 +78,7 @@ pub(crate) fn assemble<const N: usize>(
             &mut bend,
             degenerate,
         );
+        springs.rests[i] = joint_terms.rest;
         let d = springs.directions[i];
         let il = springs.inverse_lengths[i];
         // Bending forces: −Q·g on node i, Q·g − Sᵀg on i − 1, Sᵀg on i − 2, with

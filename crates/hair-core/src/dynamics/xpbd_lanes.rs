@@ -24,6 +24,7 @@ use crate::dynamics::integrators::LENGTH_STIFFNESS;
 use crate::dynamics::lane_blocks::LaneSystem;
 use crate::dynamics::lane_model::{LaneNode, LaneRoots};
 use crate::dynamics::lane_springs::{LaneFrame, SpringScratch};
+use crate::dynamics::lane_twisted_cg::{LaneTwistScratch, twisted_step as lane_twisted_step};
 use crate::dynamics::lane_xpbd_system::{LaneChainTerms, assemble, objective};
 use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
 use crate::dynamics::position_based_lanes::{BatchState, BatchStep, carried_roots};
@@ -53,6 +54,10 @@ struct XpbdLanes<const N: usize> {
     /// Positions `x_n + δ` [m] at which the system or `Φ` is evaluated; after the Newton
     /// iteration the new positions.
     here: [LaneVec3; N],
+    /// The Newton step of the iteration (the band's, or the twisted one) and the system's
+    /// right-hand side `b` before the solve.
+    step: [LaneVec3; N],
+    rhs: [LaneVec3; N],
     kappa: [Lanes; N],
     inertia: [Lanes; N],
     /// `max(l_i, l_{i+1})` [m]: the lever of a node's move in the convergence tests.
@@ -109,6 +114,8 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
         base: [LaneVec3::default(); N],
         trial: [LaneVec3::default(); N],
         here: [LaneVec3::default(); N],
+        step: [LaneVec3::default(); N],
+        rhs: [LaneVec3::default(); N],
         kappa: [zero; N],
         inertia: [zero; N],
         lever: [zero; N],
@@ -159,6 +166,7 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
     }
     let mut springs = SpringScratch::<N>::new();
     let mut system = LaneSystem::<N>::new();
+    let mut twist = LaneTwistScratch::<N>::new();
     let mut degenerate = zero;
     let mut unsolved = zero;
     let drag_divisor = Lanes::splat(1.0 / (1.0 + h * gamma));
@@ -215,6 +223,7 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
                         system.diagonal[i].add_to_diagonal(term);
                     }
                 }
+                s.rhs = system.rhs;
                 let solved = system.solve(1, n);
                 let failed = and_not(active, solved);
                 if !failed.any() {
@@ -231,13 +240,13 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
                     regularization,
                 );
             }
-            let newton = &system.rhs;
+            s.step = system.rhs;
             // A first step that moves a node by more than TOO_LONG_MOVE segments: the substep is
             // too long for that chain, which the one-chain step redoes with more substeps.
             if iteration == 0 {
                 let too_long = and_not(
                     active,
-                    turns_within(newton, one, &s.lever, n, TOO_LONG_MOVE),
+                    turns_within(&s.step, one, &s.lever, n, TOO_LONG_MOVE),
                 );
                 if too_long.any() {
                     unsolved = unsolved.max(too_long);
@@ -249,10 +258,10 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
             }
             // A first step that turns no segment by more than SMALL_STEP rad is taken whole.
             if iteration == 0 {
-                let small = active * turns_within(newton, one, &s.lever, n, SMALL_STEP);
+                let small = active * turns_within(&s.step, one, &s.lever, n, SMALL_STEP);
                 if small.any() {
                     for i in 1..n {
-                        s.delta[i] = LaneVec3::select(small, s.delta[i] + newton[i], s.delta[i]);
+                        s.delta[i] = LaneVec3::select(small, s.delta[i] + s.step[i], s.delta[i]);
                     }
                     active = and_not(active, small);
                     if !active.any() {
@@ -260,14 +269,18 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
                     }
                 }
             }
-            // Line search on Φ: the whole step where Φ does not rise, else halved.
+            // Line search on Φ: the whole step where Φ does not rise, then (once) the twisted
+            // step whole, else halved, down to 1/2^LINE_SEARCH_HALVINGS.
             s.base = s.delta;
             let mut scale = one;
             let mut taken = zero;
             let mut pending = active;
-            for _ in 0..=LINE_SEARCH_HALVINGS {
+            let mut dropped = zero;
+            let mut twisted = false;
+            let smallest = Lanes::splat(0.5f32.powi(LINE_SEARCH_HALVINGS as i32));
+            loop {
                 for i in 1..n {
-                    s.trial[i] = s.base[i] + newton[i].scale(scale);
+                    s.trial[i] = s.base[i] + s.step[i].scale(scale);
                     s.here[i] = s.positions[i] + s.trial[i];
                 }
                 let trial = objective(&terms, &s.here, &s.trial, n);
@@ -287,13 +300,44 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
                 if !pending.any() {
                     break;
                 }
-                scale = Lanes::select(pending, scale * Lanes::splat(0.5), scale);
+                // The band's whole step raised Φ: next the twisted step (`lane_twisted_cg`),
+                // whole, in the lanes where it is finite.
+                let mut retry = zero;
+                if !twisted {
+                    twisted = true;
+                    let mut twisted_step = s.step;
+                    let finite = lane_twisted_step(
+                        &system,
+                        &springs,
+                        constants,
+                        &s.rhs,
+                        &mut twist,
+                        n,
+                        &mut twisted_step,
+                    );
+                    retry = pending * finite;
+                    for i in 1..n {
+                        s.step[i] = LaneVec3::select(retry, twisted_step[i], s.step[i]);
+                    }
+                }
+                let halving = and_not(pending, retry);
+                let exhausted = halving * (one - scale.greater(smallest));
+                dropped = dropped.max(exhausted);
+                pending = and_not(pending, exhausted);
+                if !pending.any() {
+                    break;
+                }
+                scale = Lanes::select(
+                    and_not(halving, exhausted),
+                    scale * Lanes::splat(0.5),
+                    scale,
+                );
             }
             // Lanes whose step was dropped are done (their δ is the iterate before it).
-            active = and_not(active, pending);
+            active = and_not(active, dropped);
             // A whole step ends a lane's iteration once converged or after a second one; a
             // shortened step goes on.
-            let converged = turns_within(newton, taken, &s.lever, n, NEWTON_TOLERANCE);
+            let converged = turns_within(&s.step, taken, &s.lever, n, NEWTON_TOLERANCE);
             let whole = Lanes::zip(taken, one, |a, b| f32::from(a == b));
             let second = if iteration >= 1 { one } else { zero };
             active = and_not(active, whole * converged.max(second));
