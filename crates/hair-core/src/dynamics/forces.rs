@@ -264,26 +264,18 @@ pub fn add_external_forces(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::skeleton::build_chain;
+    use crate::dynamics::tests::coiled_positions;
 
     fn chain(polar: f32) -> (Frame, Vec<Vec3>, Vec<Vec3>) {
         let frame = Frame::from_tangent_and_normal(Vec3::new(0.3, -1.0, 0.1), Vec3::Z).unwrap();
-        let n = 7;
         let lengths = [0.0, 0.01, 0.012, 0.009, 0.01, 0.011, 0.01];
-        let polars: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { polar }).collect();
-        let azimuths: Vec<f32> = (0..n).map(|i| 0.9 * i as f32).collect();
-        let mut positions = vec![Vec3::ZERO; n];
-        build_chain(
-            Vec3::ZERO,
-            &frame,
-            &lengths,
-            &polars,
-            &azimuths,
-            &mut positions,
-        )
-        .unwrap();
-        let local = (0..n)
-            .map(|i| rest_local_direction(polars[i], azimuths[i]))
+        let positions = coiled_positions(&frame, &lengths, polar);
+        // The rest shape is the coiled shape itself (the directions `build_chain` was given).
+        let local = (0..lengths.len())
+            .map(|i| {
+                let polar = if i == 0 { 0.0 } else { polar };
+                rest_local_direction(polar, 0.9 * i as f32)
+            })
             .collect();
         (frame, positions, local)
     }

@@ -30,6 +30,35 @@ pub(crate) fn ring_of_chains(style: &HairStyle, length: f32, count: usize) -> Sk
 
 /// A single segment of length `length` [m] from the origin, rest direction at (θ0, φ0) in
 /// `frame`.
+/// The node positions of a chain from the origin along `frame` with segments of `lengths` [m]
+/// (`lengths[0]` unused), each bent by `polar` [rad] from its parent, the bend plane turning by
+/// 0.9 rad a node: a coiled test chain.
+pub(crate) fn coiled_positions(frame: &Frame, lengths: &[f32], polar: f32) -> Vec<Vec3> {
+    let n = lengths.len();
+    let polars: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { polar }).collect();
+    let azimuths: Vec<f32> = (0..n).map(|i| 0.9 * i as f32).collect();
+    let mut positions = vec![Vec3::ZERO; n];
+    crate::skeleton::build_chain(
+        Vec3::ZERO,
+        frame,
+        lengths,
+        &polars,
+        &azimuths,
+        &mut positions,
+    )
+    .unwrap();
+    positions
+}
+
+/// The largest distance between corresponding nodes of two states [m].
+pub(crate) fn largest_distance(a: &SimulationState, b: &SimulationState) -> f32 {
+    a.node_positions
+        .iter()
+        .zip(&b.node_positions)
+        .map(|(p, q)| (*p - *q).length())
+        .fold(0.0f32, f32::max)
+}
+
 fn single_segment(frame: Frame, length: f32, polar: f32, azimuth: f32) -> SkeletonRest {
     let mut rest = SkeletonRest::default();
     let angles = ChainAngles {

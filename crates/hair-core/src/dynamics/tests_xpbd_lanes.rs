@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use crate::dynamics::tests::ring_of_chains;
+use crate::dynamics::tests::{largest_distance, ring_of_chains};
 use crate::dynamics::*;
 use crate::style::HairStyle;
 
@@ -40,12 +40,7 @@ fn lane_step_matches_the_one_chain_step() {
     let (lanes, redos) = ring(true, 1);
     let (one_chain, _) = ring(false, 1);
     assert_eq!(redos, 0, "the lanes left chains to the one-chain step");
-    let difference = lanes
-        .node_positions
-        .iter()
-        .zip(&one_chain.node_positions)
-        .map(|(p, q)| (*p - *q).length())
-        .fold(0.0f32, f32::max);
+    let difference = largest_distance(&lanes, &one_chain);
     println!("lane and one-chain XPBD steps differ by {difference:e} m");
     assert!(
         difference < 1e-5,
@@ -95,12 +90,7 @@ fn lane_step_matches_the_one_chain_step_on_fine_curls() {
     let (lanes, redos) = step(true);
     let (one_chain, _) = step(false);
     assert_eq!(redos, 0, "the lanes left chains to the one-chain step");
-    let difference = lanes
-        .node_positions
-        .iter()
-        .zip(&one_chain.node_positions)
-        .map(|(p, q)| (*p - *q).length())
-        .fold(0.0f32, f32::max);
+    let difference = largest_distance(&lanes, &one_chain);
     println!("fine curls: lane and one-chain XPBD steps differ by {difference:e} m");
     assert!(
         difference < 1e-5,

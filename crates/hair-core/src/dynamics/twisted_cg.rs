@@ -280,8 +280,8 @@ impl TwistScratch {
 mod tests {
     use super::*;
     use crate::dynamics::forces::rest_local_direction;
+    use crate::dynamics::tests::coiled_positions;
     use crate::random::SplitMix64;
-    use crate::skeleton::build_chain;
 
     /// A curly chain of 16 nodes (1 cm segments bent by 0.8 rad, the bend plane turning by
     /// 0.9 rad a node) whose rest directions differ from its shape (every spring loaded), with
@@ -290,18 +290,7 @@ mod tests {
         let n = 16;
         let frame = Frame::from_tangent_and_normal(Vec3::new(0.3, -1.0, 0.1), Vec3::Z).unwrap();
         let lengths: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { 0.01 }).collect();
-        let polars: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { 0.8 }).collect();
-        let azimuths: Vec<f32> = (0..n).map(|i| 0.9 * i as f32).collect();
-        let mut positions = vec![Vec3::ZERO; n];
-        build_chain(
-            Vec3::ZERO,
-            &frame,
-            &lengths,
-            &polars,
-            &azimuths,
-            &mut positions,
-        )
-        .unwrap();
+        let positions = coiled_positions(&frame, &lengths, 0.8);
         let rest_local = (0..n)
             .map(|i| rest_local_direction(0.5, 0.4 * i as f32))
             .collect();
