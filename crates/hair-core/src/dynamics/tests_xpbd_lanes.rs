@@ -11,7 +11,18 @@ use crate::style::HairStyle;
 /// gusting wind, `steps` 60 Hz steps of XPBD at its recommended substeps, lane-parallel or not;
 /// returns the state and the chains left to the one-chain step.
 fn ring(lanes: bool, steps: usize) -> (SimulationState, usize) {
-    let style = HairStyle::curly(50.0, 0.01, 0.02);
+    let settings = SimulationSettings::recommended(IntegratorKind::Xpbd);
+    ring_with(0.02, settings, lanes, steps)
+}
+
+/// The busy ring with segments of at most `smoothness` [m], `steps` steps of `settings`.
+fn ring_with(
+    smoothness: f32,
+    settings: SimulationSettings,
+    lanes: bool,
+    steps: usize,
+) -> (SimulationState, usize) {
+    let style = HairStyle::curly(50.0, 0.01, smoothness);
     let rest = ring_of_chains(&style, 0.25, 11);
     let environment = Environment {
         head: HeadMotion::shake(0.5, 4.0),
@@ -19,8 +30,7 @@ fn ring(lanes: bool, steps: usize) -> (SimulationState, usize) {
         gravity: STANDARD_GRAVITY,
     };
     let model = DynamicsModel::new(rest, DynamicsParams::for_style(&style)).unwrap();
-    let mut simulation =
-        Simulation::new(model, SimulationSettings::recommended(IntegratorKind::Xpbd)).unwrap();
+    let mut simulation = Simulation::new(model, settings).unwrap();
     simulation.set_lanes(lanes);
     let mut state = simulation.rest_state(&environment, 0.0);
     simulation.run(&mut state, &environment, steps).unwrap();
@@ -73,20 +83,8 @@ fn lane_step_matches_the_one_chain_step_on_fine_curls() {
     let style = HairStyle::curly(50.0, 0.01, 0.008);
     let rest = ring_of_chains(&style, 0.25, 11);
     assert!(rest.nodes(0).len() >= 30, "{} nodes", rest.nodes(0).len());
-    let environment = Environment {
-        head: HeadMotion::shake(0.5, 4.0),
-        wind: WindField::gusting(Vec3::new(3.0, 0.0, 1.0), 1.5, 0.8, 0.3, 5),
-        gravity: STANDARD_GRAVITY,
-    };
-    let step = |lanes: bool| {
-        let model = DynamicsModel::new(rest.clone(), DynamicsParams::for_style(&style)).unwrap();
-        let settings = SimulationSettings::new(IntegratorKind::Xpbd, 1.0 / 480.0, 1);
-        let mut simulation = Simulation::new(model, settings).unwrap();
-        simulation.set_lanes(lanes);
-        let mut state = simulation.rest_state(&environment, 0.0);
-        simulation.run(&mut state, &environment, 1).unwrap();
-        (state, simulation.lane_redos())
-    };
+    let settings = SimulationSettings::new(IntegratorKind::Xpbd, 1.0 / 480.0, 1);
+    let step = |lanes: bool| ring_with(0.008, settings, lanes, 1);
     let (lanes, redos) = step(true);
     let (one_chain, _) = step(false);
     assert_eq!(redos, 0, "the lanes left chains to the one-chain step");
