@@ -135,11 +135,14 @@ pub struct Outputs {
     /// Strand lines cover their fibre's width's share of a pixel instead of the whole pixel
     /// ([`DrawStyle::line_coverage`](crate::pipeline::DrawStyle::line_coverage)).
     pub line_coverage_by_width: bool,
+    /// Cluster tubes tessellated instead of drawn as view-facing stand-ins
+    /// ([`DrawStyle::cluster_geometry`](crate::pipeline::DrawStyle::cluster_geometry)).
+    pub cluster_tubes: bool,
 }
 
 impl Outputs {
-    /// The draw style the frames are written in: the shading and line coverage asked for, lines
-    /// shaded at their curve points.
+    /// The draw style the frames are written in: the shading, line coverage and cluster
+    /// geometry asked for, lines shaded at their curve points.
     pub fn style(&self) -> crate::pipeline::DrawStyle {
         crate::pipeline::DrawStyle {
             hair_shading: if self.marschner {
@@ -151,6 +154,11 @@ impl Outputs {
                 hair_render::LineCoverage::Width
             } else {
                 hair_render::LineCoverage::Pixel
+            },
+            cluster_geometry: if self.cluster_tubes {
+                hair_render::ClusterGeometry::Tube
+            } else {
+                hair_render::ClusterGeometry::Impostor
             },
             ..crate::pipeline::DrawStyle::default()
         }

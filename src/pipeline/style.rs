@@ -3,10 +3,12 @@
 //! [`CrowdRenderer`](crate::CrowdRenderer) and turned into each frame's settings in one place.
 
 use hair_core::Camera;
-use hair_render::{FrameSettings, HairShading, LineCoverage, LineShading, ShadingMode};
+use hair_render::{
+    ClusterGeometry, FrameSettings, HairShading, LineCoverage, LineShading, ShadingMode,
+};
 
-/// Where strand lines are shaded, the hair's reflectance model and the lines' pixel coverage;
-/// the renderer's defaults otherwise.
+/// Where strand lines are shaded, the hair's reflectance model, the lines' pixel coverage and
+/// how cluster tubes are drawn; the renderer's defaults otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct DrawStyle {
     /// Strand lines shaded at their curve points (the default) or per fragment.
@@ -15,6 +17,8 @@ pub struct DrawStyle {
     pub hair_shading: HairShading,
     /// Strand lines covering whole pixels (the default) or their width's share.
     pub line_coverage: LineCoverage,
+    /// Cluster tubes drawn as view-facing stand-ins (the default) or tessellated.
+    pub cluster_geometry: ClusterGeometry,
 }
 
 impl DrawStyle {
@@ -32,6 +36,7 @@ impl DrawStyle {
         settings.line_shading = self.line_shading;
         settings.hair.shading = self.hair_shading;
         settings.line_coverage = self.line_coverage;
+        settings.cluster_geometry = self.cluster_geometry;
         settings
     }
 }

@@ -381,6 +381,9 @@ pub struct OutputTable {
     /// How much of a pixel a strand line covers: `"pixel"` (the default) or `"width"` (its
     /// fibre's width's share).
     pub line_coverage: Option<String>,
+    /// How cluster tubes are drawn: `"impostor"` (the default: the tube's view-facing silhouette,
+    /// shaded as the tube) or `"tube"` (tessellated around).
+    pub clusters: Option<String>,
 }
 
 /// `[bench]`.

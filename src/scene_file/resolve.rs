@@ -183,6 +183,10 @@ impl SceneFile {
                 None => false,
                 Some(name) => one_of("output.line_coverage", name, &["pixel", "width"])? == "width",
             },
+            cluster_tubes: match output.clusters.as_deref() {
+                None => false,
+                Some(name) => one_of("output.clusters", name, &["impostor", "tube"])? == "tube",
+            },
         };
         if let Some(json) = &output.json
             && json.trim().is_empty()
@@ -701,6 +705,11 @@ mod tests {
                 "output.line_coverage",
                 "width",
             ),
+            (
+                "[output]\nclusters = \"cylinders\"",
+                "output.clusters",
+                "tube",
+            ),
         ] {
             let error = error_of(text);
             assert!(
@@ -712,7 +721,7 @@ mod tests {
 
     #[test]
     fn the_output_table_sets_the_draw_style() {
-        use hair_render::{HairShading, LineCoverage};
+        use hair_render::{ClusterGeometry, HairShading, LineCoverage};
         let plain = SceneFile::parse("").unwrap().resolve().unwrap();
         assert_eq!(plain.outputs.style(), crate::pipeline::DrawStyle::default());
         let text = "[output]\nshading = \"marschner\"\nline_coverage = \"width\"";
@@ -724,6 +733,14 @@ mod tests {
             .style();
         assert!(matches!(style.hair_shading, HairShading::Marschner(_)));
         assert_eq!(style.line_coverage, LineCoverage::Width);
+        assert_eq!(style.cluster_geometry, ClusterGeometry::Impostor);
+        let tubes = SceneFile::parse("[output]\nclusters = \"tube\"")
+            .unwrap()
+            .resolve()
+            .unwrap()
+            .outputs
+            .style();
+        assert_eq!(tubes.cluster_geometry, ClusterGeometry::Tube);
     }
 
     #[test]

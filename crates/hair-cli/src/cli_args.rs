@@ -51,6 +51,25 @@ pub enum CoverageArg {
     Width,
 }
 
+/// How cluster tubes are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ClustersArg {
+    /// The tube's view-facing silhouette, shaded as the tube.
+    Impostor,
+    /// The tube tessellated around.
+    Tube,
+}
+
+impl ClustersArg {
+    /// The scene file's `output.clusters` value.
+    pub fn name(self) -> &'static str {
+        match self {
+            ClustersArg::Impostor => "impostor",
+            ClustersArg::Tube => "tube",
+        }
+    }
+}
+
 impl ShadingArg {
     /// The scene file's `output.shading` value.
     pub fn name(self) -> &'static str {

@@ -20,8 +20,8 @@ use hairlod::scene_file::SceneFile;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli_args::{
-    BackendArg, CameraArg, CoverageArg, FramesArg, LevelArg, MotionArg, Preset, ShadingArg,
-    ShotOverrides,
+    BackendArg, CameraArg, ClustersArg, CoverageArg, FramesArg, LevelArg, MotionArg, Preset,
+    ShadingArg, ShotOverrides,
 };
 
 /// Arguments of `hairlod render`.
@@ -89,6 +89,11 @@ pub struct RenderArgs {
     /// output.line_coverage; default pixel].
     #[arg(long, value_enum)]
     line_coverage: Option<CoverageArg>,
+    /// How cluster tubes are drawn: their view-facing silhouette shaded as the tube (a fraction
+    /// of the triangles), or tessellated around (see docs/render.md) [scene: output.clusters;
+    /// default impostor].
+    #[arg(long, value_enum)]
+    clusters: Option<ClustersArg>,
     /// Graphics backend [default: $HAIRLOD_BACKEND, else auto].
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
@@ -152,6 +157,9 @@ impl RenderArgs {
         }
         if let Some(coverage) = self.line_coverage {
             file.output.line_coverage = Some(coverage.name().to_string());
+        }
+        if let Some(clusters) = self.clusters {
+            file.output.clusters = Some(clusters.name().to_string());
         }
         // Flags are checked like the file's own values.
         file.resolve()

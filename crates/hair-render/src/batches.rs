@@ -6,7 +6,7 @@
 use glam::Vec3;
 
 use crate::inputs::SkeletonFrame;
-use crate::settings::Tessellation;
+use crate::settings::{ClusterGeometry, Tessellation};
 
 /// One chain as the shaders read it (`Chain` in `common.wgsl`), 32 bytes.
 #[repr(C)]
@@ -40,6 +40,7 @@ pub(crate) const CHAIN_SAMPLE_BYTES: u64 = 96;
 pub(crate) fn chain_table(
     frame: &SkeletonFrame<'_>,
     tessellation: &Tessellation,
+    cluster_geometry: ClusterGeometry,
     camera_position: Vec3,
     focal_pixels: f32,
     ring_radii: &[f32],
@@ -71,7 +72,8 @@ pub(crate) fn chain_table(
                     first_node: first,
                     node_count: end - first,
                     along_segments,
-                    around_segments: tessellation.around_segments_for(
+                    around_segments: cluster_geometry.bands(
+                        tessellation,
                         ring_radii.get(chain).copied().unwrap_or(0.0),
                         distance,
                         focal_pixels,
@@ -505,6 +507,7 @@ mod tests {
         let samples = chain_table(
             &frame,
             &tessellation,
+            ClusterGeometry::Tube,
             Vec3::new(0.0, 0.0, 1.0),
             1000.0,
             &[0.01, 0.0, 0.01],
@@ -530,5 +533,19 @@ mod tests {
         );
         assert!(table[2].around_segments < table[0].around_segments);
         assert_eq!((table[0].thin, table[2].thin), (0, 1));
+        // Impostors: the same bands across at any distance.
+        chain_table(
+            &frame,
+            &tessellation,
+            ClusterGeometry::Impostor,
+            Vec3::new(0.0, 0.0, 1.0),
+            1000.0,
+            &[0.01, 0.0, 0.01],
+            |d| d > 2.0,
+            &mut table,
+            &mut distances,
+        );
+        assert_eq!(table[0].around_segments, crate::IMPOSTOR_BANDS);
+        assert_eq!(table[2].around_segments, crate::IMPOSTOR_BANDS);
     }
 }

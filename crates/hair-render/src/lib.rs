@@ -21,7 +21,9 @@
 //!   hides hair behind it by depth. 4× MSAA by default.
 //! - **Clusters and patches** ([`ClusterSet`], [`PatchSet`]): closed tubes (4 control points per
 //!   node, periodic cubic around) and ruled strips (2 per node, linear across), evaluated in the
-//!   vertex shader from the same node buffers, shaded with Kajiya-Kay along the hair on a procedural
+//!   vertex shader from the same node buffers; a tube is drawn as its view-facing silhouette with
+//!   the tube's normal rebuilt per fragment ([`ClusterGeometry::Impostor`], the default) or
+//!   tessellated around ([`ClusterGeometry::Tube`]); shaded with Kajiya-Kay along the hair on a procedural
 //!   hair texture in the hair colour range ([`SurfaceTexture`]: shades drifting along the hair,
 //!   strands of their own lengths, a thinning silhouette by alpha-to-coverage).
 //! - **Self-shadowing** ([`SelfShadowing`], [`shadows`]): deep opacity maps drawn from the active
@@ -115,8 +117,8 @@ pub use inputs::{SkeletonFrame, StrandSet};
 pub use marschner::Marschner;
 pub use renderer::{Renderer, RendererOptions};
 pub use settings::{
-    DirectionalLight, FrameSettings, HairMaterial, HairShading, LevelColors, LineCoverage,
-    LineShading, ShadingMode, StrandStyle, SurfaceTexture, Tessellation,
+    ClusterGeometry, DirectionalLight, FrameSettings, HairMaterial, HairShading, IMPOSTOR_BANDS,
+    LevelColors, LineCoverage, LineShading, ShadingMode, StrandStyle, SurfaceTexture, Tessellation,
 };
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;

@@ -450,6 +450,7 @@ impl Renderer {
         let samples = chain_table(
             frame,
             &settings.tessellation,
+            settings.cluster_geometry,
             settings.camera.position,
             focal,
             &self.chain_ring_radii,

@@ -55,6 +55,47 @@ pub enum SurfaceTexture {
     Stripes,
 }
 
+/// How cluster tubes (§3.4) are drawn.
+///
+/// Seen from outside, a tube is its silhouette: a band `2ρ` wide along its axis, whose normal
+/// turns from one edge through the eye to the other. [`ClusterGeometry::Impostor`] draws that band
+/// (one strip, in the plane touching the tube's near side) and rebuilds the tube's normal per
+/// fragment, so it covers the pixels of the tube's front half with a fraction of its triangles:
+/// a CPU rasterizer spends a large share of a cluster frame per triangle (`docs/render.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ClusterGeometry {
+    /// The tube's view-facing silhouette, one strip across, shaded with the tube's normal and
+    /// texture (the default). Where a tube points at the eye its stand-in narrows (a tube seen
+    /// end-on shows its ring; the band folds along the axis's short projection).
+    #[default]
+    Impostor,
+    /// The tube tessellated around within [`Tessellation::max_chord_error_pixels`] of its ring,
+    /// back faces culled.
+    Tube,
+}
+
+/// Strips across an impostor cluster ([`ClusterGeometry::Impostor`]): one, edge to edge.
+pub const IMPOSTOR_BANDS: u32 = 1;
+
+impl ClusterGeometry {
+    /// Strips around (a tube) or across (an impostor) a cluster whose ring radius is
+    /// `ring_radius` [m], `distance` [m] from a camera of focal length `focal_pixels`.
+    pub fn bands(
+        &self,
+        tessellation: &Tessellation,
+        ring_radius: f32,
+        distance: f32,
+        focal_pixels: f32,
+    ) -> u32 {
+        match self {
+            ClusterGeometry::Impostor => IMPOSTOR_BANDS,
+            ClusterGeometry::Tube => {
+                tessellation.around_segments_for(ring_radius, distance, focal_pixels)
+            }
+        }
+    }
+}
+
 /// How strands are drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum StrandStyle {
@@ -297,6 +338,8 @@ pub struct FrameSettings {
     pub shadows: SelfShadowing,
     /// Texture of clusters and patches.
     pub surface_texture: SurfaceTexture,
+    /// Cluster tubes drawn as view-facing stand-ins or tessellated.
+    pub cluster_geometry: ClusterGeometry,
     /// How much of a pixel a strand line covers.
     pub line_coverage: LineCoverage,
 }
@@ -319,6 +362,7 @@ impl FrameSettings {
             level_colors: LevelColors::default(),
             shadows: SelfShadowing::default(),
             surface_texture: SurfaceTexture::default(),
+            cluster_geometry: ClusterGeometry::default(),
             line_coverage: LineCoverage::default(),
         }
     }

@@ -3,7 +3,8 @@
 use glam::Vec3;
 
 use crate::settings::{
-    FrameSettings, HairShading, LineCoverage, ShadingMode, StrandStyle, SurfaceTexture,
+    ClusterGeometry, FrameSettings, HairShading, LineCoverage, ShadingMode, StrandStyle,
+    SurfaceTexture,
 };
 use crate::shadows::SelfShadowing;
 
@@ -157,7 +158,10 @@ impl Globals {
                     _ => 0.0,
                 },
                 counts.samples_per_pixel as f32,
-                0.0,
+                match settings.cluster_geometry {
+                    ClusterGeometry::Impostor => 1.0,
+                    ClusterGeometry::Tube => 0.0,
+                },
                 0.0,
             ],
         }

@@ -39,7 +39,8 @@ struct Globals {
     // w: the fibre's refractive index.
     hair_model: vec4<f32>,
     // x: the hair width [m] whose share of a pixel a strand line covers (0: a whole pixel), y: the
-    // target's samples per pixel.
+    // target's samples per pixel, z: 1 when clusters are drawn as impostors
+    // (`ClusterGeometry::Impostor`), 0 as tubes.
     line_coverage: vec4<f32>,
 }
 

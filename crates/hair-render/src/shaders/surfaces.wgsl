@@ -116,6 +116,9 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     }
     let across = f32(band + side) / f32(bands);
     let v = f32(point) / f32(segments);
+    if (kind == 1u && cluster_impostors()) {
+        return impostor_vertex(out, chain, surface, 2.0 * across - 1.0, v);
+    }
     var offset = vec2<f32>(0.0, 2.0 * across - 1.0);
     if (kind == 1u) {
         offset = ring_offset(across);
@@ -146,6 +149,108 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
         out.light = shadow_transmittance(curve.position);
     }
     return out;
+}
+
+// Whether clusters are drawn as view-facing stand-ins of their tubes
+// (`ClusterGeometry::Impostor`) rather than as tessellated tubes.
+fn cluster_impostors() -> bool {
+    return globals.line_coverage.z > 0.5;
+}
+
+// The drawn ring's radius over the control radius: the periodic cubic B-spline of four control
+// points on a circle of radius r runs at 0.648·r to 0.667·r from its centre (mean 0.657·r,
+// `lod::DRAWN_TUBE_RADIUS`).
+const RING_RADIUS: f32 = 0.657;
+
+// Direction towards the eye at `position`: the camera in the main pass, the (directional) light
+// in the light passes.
+fn eye_direction(position: vec3<f32>) -> vec3<f32> {
+    if (globals.shadow.w > 0.5) {
+        return globals.light_direction.xyz;
+    }
+    return normalize(globals.camera_position.xyz - position);
+}
+
+// The unit vectors across a tube seen from `eye` (unit): `side` across its silhouette and `front`
+// towards the eye, both normal to the unit `tangent`; `fallback` (any vector across the tube)
+// when the tube points at the eye.
+fn tube_view_frame(tangent: vec3<f32>, eye: vec3<f32>, fallback: vec3<f32>) -> mat2x3<f32> {
+    var side = cross(tangent, eye);
+    if (dot(side, side) < 1e-12) {
+        side = cross(tangent, fallback);
+    }
+    side = normalize(side);
+    return mat2x3<f32>(side, cross(side, tangent));
+}
+
+// A cluster's tube drawn as its silhouette seen from the eye (`ClusterGeometry::Impostor`): a band
+// across the silhouette, `s` = -1 at one edge and 1 at the other, in the plane that touches the
+// tube on the side nearest the eye (axis + ρ·(s·side + front)), so that nothing the tube hides
+// shows through it and the head hides no more of it than of the tube. Seen from the eye a point
+// of the tube at `s` projects where the band's point at `s` does (up to the perspective of the
+// depth ρ), and `s` is linear across the band, so the fragment stage rebuilds the tube's normal
+// exactly (`surface_point`). Faces the eye, so it is counter-clockwise from it (the tube's
+// back-face culling keeps it). `normal` carries the node frame's normal for the texture's angle
+// around.
+fn impostor_vertex(initial: SurfaceVertex, chain: Chain, surface: Surface, s: f32, v: f32) -> SurfaceVertex {
+    var out = initial;
+    let axis = evaluate_curve(chain, vec2<f32>(0.0), 0.0, 0.0, v);
+    var tangent = axis.derivative;
+    if (dot(tangent, tangent) < 1e-20) {
+        tangent = vec3<f32>(0.0, 1.0, 0.0);
+    }
+    tangent = normalize(tangent);
+    let frame = frame_at(chain, v);
+    let view = tube_view_frame(tangent, eye_direction(axis.position), frame[0]);
+    let scale = mix(surface.root_scale, surface.tip_scale, v);
+    let position = axis.position + RING_RADIUS * scale * (s * view[0] + view[1]);
+    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
+    out.world_position = position;
+    out.tangent = tangent;
+    out.normal = frame[0];
+    out.texcoord = vec2<f32>(s, v);
+    out.seed = surface.seed;
+    out.coverage = chain.coverage;
+    out.gives_way = chain.gives_way;
+    out.scale = scale;
+    if (globals.shadow.w < 0.5) {
+        out.light = shadow_transmittance(position);
+    }
+    return out;
+}
+
+// A surface fragment's unit normal and its coordinate across (0..1 around a tube from the node
+// frame's binormal, as `ring_offset`; 0..1 across a strip). An impostor's normal is the tube's at
+// the fragment's `s`, its angle around measured in the node frame, so the texture stays on the
+// hair as the eye moves.
+struct SurfacePoint {
+    normal: vec3<f32>,
+    across: f32,
+}
+
+fn surface_point(in: SurfaceVertex) -> SurfacePoint {
+    var point: SurfacePoint;
+    if (in.kind == 1u && cluster_impostors()) {
+        let tangent = normalize(in.tangent);
+        let view = tube_view_frame(tangent, eye_direction(in.world_position), in.normal);
+        let s = clamp(in.texcoord.x, -1.0, 1.0);
+        point.normal = s * view[0] + sqrt(max(1.0 - s * s, 0.0)) * view[1];
+        var f0 = in.normal - dot(in.normal, tangent) * tangent;
+        if (dot(f0, f0) < 1e-20) {
+            f0 = view[0];
+        }
+        f0 = normalize(f0);
+        let f1 = cross(tangent, f0);
+        point.across = fract(atan2(dot(point.normal, f1), dot(point.normal, f0)) / 6.2831853 - 0.25);
+        return point;
+    }
+    point.normal = in.normal;
+    if (dot(point.normal, point.normal) < 1e-20) {
+        point.normal = eye_direction(in.world_position);
+    }
+    point.normal = normalize(point.normal);
+    point.across = in.texcoord.x;
+    return point;
 }
 
 @vertex
@@ -216,11 +321,8 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
         stripes = STRIPES_AROUND;
     }
     let to_eye = normalize(globals.camera_position.xyz - in.world_position);
-    var normal = in.normal;
-    if (dot(normal, normal) < 1e-20) {
-        normal = to_eye;
-    }
-    normal = normalize(normal);
+    let point = surface_point(in);
+    var normal = point.normal;
     if (in.kind == 2u && dot(normal, to_eye) < 0.0) {
         normal = -normal;
     }
@@ -232,13 +334,13 @@ fn surface_color(in: SurfaceVertex) -> vec4<f32> {
         if (in.kind == 2u) {
             silhouette = 2.0 * min(in.texcoord.x, 1.0 - in.texcoord.x);
         }
-        let texture = hair_texture(in.texcoord.x, in.texcoord.y, in.seed, stripes, silhouette);
+        let texture = hair_texture(point.across, in.texcoord.y, in.seed, stripes, silhouette);
         shade = texture.x;
         coverage = texture.y;
     } else {
         // Stripes: coarse locks and fine strands across the surface, constant along the hair.
-        let coarse = stripe_noise(in.texcoord.x * stripes, stripes, in.seed);
-        let fine = stripe_noise(in.texcoord.x * stripes * 3.0, stripes * 3.0, in.seed * 7919u + 1u);
+        let coarse = stripe_noise(point.across * stripes, stripes, in.seed);
+        let fine = stripe_noise(point.across * stripes * 3.0, stripes * 3.0, in.seed * 7919u + 1u);
         shade = clamp(0.6 * coarse + 0.4 * fine, 0.0, 1.0);
     }
     let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, shade);
@@ -267,11 +369,7 @@ fn fs_surface_depth(in: SurfaceVertex) -> @location(0) vec4<f32> {
 // periodic cubic through control points at radius r has radius ⅔·r.
 @fragment
 fn fs_surface_opacity(in: SurfaceVertex) -> @location(0) vec4<f32> {
-    var normal = in.normal;
-    if (dot(normal, normal) < 1e-20) {
-        normal = globals.light_direction.xyz;
-    }
-    let c = max(abs(dot(normalize(normal), globals.light_direction.xyz)), 0.05);
+    let c = max(abs(dot(surface_point(in).normal, globals.light_direction.xyz)), 0.05);
     var tau: f32;
     if (in.kind == 1u) {
         let ring = max(0.6667 * in.scale, 1e-5);
