@@ -504,17 +504,20 @@ mod tests {
         let mut table = Vec::new();
         let mut distances = Vec::new();
         let tessellation = Tessellation::default();
-        let samples = chain_table(
-            &frame,
-            &tessellation,
-            ClusterGeometry::Tube,
-            Vec3::new(0.0, 0.0, 1.0),
-            1000.0,
-            &[0.01, 0.0, 0.01],
-            |d| d > 2.0,
-            &mut table,
-            &mut distances,
-        );
+        let mut table_for = |geometry, table: &mut Vec<GpuChain>| {
+            chain_table(
+                &frame,
+                &tessellation,
+                geometry,
+                Vec3::new(0.0, 0.0, 1.0),
+                1000.0,
+                &[0.01, 0.0, 0.01],
+                |d| d > 2.0,
+                table,
+                &mut distances,
+            )
+        };
+        let samples = table_for(ClusterGeometry::Tube, &mut table);
         assert_eq!(table.len(), 3);
         assert_eq!(table[2].first_sample, table[0].along_segments + 1);
         assert_eq!(
@@ -534,17 +537,7 @@ mod tests {
         assert!(table[2].around_segments < table[0].around_segments);
         assert_eq!((table[0].thin, table[2].thin), (0, 1));
         // Impostors: the same bands across at any distance.
-        chain_table(
-            &frame,
-            &tessellation,
-            ClusterGeometry::Impostor,
-            Vec3::new(0.0, 0.0, 1.0),
-            1000.0,
-            &[0.01, 0.0, 0.01],
-            |d| d > 2.0,
-            &mut table,
-            &mut distances,
-        );
+        table_for(ClusterGeometry::Impostor, &mut table);
         assert_eq!(table[0].around_segments, crate::IMPOSTOR_BANDS);
         assert_eq!(table[2].around_segments, crate::IMPOSTOR_BANDS);
     }
