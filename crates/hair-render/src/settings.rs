@@ -154,7 +154,8 @@ pub struct Tessellation {
     pub max_segments: u32,
     /// Segments along the hair however far away (≥ 1).
     pub min_segments: u32,
-    /// Segments around a cluster tube at `full_detail_distance` and closer.
+    /// Segments around a cluster tube at `full_detail_distance` and closer (the around settings
+    /// apply to [`ClusterGeometry::Tube`]; an impostor is always one strip across).
     pub max_around_segments: u32,
     /// Segments around a cluster tube however far away (≥ 3).
     pub min_around_segments: u32,
