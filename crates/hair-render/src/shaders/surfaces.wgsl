@@ -116,39 +116,63 @@ fn surface_vertex(index: u32, vertex: u32, kind: u32) -> SurfaceVertex {
     }
     let across = f32(band + side) / f32(bands);
     let v = f32(point) / f32(segments);
-    if (kind == 1u && cluster_impostors()) {
-        return impostor_vertex(out, chain, surface, 2.0 * across - 1.0, v);
-    }
-    var offset = vec2<f32>(0.0, 2.0 * across - 1.0);
-    if (kind == 1u) {
-        offset = ring_offset(across);
-    }
-    let curve = evaluate_curve(chain, offset, surface.root_scale, surface.tip_scale, v);
-    var tangent = curve.derivative;
-    if (dot(tangent, tangent) < 1e-20) {
-        tangent = vec3<f32>(0.0, 1.0, 0.0);
-    }
-    tangent = normalize(tangent);
     let frame = frame_at(chain, v);
+    let scale = mix(surface.root_scale, surface.tip_scale, v);
+    var position: vec3<f32>;
+    var tangent: vec3<f32>;
     var normal: vec3<f32>;
-    if (kind == 1u) {
-        normal = offset.x * frame[0] + offset.y * frame[1];
+    var x = across;
+    if (kind == 1u && cluster_impostors()) {
+        // The tube's silhouette seen from the eye (`ClusterGeometry::Impostor`): a band, `s` = -1
+        // at one edge and 1 at the other, in the plane that touches the tube on the side nearest
+        // the eye (axis + ρ·(s·side + front)), so that nothing the tube hides shows through it
+        // and the head hides no more of it than of the tube. Seen from the eye a point of the
+        // tube at `s` projects where the band's point at `s` does (up to the perspective of the
+        // depth ρ), and `s` is linear across the band, so the fragment stage rebuilds the tube's
+        // normal exactly (`surface_point`). Faces the eye, so it is counter-clockwise from it
+        // (the tube's back-face culling keeps it). `normal` carries the node frame's normal for
+        // the texture's angle around.
+        let axis = evaluate_curve(chain, vec2<f32>(0.0), 0.0, 0.0, v);
+        tangent = unit_tangent(axis.derivative);
+        let view = tube_view_frame(tangent, eye_direction(axis.position), frame[0]);
+        x = 2.0 * across - 1.0;
+        position = axis.position + RING_RADIUS * scale * (x * view[0] + view[1]);
+        normal = frame[0];
     } else {
-        normal = cross(tangent, frame[1]);
+        var offset = vec2<f32>(0.0, 2.0 * across - 1.0);
+        if (kind == 1u) {
+            offset = ring_offset(across);
+        }
+        let curve = evaluate_curve(chain, offset, surface.root_scale, surface.tip_scale, v);
+        position = curve.position;
+        tangent = unit_tangent(curve.derivative);
+        if (kind == 1u) {
+            normal = offset.x * frame[0] + offset.y * frame[1];
+        } else {
+            normal = cross(tangent, frame[1]);
+        }
     }
-    out.clip = globals.view_proj * vec4<f32>(curve.position, 1.0);
-    out.world_position = curve.position;
+    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
+    out.world_position = position;
     out.tangent = tangent;
     out.normal = normal;
-    out.texcoord = vec2<f32>(across, v);
+    out.texcoord = vec2<f32>(x, v);
     out.seed = surface.seed;
     out.coverage = chain.coverage;
     out.gives_way = chain.gives_way;
-    out.scale = mix(surface.root_scale, surface.tip_scale, v);
+    out.scale = scale;
     if (globals.shadow.w < 0.5) {
-        out.light = shadow_transmittance(curve.position);
+        out.light = shadow_transmittance(position);
     }
     return out;
+}
+
+// The unit direction of a curve derivative, +Y where it vanishes.
+fn unit_tangent(derivative: vec3<f32>) -> vec3<f32> {
+    if (dot(derivative, derivative) < 1e-20) {
+        return vec3<f32>(0.0, 1.0, 0.0);
+    }
+    return normalize(derivative);
 }
 
 // Whether clusters are drawn as view-facing stand-ins of their tubes
@@ -181,42 +205,6 @@ fn tube_view_frame(tangent: vec3<f32>, eye: vec3<f32>, fallback: vec3<f32>) -> m
     }
     side = normalize(side);
     return mat2x3<f32>(side, cross(side, tangent));
-}
-
-// A cluster's tube drawn as its silhouette seen from the eye (`ClusterGeometry::Impostor`): a band
-// across the silhouette, `s` = -1 at one edge and 1 at the other, in the plane that touches the
-// tube on the side nearest the eye (axis + ρ·(s·side + front)), so that nothing the tube hides
-// shows through it and the head hides no more of it than of the tube. Seen from the eye a point
-// of the tube at `s` projects where the band's point at `s` does (up to the perspective of the
-// depth ρ), and `s` is linear across the band, so the fragment stage rebuilds the tube's normal
-// exactly (`surface_point`). Faces the eye, so it is counter-clockwise from it (the tube's
-// back-face culling keeps it). `normal` carries the node frame's normal for the texture's angle
-// around.
-fn impostor_vertex(initial: SurfaceVertex, chain: Chain, surface: Surface, s: f32, v: f32) -> SurfaceVertex {
-    var out = initial;
-    let axis = evaluate_curve(chain, vec2<f32>(0.0), 0.0, 0.0, v);
-    var tangent = axis.derivative;
-    if (dot(tangent, tangent) < 1e-20) {
-        tangent = vec3<f32>(0.0, 1.0, 0.0);
-    }
-    tangent = normalize(tangent);
-    let frame = frame_at(chain, v);
-    let view = tube_view_frame(tangent, eye_direction(axis.position), frame[0]);
-    let scale = mix(surface.root_scale, surface.tip_scale, v);
-    let position = axis.position + RING_RADIUS * scale * (s * view[0] + view[1]);
-    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
-    out.world_position = position;
-    out.tangent = tangent;
-    out.normal = frame[0];
-    out.texcoord = vec2<f32>(s, v);
-    out.seed = surface.seed;
-    out.coverage = chain.coverage;
-    out.gives_way = chain.gives_way;
-    out.scale = scale;
-    if (globals.shadow.w < 0.5) {
-        out.light = shadow_transmittance(position);
-    }
-    return out;
 }
 
 // A surface fragment's unit normal and its coordinate across (0..1 around a tube from the node
