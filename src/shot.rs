@@ -83,10 +83,7 @@ impl CameraPath {
             CameraMotion::Fixed => orbit(self.azimuth, self.distance),
             CameraMotion::Keyframes(keys) => {
                 let (position, target) = interpolate_keys(keys, time);
-                let mut camera = orbit(self.azimuth, self.distance);
-                camera.position = position;
-                camera.target = target;
-                camera
+                Camera::looking_at(position, target, self.fov)
             }
         }
     }
@@ -330,6 +327,45 @@ impl Shot {
                 pipeline.settle(self.settle_seconds)?;
                 Ok(pipeline)
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A keyframed camera's clipping planes follow its own look distance, not the orbit fields
+    /// (`distance`) it does not use: a crowd's far heads stay in the picture.
+    #[test]
+    fn keyframed_cameras_see_as_far_as_they_look() {
+        let key = |time: f64, z: f32| CameraKeyframe {
+            time,
+            position: Vec3::new(0.0, 0.5, z),
+            target: Vec3::new(0.0, -9.1, -39.1),
+        };
+        let path = CameraPath {
+            motion: CameraMotion::Keyframes(vec![key(0.0, 0.9), key(0.4, 0.6)]),
+            target: Vec3::ZERO,
+            distance: 0.6,
+            end_distance: 0.6,
+            azimuth: 0.0,
+            elevation: 0.0,
+            fov: 35f32.to_radians(),
+        };
+        for (frame, time) in [(0, 0.0), (1, 0.2), (2, 0.4)] {
+            let camera = path.camera(frame, 3, time);
+            let key = interpolate_keys(
+                match &path.motion {
+                    CameraMotion::Keyframes(keys) => keys,
+                    _ => unreachable!(),
+                },
+                time,
+            );
+            assert_eq!((camera.position, camera.target), key);
+            // The farthest head of scenes/crowd.toml, 40 m away, and the nearest, 1 m away.
+            assert!(camera.sphere_in_frustum(Vec3::new(5.376, 0.0, -39.0), 0.15, 16.0 / 9.0));
+            assert!(camera.sphere_in_frustum(Vec3::new(0.0, 0.0, 0.0), 0.15, 16.0 / 9.0));
         }
     }
 }

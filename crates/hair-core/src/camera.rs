@@ -63,6 +63,23 @@ impl Camera {
         }
     }
 
+    /// A camera at `position` looking at `target` with +Y up. The far plane scales with the
+    /// look distance `d = |target − position|` as [`Camera::orbit`]'s does (`10·d + 1` [m]), so
+    /// everything up to ten times beyond the target is drawn; the near plane is `d/1000` [m] (at
+    /// least 0.1 mm), closer than an orbit's `d/100` because a keyframed camera often looks far
+    /// past things near it (a crowd's front row).
+    pub fn looking_at(position: Vec3, target: Vec3, vertical_fov: f32) -> Camera {
+        let distance = position.distance(target);
+        Camera {
+            position,
+            target,
+            up: Vec3::Y,
+            vertical_fov,
+            near: (distance * 1e-3).max(1e-4),
+            far: distance * 10.0 + 1.0,
+        }
+    }
+
     /// Checks that the camera is finite and well formed, naming what is wrong.
     pub fn validate(&self) -> Result<()> {
         let finite = self.position.is_finite()
@@ -226,6 +243,29 @@ mod tests {
         }
         assert!(camera.sphere_in_frustum(Vec3::ZERO, 0.0, aspect));
         assert!(!camera.sphere_in_frustum(camera.position * 3.0, 0.1, aspect));
+    }
+
+    #[test]
+    fn looking_at_sees_from_near_the_eye_to_far_beyond_the_target() {
+        // A crowd shot: the eye 0.5 m above the front row, looking 40 m down the crowd.
+        let eye = Vec3::new(0.0, 0.5, 0.9);
+        let target = Vec3::new(0.0, -9.1, -39.1);
+        let camera = Camera::looking_at(eye, target, 35f32.to_radians());
+        camera.validate().unwrap();
+        let aspect = 16.0 / 9.0;
+        let along = (target - eye).normalize();
+        // On the line of sight: in view from 0.1 m (past the near plane d/1000 = 41 mm) to
+        // 400 m (within the far plane 10·d + 1 = 412 m), out of view beyond it.
+        for distance in [0.1, 1.0, 30.0, 400.0] {
+            assert!(
+                camera.sphere_in_frustum(eye + along * distance, 0.0, aspect),
+                "{distance}"
+            );
+        }
+        assert!(!camera.sphere_in_frustum(eye + along * 420.0, 0.0, aspect));
+        assert!(!camera.sphere_in_frustum(eye + along * 0.01, 0.0, aspect));
+        // A head 40 m down the crowd, off the line of sight but in the picture.
+        assert!(camera.sphere_in_frustum(Vec3::new(5.4, 0.0, -39.0), 0.15, aspect));
     }
 
     #[test]
