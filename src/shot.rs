@@ -363,8 +363,10 @@ mod tests {
                 time,
             );
             assert_eq!((camera.position, camera.target), key);
-            // The farthest head of scenes/crowd.toml, 40 m away, and the nearest, 1 m away.
-            assert!(camera.sphere_in_frustum(Vec3::new(5.376, 0.0, -39.0), 0.15, 16.0 / 9.0));
+            // The farthest head of scenes/crowd.toml (40 m away), the widest (34 m away, 20°
+            // to the side) and the nearest (1 m away).
+            assert!(camera.sphere_in_frustum(Vec3::new(2.472, 0.0, -38.924), 0.15, 16.0 / 9.0));
+            assert!(camera.sphere_in_frustum(Vec3::new(11.927, 0.0, -31.159), 0.15, 16.0 / 9.0));
             assert!(camera.sphere_in_frustum(Vec3::new(0.0, 0.0, 0.0), 0.15, 16.0 / 9.0));
         }
     }
