@@ -344,8 +344,9 @@ mod tests {
             position: Vec3::new(0.0, 0.5, z),
             target: Vec3::new(0.0, -9.1, -39.1),
         };
+        let keys = vec![key(0.0, 0.9), key(0.4, 0.6)];
         let path = CameraPath {
-            motion: CameraMotion::Keyframes(vec![key(0.0, 0.9), key(0.4, 0.6)]),
+            motion: CameraMotion::Keyframes(keys.clone()),
             target: Vec3::ZERO,
             distance: 0.6,
             end_distance: 0.6,
@@ -355,14 +356,10 @@ mod tests {
         };
         for (frame, time) in [(0, 0.0), (1, 0.2), (2, 0.4)] {
             let camera = path.camera(frame, 3, time);
-            let key = interpolate_keys(
-                match &path.motion {
-                    CameraMotion::Keyframes(keys) => keys,
-                    _ => unreachable!(),
-                },
-                time,
+            assert_eq!(
+                (camera.position, camera.target),
+                interpolate_keys(&keys, time)
             );
-            assert_eq!((camera.position, camera.target), key);
             // The farthest head of scenes/crowd.toml (40 m away), the widest (34 m away, 20°
             // to the side) and the nearest (1 m away).
             assert!(camera.sphere_in_frustum(Vec3::new(2.472, 0.0, -38.924), 0.15, 16.0 / 9.0));

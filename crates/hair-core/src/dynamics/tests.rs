@@ -16,9 +16,20 @@ const G: f32 = 9.81;
 /// A rest model of `count` chains of `style`, `length` [m] long, on a ring of roots, growing
 /// horizontally outwards.
 pub(crate) fn ring_of_chains(style: &HairStyle, length: f32, count: usize) -> SkeletonRest {
+    ring_chains(style, length, count, 0..count)
+}
+
+/// The chains `chains` (each below `count`) of [`ring_of_chains`]'s ring of `count`, in that
+/// order: the ring with some of its chains left out.
+pub(crate) fn ring_chains(
+    style: &HairStyle,
+    length: f32,
+    count: usize,
+    chains: impl IntoIterator<Item = usize>,
+) -> SkeletonRest {
     let mut rest = SkeletonRest::default();
     let angles = style.chain_angles(length).unwrap();
-    for c in 0..count {
+    for c in chains {
         let angle = c as f32 * std::f32::consts::TAU / count as f32;
         let outward = Vec3::new(angle.cos(), 0.0, angle.sin());
         let frame = Frame::from_tangent_and_normal(outward, Vec3::Y).unwrap();

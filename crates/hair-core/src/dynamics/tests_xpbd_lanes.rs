@@ -3,10 +3,8 @@
 
 use glam::Vec3;
 
-use crate::dynamics::tests::{largest_distance, ring_of_chains};
+use crate::dynamics::tests::{largest_distance, ring_chains, ring_of_chains};
 use crate::dynamics::*;
-use crate::frame::Frame;
-use crate::skeleton::SkeletonRest;
 use crate::style::HairStyle;
 
 /// A busy ring of 11 curly chains (one full batch of 8 and one of 3) in a 4 rad/s shake and a
@@ -26,17 +24,22 @@ fn ring_with(
 ) -> (SimulationState, usize) {
     let style = HairStyle::curly(50.0, 0.01, smoothness);
     let rest = ring_of_chains(&style, 0.25, 11);
-    let environment = Environment {
-        head: HeadMotion::shake(0.5, 4.0),
-        wind: WindField::gusting(Vec3::new(3.0, 0.0, 1.0), 1.5, 0.8, 0.3, 5),
-        gravity: STANDARD_GRAVITY,
-    };
+    let environment = busy_environment();
     let model = DynamicsModel::new(rest, DynamicsParams::for_style(&style)).unwrap();
     let mut simulation = Simulation::new(model, settings).unwrap();
     simulation.set_lanes(lanes);
     let mut state = simulation.rest_state(&environment, 0.0);
     simulation.run(&mut state, &environment, steps).unwrap();
     (state, simulation.lane_redos())
+}
+
+/// The busy ring's 4 rad/s shake and gusting wind.
+fn busy_environment() -> Environment {
+    Environment {
+        head: HeadMotion::shake(0.5, 4.0),
+        wind: WindField::gusting(Vec3::new(3.0, 0.0, 1.0), 1.5, 0.8, 0.3, 5),
+        gravity: STANDARD_GRAVITY,
+    }
 }
 
 #[test]
@@ -107,25 +110,10 @@ fn a_chain_moves_the_same_whichever_chains_share_its_lanes() {
     // and the batches split differently) must agree bit for bit on chains 1..10, after one step
     // and after 30 (the chaotic whipping would amplify any difference).
     let style = HairStyle::curly(50.0, 0.01, 0.02);
-    let angles = style.chain_angles(0.25).unwrap();
-    let build = |chains: &[usize]| {
-        let mut rest = SkeletonRest::default();
-        for &c in chains {
-            let angle = c as f32 * std::f32::consts::TAU / 11.0;
-            let outward = Vec3::new(angle.cos(), 0.0, angle.sin());
-            let frame = Frame::from_tangent_and_normal(outward, Vec3::Y).unwrap();
-            rest.push_chain(outward * 0.1 + Vec3::Y * 0.1, frame, &angles)
-                .unwrap();
-        }
-        rest
-    };
-    let environment = Environment {
-        head: HeadMotion::shake(0.5, 4.0),
-        wind: WindField::gusting(Vec3::new(3.0, 0.0, 1.0), 1.5, 0.8, 0.3, 5),
-        gravity: STANDARD_GRAVITY,
-    };
+    let environment = busy_environment();
     let run = |chains: &[usize], steps: usize| {
-        let model = DynamicsModel::new(build(chains), DynamicsParams::for_style(&style)).unwrap();
+        let rest = ring_chains(&style, 0.25, 11, chains.iter().copied());
+        let model = DynamicsModel::new(rest, DynamicsParams::for_style(&style)).unwrap();
         let settings = SimulationSettings::recommended(IntegratorKind::Xpbd);
         let mut simulation = Simulation::new(model, settings).unwrap();
         let mut state = simulation.rest_state(&environment, 0.0);
