@@ -92,7 +92,8 @@ impl CrowdRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(crowd)?;
-        let settings = self.style.frame_settings(width, height, camera, mode);
+        let mut settings = self.style.frame_settings(width, height, camera, mode);
+        settings.strand_thinning = crowd.settings().strand_thinning();
         let image = self.renderer.render(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
     }
@@ -107,9 +108,10 @@ impl CrowdRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(crowd)?;
-        let settings = self
+        let mut settings = self
             .style
             .frame_settings(width, height, camera, ShadingMode::Shaded);
+        settings.strand_thinning = crowd.settings().strand_thinning();
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;

@@ -129,7 +129,8 @@ impl PipelineRenderer {
 
     /// Renders the pipeline's current skeletons with `settings` as given, not this renderer's
     /// style (a benchmark's variants of one frame: without shadows, other textures, other map
-    /// sizes); returns the image and the time it took [s].
+    /// sizes), its strand thinning the pipeline's ([`Pipeline::strand_thinning`]); returns the
+    /// image and the time it took [s].
     pub fn render_with_settings(
         &mut self,
         pipeline: &mut Pipeline,
@@ -137,7 +138,11 @@ impl PipelineRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(pipeline)?;
-        let image = self.renderer.render(&self.active.frame(), settings)?;
+        let settings = FrameSettings {
+            strand_thinning: pipeline.strand_thinning(),
+            ..*settings
+        };
+        let image = self.renderer.render(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
     }
 
@@ -171,9 +176,10 @@ impl PipelineRenderer {
     ) -> Result<f64> {
         let started = Instant::now();
         self.prepare(pipeline)?;
-        let settings =
+        let mut settings =
             self.style
                 .frame_settings(destination.width(), destination.height(), camera, mode);
+        settings.strand_thinning = pipeline.strand_thinning();
         self.renderer
             .render_to_texture(&self.active.frame(), &settings, destination)?;
         Ok(started.elapsed().as_secs_f64())
@@ -190,9 +196,10 @@ impl PipelineRenderer {
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(pipeline)?;
-        let settings = self
+        let mut settings = self
             .style
             .frame_settings(width, height, camera, ShadingMode::Shaded);
+        settings.strand_thinning = pipeline.strand_thinning();
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;

@@ -40,6 +40,22 @@ pub struct PipelineSettings {
     pub collision: bool,
 }
 
+impl PipelineSettings {
+    /// How many of each strand group's strands are drawn: thinned to the LOD settings'
+    /// [`strands_per_pixel`](hair_core::lod::LodSettings::strands_per_pixel) in automatic mode
+    /// (when above 0), all of them at a fixed level.
+    pub fn strand_thinning(&self) -> hair_render::StrandThinning {
+        match self.lod {
+            LodMode::Auto(lod) if lod.strands_per_pixel > 0.0 => {
+                hair_render::StrandThinning::ByScreenWidth {
+                    strands_per_pixel: lod.strands_per_pixel,
+                }
+            }
+            _ => hair_render::StrandThinning::Off,
+        }
+    }
+}
+
 impl Default for PipelineSettings {
     /// Automatic levels with default settings, the default integrator
     /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on.

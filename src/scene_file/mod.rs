@@ -326,6 +326,9 @@ pub struct LodTable {
     /// its skeletons widened by half its width) or `ends` (the paper's test: the root and tip of
     /// its centre skeleton, §7.1).
     pub occlusion_test: Option<String>,
+    /// Strand thinning: strands drawn per pixel of a strand group's screen width, ≥ 0 (default
+    /// 0: every strand). 4 covers a group's pixels as all its strands do.
+    pub strands_per_pixel: Option<f32>,
 }
 
 /// `[dynamics]`.

@@ -577,6 +577,15 @@ impl SceneFile {
                 "pixels in 0..=100000",
             )?;
         }
+        if let Some(v) = table.strands_per_pixel {
+            lod.strands_per_pixel = within(
+                "lod.strands_per_pixel",
+                v,
+                0.0,
+                1000.0,
+                "strands per pixel in 0..=1000",
+            )?;
+        }
         if let Some(name) = table.error_model.as_deref() {
             one_of("lod.error_model", name, &["deviation", "chord"])?;
             lod.error_model = name.parse().expect("checked above");
@@ -648,6 +657,30 @@ mod tests {
     }
 
     #[test]
+    fn strand_thinning_is_off_unless_asked_for_and_only_in_automatic_mode() {
+        let shot = |text: &str| SceneFile::parse(text).unwrap().resolve().unwrap();
+        assert_eq!(
+            shot("").settings.strand_thinning(),
+            hair_render::StrandThinning::Off
+        );
+        assert_eq!(
+            shot("[lod]\nstrands_per_pixel = 4.0")
+                .settings
+                .strand_thinning(),
+            hair_render::StrandThinning::ByScreenWidth {
+                strands_per_pixel: 4.0
+            }
+        );
+        // A fixed level is a reference: every strand is drawn.
+        assert_eq!(
+            shot("[lod]\nmode = \"strands\"\nstrands_per_pixel = 4.0")
+                .settings
+                .strand_thinning(),
+            hair_render::StrandThinning::Off
+        );
+    }
+
+    #[test]
     fn bad_values_name_the_field_and_the_range() {
         for (text, field, range) in [
             ("[wind]\nspeed = -1.0", "wind.speed", "0..=100"),
@@ -668,6 +701,11 @@ mod tests {
             ),
             ("[lod]\nmode = \"voxels\"", "lod.mode", "auto"),
             ("[lod]\nbudget_ms = 0.0", "lod.budget_ms", "> 0"),
+            (
+                "[lod]\nstrands_per_pixel = -1.0",
+                "lod.strands_per_pixel",
+                "0..=1000",
+            ),
             (
                 "[lod]\nocclusion_test = \"raycast\"",
                 "lod.occlusion_test",

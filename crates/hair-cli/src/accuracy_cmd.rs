@@ -86,6 +86,15 @@ pub struct AccuracyArgs {
     /// frame only).
     #[arg(long, value_delimiter = ',', value_name = "FRACTIONS")]
     pub blend_leads: Vec<f32>,
+    /// Strand thinning of the LODs: strands drawn per pixel of a strand group's screen width,
+    /// comma-separated to run the LODs with each (0: every strand).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0",
+        value_name = "STRANDS"
+    )]
+    pub strands_per_pixel: Vec<f32>,
     /// Integrator of the fixed levels and the LODs (the integrator sweep tries the others).
     #[arg(long, default_value_t = IntegratorKind::DEFAULT)]
     pub integrator: IntegratorKind,
@@ -143,18 +152,20 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
     } else {
         args.blend_leads.clone()
     };
-    for (((&tolerance, &error_model), &blend_lead), &occlusion_test) in args
+    for ((((&tolerance, &error_model), &blend_lead), &occlusion_test), &strands_per_pixel) in args
         .tolerances
         .iter()
         .flat_map(|t| args.error_models.iter().map(move |m| (t, m)))
         .flat_map(|pair| leads.iter().map(move |lead| (pair, lead)))
         .flat_map(|triple| args.occlusion_tests.iter().map(move |o| (triple, o)))
+        .flat_map(|four| args.strands_per_pixel.iter().map(move |k| (four, k)))
     {
         let lod = hairlod::core::lod::LodSettings {
             pixel_tolerance: tolerance,
             error_model,
             blend_lead,
             occlusion_test,
+            strands_per_pixel,
             ..shot.lod_settings()
         };
         lod.validate()?;
@@ -164,6 +175,9 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
         };
         if occlusion_test != OcclusionTest::default() {
             model.push_str(&format!(" ({occlusion_test} occlusion)"));
+        }
+        if strands_per_pixel > 0.0 {
+            model.push_str(&format!(" thinned {strands_per_pixel}/px"));
         }
         let lead = if blend_lead == default_lead {
             String::new()
@@ -207,7 +221,12 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
             "{}: not a crowd (it has no [[character]] tables)",
             path.display()
         );
-        return crate::crowd_cmd::accuracy(&shot, &args.tolerances, args.json.as_deref());
+        return crate::crowd_cmd::accuracy(
+            &shot,
+            &args.tolerances,
+            &args.strands_per_pixel,
+            args.json.as_deref(),
+        );
     }
     anyhow::ensure!(
         args.frames >= 2,

@@ -340,7 +340,12 @@ fn run_interleaved(
 /// `hairlod accuracy --crowd SCENE`: the crowd's speed against accuracy. The all-strands run is
 /// the reference; every fixed level and the LODs at each of `tolerances` [pixels] are measured
 /// against it frame by frame (mean SSIM loss and luma error), with their median cost per frame.
-pub fn accuracy(shot: &Shot, tolerances: &[f32], json: Option<&Path>) -> Result<()> {
+pub fn accuracy(
+    shot: &Shot,
+    tolerances: &[f32],
+    strands_per_pixel: &[f32],
+    json: Option<&Path>,
+) -> Result<()> {
     let model = build(shot)?;
     let options = RendererOptions::from_env()?;
     let mut renderer = CrowdRenderer::new(&options, &model)?;
@@ -355,12 +360,20 @@ pub fn accuracy(shot: &Shot, tolerances: &[f32], json: Option<&Path>) -> Result<
         ("Patches".into(), patches),
     ];
     for &tolerance in tolerances {
-        let lod = hairlod::core::lod::LodSettings {
-            pixel_tolerance: tolerance,
-            ..lod
-        };
-        lod.validate()?;
-        modes.push((format!("LODs {tolerance} px"), LodMode::Auto(lod)));
+        for &thinning in strands_per_pixel {
+            let lod = hairlod::core::lod::LodSettings {
+                pixel_tolerance: tolerance,
+                strands_per_pixel: thinning,
+                ..lod
+            };
+            lod.validate()?;
+            let thinned = if thinning > 0.0 {
+                format!(" thinned {thinning}/px")
+            } else {
+                String::new()
+            };
+            modes.push((format!("LODs {tolerance} px{thinned}"), LodMode::Auto(lod)));
+        }
     }
     let runs = modes
         .into_iter()

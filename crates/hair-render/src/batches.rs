@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::inputs::SkeletonFrame;
 use crate::settings::{ClusterGeometry, Tessellation};
 
-/// One chain as the shaders read it (`Chain` in `common.wgsl`), 32 bytes.
+/// One chain as the shaders read it (`Chain` in `common.wgsl`), 36 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct GpuChain {
@@ -25,6 +25,9 @@ pub(crate) struct GpuChain {
     pub coverage: f32,
     /// 1 when the chain's surface gives way to another (see [`SkeletonFrame::chain_gives_way`]).
     pub gives_way: u32,
+    /// Weight of each drawn strand's opacity in the light passes: the inverse of the fraction
+    /// strand thinning draws (1 unthinned; see `thinning.rs`).
+    pub shadow_weight: f32,
 }
 
 /// Bytes per chain-curve sample (`ChainSample` in `chain_curve_types.wgsl`: six `vec4<f32>`).
@@ -84,6 +87,7 @@ pub(crate) fn chain_table(
                     gives_way: u32::from(
                         frame.chain_gives_way.get(chain).copied().unwrap_or(false),
                     ),
+                    shadow_weight: 1.0,
                 }
             }),
     );

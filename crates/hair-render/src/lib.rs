@@ -90,6 +90,7 @@ pub mod shadows;
 pub mod strand_shapes;
 pub mod surfaces;
 pub mod target;
+pub mod thinning;
 pub mod timings;
 
 mod batches;
@@ -123,6 +124,7 @@ pub use settings::{
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;
 pub use target::RenderTarget;
+pub use thinning::StrandThinning;
 pub use timings::RenderTimings;
 /// The wgpu this renderer is built on (its device, queue and textures), for callers that draw
 /// beside it, such as an interactive viewer.

@@ -17,6 +17,7 @@ use crate::shadows::{bounding_sphere, light_view_projection, map_resolution};
 use crate::strand_shapes::StrandShapes;
 use crate::surfaces::{ClusterSet, PatchSet, chain_ring_radii, pack_clusters, pack_patches};
 use crate::target::RenderTarget;
+use crate::thinning::{StrandSpan, strand_spans, thin_chains};
 use crate::timings::RenderTimings;
 use crate::uniforms::{GeometryCounts, Globals, ShadowFrame};
 
@@ -119,6 +120,8 @@ pub struct Renderer {
     chain_distances: Vec<f32>,
     /// Largest cluster ring radius [m] per chain (0 without clusters), from the cluster upload.
     chain_ring_radii: Vec<f32>,
+    /// Strand count and width per chain, from the strand upload (for strand thinning).
+    chain_strand_spans: Vec<StrandSpan>,
     /// Draw-order scratch of the front-to-back surface batches.
     order_scratch: Vec<(f32, u32)>,
     /// Self-shadowing's maps and light-pass globals.
@@ -188,6 +191,7 @@ impl Renderer {
             chain_scratch: Vec::new(),
             chain_distances: Vec::new(),
             chain_ring_radii: Vec::new(),
+            chain_strand_spans: Vec::new(),
             order_scratch: Vec::new(),
             shadow_maps,
             light_scene_bind_group: None,
@@ -268,6 +272,7 @@ impl Renderer {
         }
         let scope = ErrorScopes::push(&self.gpu.device);
         self.strands.upload_sorted(&self.gpu, order, &sorted);
+        self.chain_strand_spans = strand_spans(strands);
         let profiles: Vec<[f32; 4]> = shapes
             .profiles
             .iter()
@@ -457,6 +462,13 @@ impl Renderer {
             is_thin,
             &mut self.chain_scratch,
             &mut self.chain_distances,
+        );
+        thin_chains(
+            &mut self.chain_scratch,
+            &self.chain_strand_spans,
+            &self.chain_distances,
+            focal,
+            settings.strand_thinning,
         );
         let scope = ErrorScopes::push(&self.gpu.device);
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);

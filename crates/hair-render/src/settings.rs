@@ -7,6 +7,7 @@ use crate::camera::Camera;
 use crate::error::{Result, invalid};
 use crate::marschner::Marschner;
 use crate::shadows::SelfShadowing;
+use crate::thinning::StrandThinning;
 
 /// How geometry is coloured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -343,6 +344,8 @@ pub struct FrameSettings {
     pub cluster_geometry: ClusterGeometry,
     /// How much of a pixel a strand line covers.
     pub line_coverage: LineCoverage,
+    /// How many of a strand group's strands are drawn (all by default).
+    pub strand_thinning: StrandThinning,
 }
 
 impl FrameSettings {
@@ -365,6 +368,7 @@ impl FrameSettings {
             surface_texture: SurfaceTexture::default(),
             cluster_geometry: ClusterGeometry::default(),
             line_coverage: LineCoverage::default(),
+            strand_thinning: StrandThinning::default(),
         }
     }
 
@@ -379,6 +383,7 @@ impl FrameSettings {
         self.camera
             .validate()
             .map_err(|error| invalid(error.to_string()))?;
+        self.strand_thinning.validate()?;
         let colors = [
             ("light direction", self.light.direction),
             ("light colour", self.light.color),

@@ -154,6 +154,10 @@ pub struct LodSettings {
     /// screen-space error alone [pixels]. A head 30 m away spans a few pixels: its shaking is
     /// not worth strands. 0: always (the paper's rule, for one head near the camera).
     pub rules_min_pixels: f32,
+    /// Strand thinning: a strand group at the strand level draws this many strands per pixel of
+    /// its projected width, at least one and at most all (a stochastic simplification; the
+    /// renderer's `StrandThinning`). 0 (the default) draws every strand.
+    pub strands_per_pixel: f32,
 }
 
 impl Default for LodSettings {
@@ -174,6 +178,7 @@ impl Default for LodSettings {
             blend_lead: 0.5,
             error_model: ErrorModel::Deviation,
             rules_min_pixels: 20.0,
+            strands_per_pixel: 0.0,
         }
     }
 }
@@ -210,6 +215,10 @@ impl LodSettings {
         }
         require_non_negative("crown radius (m)", self.crown_radius)?;
         require_non_negative("rules' smallest section (pixels)", self.rules_min_pixels)?;
+        require_non_negative(
+            "strand thinning (strands per pixel)",
+            self.strands_per_pixel,
+        )?;
         require_non_negative("crown boost", self.crown_boost)?;
         require_non_negative("LOD blend time (s)", self.blend_time)?;
         if !(0.0..=1.0).contains(&self.blend_lead) {

@@ -69,6 +69,9 @@ struct Chain {
     // 1 when a surface gives way to another coming in at 1 − coverage: it keeps the screen-door
     // pixels the other drops (see `screen_door_keeps`).
     gives_way: u32,
+    // Weight of a drawn strand's opacity in the light passes: 1 / the fraction strand thinning
+    // draws (`thinning.rs`).
+    shadow_weight: f32,
 }
 
 @group(0) @binding(0) var<uniform> globals: Globals;

@@ -272,6 +272,8 @@ fn fs_strand_covered(in: StrandVertex) -> CoveredFragment {
 // A vertex of the light passes (depth map and opacity map, `shadows.wgsl`).
 struct ShadowVertex {
     @builtin(position) clip: vec4<f32>,
+    // The chain's shadow weight: a thinned group's drawn strands stand for all of its strands.
+    @location(0) @interpolate(flat) weight: f32,
 }
 
 // Line strip per instance (one strand) in the light passes: vertex i is curve point
@@ -281,6 +283,10 @@ fn vs_strand_shadow(@builtin(vertex_index) vertex: u32, @builtin(instance_index)
     let stride = max(u32(globals.shadow_surfaces.z), 1u);
     var out: ShadowVertex;
     out.clip = strand_vertex(strand, vertex * stride, 0.0).clip;
+    out.weight = 1.0;
+    if (strand < arrayLength(&strands)) {
+        out.weight = chain_at(strands[strand].chain).shadow_weight;
+    }
     return out;
 }
 
@@ -293,5 +299,5 @@ fn fs_strand_depth(in: ShadowVertex) -> @location(0) vec4<f32> {
 // Opacity pass: a strand line adds its optical depth to its layer.
 @fragment
 fn fs_strand_opacity(in: ShadowVertex) -> @location(0) vec4<f32> {
-    return globals.shadow.z * opacity_layer(in.clip.xy, in.clip.z);
+    return globals.shadow.z * in.weight * opacity_layer(in.clip.xy, in.clip.z);
 }
