@@ -200,14 +200,32 @@ impl ChainOrder {
             .collect()
     }
 
-    /// Appends the draw batches of this frame to `out`: runs of consecutive items whose chains
-    /// have at least two nodes, equal tessellation and either all or none fading (of a ranked
-    /// chain fading, only the items its coverage draws).
-    pub fn batches(&self, chains: &[GpuChain], out: &mut Vec<Batch>) {
+    /// The draw batches of this frame's strands over a list of the items drawn: each run's
+    /// drawn prefix (all of it, or the part its chain's coverage draws) is appended to `list`
+    /// (reused) as sorted positions, and the batches cover positions in `list`. Runs of equal
+    /// tessellation merge into one draw whether or not their chains are thinned or dissolving,
+    /// so a frame of thinned strand groups costs a few draws, not one per chain.
+    pub fn listed_batches(&self, chains: &[GpuChain], list: &mut Vec<u32>, out: &mut Vec<Batch>) {
+        list.clear();
         let first_new = out.len();
         for &run in &self.runs {
             let coverage = chains.get(run.0 as usize).map_or(1.0, |c| c.coverage);
-            push_run(chains, self.drawn_run(run, coverage), first_new, out);
+            let (chain, start, end) = self.drawn_run(run, coverage);
+            let usable = chains
+                .get(chain as usize)
+                .is_some_and(|info| info.node_count >= 2);
+            if !usable || start == end {
+                continue;
+            }
+            let listed = list.len() as u32;
+            list.extend(start..end);
+            push_run(
+                chains,
+                (chain, listed, list.len() as u32),
+                false,
+                first_new,
+                out,
+            );
         }
     }
 
@@ -235,17 +253,19 @@ impl ChainOrder {
         for &(_, index) in scratch.iter() {
             let run = self.runs[index as usize];
             let coverage = chains.get(run.0 as usize).map_or(1.0, |c| c.coverage);
-            push_run(chains, self.drawn_run(run, coverage), first_new, out);
+            push_run(chains, self.drawn_run(run, coverage), true, first_new, out);
         }
     }
 }
 
 /// Appends run `(chain, start, end)` to the batches from `first_new` on: merged into the last
-/// batch when it continues it with the same tessellation and fading, skipped when its chain has
-/// fewer than two nodes or the run no items.
+/// batch when it continues it with the same tessellation (and, where `split_fading`, fading),
+/// skipped when its chain has fewer than two nodes or the run no items. Without
+/// `split_fading` the batch is never marked dissolving (strands fade by rank in the shader).
 fn push_run(
     chains: &[GpuChain],
     (chain, start, end): (u32, u32, u32),
+    split_fading: bool,
     first_new: usize,
     out: &mut Vec<Batch>,
 ) {
@@ -256,7 +276,7 @@ fn push_run(
         return;
     }
     let (along, around, thin) = (info.along_segments, info.around_segments, info.thin);
-    let dissolving = info.coverage < 1.0;
+    let dissolving = split_fading && info.coverage < 1.0;
     let mergeable = out.len() > first_new;
     match out.last_mut() {
         Some(batch)
@@ -347,8 +367,9 @@ mod tests {
             ..GpuChain::default()
         };
         let chains = [chain(5, 8), chain(5, 8), chain(0, 8), chain(5, 4)];
-        let mut batches = Vec::new();
-        order.batches(&chains, &mut batches);
+        let (mut list, mut batches) = (Vec::new(), Vec::new());
+        order.listed_batches(&chains, &mut list, &mut batches);
+        assert_eq!(list, vec![0, 1, 2, 4, 5]);
         let expected = vec![
             Batch {
                 items: 0..3,
@@ -358,7 +379,7 @@ mod tests {
                 dissolving: false,
             },
             Batch {
-                items: 4..6,
+                items: 3..5,
                 along_segments: 4,
                 around_segments: 4,
                 thin: false,
@@ -372,7 +393,7 @@ mod tests {
     }
 
     #[test]
-    fn fading_chains_get_their_own_batches() {
+    fn fading_surfaces_get_their_own_batches_and_strands_merge() {
         let order = ChainOrder::new(&[0, 1, 2]);
         let chain = |coverage| GpuChain {
             node_count: 5,
@@ -381,32 +402,35 @@ mod tests {
             coverage,
             ..GpuChain::default()
         };
+        let distances = [0.0, 1.0, 2.0];
         let mut batches = Vec::new();
-        order.batches(&[chain(1.0), chain(0.5), chain(1.0)], &mut batches);
+        let chains = [chain(1.0), chain(0.5), chain(1.0)];
+        order.batches_front_to_back(&chains, &distances, &mut Vec::new(), &mut batches);
         let fading: Vec<(std::ops::Range<u32>, bool)> = batches
             .iter()
             .map(|b| (b.items.clone(), b.dissolving))
             .collect();
         assert_eq!(fading, vec![(0..1, false), (1..2, true), (2..3, false)]);
-        // A surface faded out (coverage 0: the last frame of its blend) draws nothing, in either
-        // order; the screen door would have dropped every pixel after shading none.
-        for front_to_back in [false, true] {
-            let mut batches = Vec::new();
-            let chains = [chain(1.0), chain(0.0), chain(1.0)];
-            if front_to_back {
-                order.batches_front_to_back(
-                    &chains,
-                    &[0.0, 1.0, 2.0],
-                    &mut Vec::new(),
-                    &mut batches,
-                );
-            } else {
-                order.batches(&chains, &mut batches);
-            }
-            let drawn: Vec<std::ops::Range<u32>> =
-                batches.iter().map(|b| b.items.clone()).collect();
-            assert_eq!(drawn, vec![0..1, 2..3], "front to back: {front_to_back}");
-        }
+        // Strands fade by rank in the shader: one draw over the listed items.
+        let (mut list, mut batches) = (Vec::new(), Vec::new());
+        order.listed_batches(&chains, &mut list, &mut batches);
+        assert_eq!(list, vec![0, 1, 2]);
+        let merged: Vec<(std::ops::Range<u32>, bool)> = batches
+            .iter()
+            .map(|b| (b.items.clone(), b.dissolving))
+            .collect();
+        assert_eq!(merged, vec![(0..3, false)]);
+        // A chain faded out (coverage 0: the last frame of its blend) draws nothing, either way;
+        // the screen door would have dropped every pixel after shading none.
+        let chains = [chain(1.0), chain(0.0), chain(1.0)];
+        let mut batches = Vec::new();
+        order.batches_front_to_back(&chains, &distances, &mut Vec::new(), &mut batches);
+        let drawn: Vec<std::ops::Range<u32>> = batches.iter().map(|b| b.items.clone()).collect();
+        assert_eq!(drawn, vec![0..1, 2..3]);
+        let (mut list, mut batches) = (Vec::new(), Vec::new());
+        order.listed_batches(&chains, &mut list, &mut batches);
+        assert_eq!(list, vec![0, 2]);
+        assert_eq!(batches.len(), 1);
     }
 
     /// A ranked chain at coverage `c` draws `round(c·n)` of its `n` items (ranks `(k + ½)/n`
@@ -433,12 +457,17 @@ mod tests {
         let mut previous: Vec<Vec<u32>> = vec![Vec::new(); 3];
         for step in 0..=20 {
             let coverage = step as f32 / 20.0;
-            let mut batches = Vec::new();
-            order.batches(
+            let (mut list, mut batches) = (Vec::new(), Vec::new());
+            order.listed_batches(
                 &[chain(coverage), chain(1.0), chain(coverage)],
+                &mut list,
                 &mut batches,
             );
-            let drawn: Vec<u32> = batches.iter().flat_map(|b| b.items.clone()).collect();
+            let drawn: Vec<u32> = batches
+                .iter()
+                .flat_map(|b| b.items.clone())
+                .map(|i| list[i as usize])
+                .collect();
             for &(chain_index, start, end) in &order.runs {
                 let n = (end - start) as f32;
                 let expected = if chain_index == 1 {
@@ -460,7 +489,12 @@ mod tests {
         // Unranked items (surfaces) always draw their whole run.
         let surfaces = ChainOrder::new(&item_chains);
         let mut batches = Vec::new();
-        surfaces.batches(&[chain(0.1), chain(0.1), chain(0.1)], &mut batches);
+        surfaces.batches_front_to_back(
+            &[chain(0.1), chain(0.1), chain(0.1)],
+            &[0.0, 1.0, 2.0],
+            &mut Vec::new(),
+            &mut batches,
+        );
         let total: u32 = batches.iter().map(|b| b.items.len() as u32).sum();
         assert_eq!(total, 100);
     }

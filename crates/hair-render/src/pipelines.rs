@@ -143,6 +143,7 @@ impl Pipelines {
                     storage_entry(0, true, geometry_stages),
                     storage_entry(1, true, geometry_stages),
                     storage_entry(2, true, geometry_stages),
+                    storage_entry(3, true, geometry_stages),
                 ],
             });
         let chain_curves_layout =

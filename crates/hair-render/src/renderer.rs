@@ -122,6 +122,10 @@ pub struct Renderer {
     chain_ring_radii: Vec<f32>,
     /// Strand count and width per chain, from the strand upload (for strand thinning).
     chain_strand_spans: Vec<StrandSpan>,
+    /// The strands this frame draws, by sorted position (binding 3 of the strand items).
+    drawn_strands: GrowableBuffer,
+    /// This frame's list for `drawn_strands`.
+    drawn_scratch: Vec<u32>,
     /// Draw-order scratch of the front-to-back surface batches.
     order_scratch: Vec<(f32, u32)>,
     /// Self-shadowing's maps and light-pass globals.
@@ -167,6 +171,7 @@ impl Renderer {
         let chains = GrowableBuffer::new(device, "hair-render chains", storage);
         let chain_samples = GrowableBuffer::new(device, "hair-render chain samples", storage);
         let strand_profiles = GrowableBuffer::new(device, "hair-render strand profiles", storage);
+        let drawn_strands = GrowableBuffer::new(device, "hair-render drawn strands", storage);
         let strands = Items::new(device, "hair-render strands");
         let clusters = Items::new(device, "hair-render clusters");
         let patches = Items::new(device, "hair-render patches");
@@ -192,6 +197,8 @@ impl Renderer {
             chain_distances: Vec::new(),
             chain_ring_radii: Vec::new(),
             chain_strand_spans: Vec::new(),
+            drawn_strands,
+            drawn_scratch: Vec::new(),
             order_scratch: Vec::new(),
             shadow_maps,
             light_scene_bind_group: None,
@@ -605,6 +612,10 @@ impl Renderer {
                             binding: 2,
                             resource: self.strand_profiles.buffer().as_entire_binding(),
                         },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: self.drawn_strands.buffer().as_entire_binding(),
+                        },
                     ],
                 })
         } else {
@@ -682,17 +693,27 @@ impl Renderer {
                     resource: self.chain_samples.buffer().as_entire_binding(),
                 }],
             });
+        // Strands in chain order over the list of the strands drawn (few draws, thinned and
+        // dissolving chains included); clusters and patches nearest first, so that early depth
+        // testing skips the hidden surfaces' shading.
+        let mut batches: [Vec<Batch>; 3] = Default::default();
+        self.strands.order.listed_batches(
+            &self.chain_scratch,
+            &mut self.drawn_scratch,
+            &mut batches[0],
+        );
+        if self.drawn_strands.write(
+            &self.gpu.device,
+            &self.gpu.queue,
+            bytemuck::cast_slice(&self.drawn_scratch),
+        ) {
+            self.strands.bind_group = None;
+        }
         let item_groups = [
             self.item_bind_group(ItemKind::Strands),
             self.item_bind_group(ItemKind::Clusters),
             self.item_bind_group(ItemKind::Patches),
         ];
-        // Strands in chain order (long runs, few draws); clusters and patches nearest first, so
-        // that early depth testing skips the hidden surfaces' shading.
-        let mut batches: [Vec<Batch>; 3] = Default::default();
-        self.strands
-            .order
-            .batches(&self.chain_scratch, &mut batches[0]);
         for (items, out) in [&self.clusters, &self.patches]
             .into_iter()
             .zip(&mut batches[1..])

@@ -14,6 +14,19 @@ struct StrandVertex {
     @location(4) @interpolate(flat) strand: u32,
 }
 
+// The strands this frame draws, by sorted position: instance i of a batch draws strand
+// `drawn_strands[i]` (`ChainOrder::listed_batches`), so that the thinned or dissolving chains'
+// drawn strands merge into few instanced draws.
+@group(1) @binding(3) var<storage, read> drawn_strands: array<u32>;
+
+// The strand an instance draws (past the list: none, which draws nothing).
+fn listed_strand(instance: u32) -> u32 {
+    if (instance >= arrayLength(&drawn_strands)) {
+        return 0xffffffffu;
+    }
+    return drawn_strands[instance];
+}
+
 // Sideways offset in clip space that widens a curve point to a camera-facing ribbon of
 // `half_pixels` half width; `side` is -1 or 1.
 fn ribbon_offset(clip: vec4<f32>, tangent: vec3<f32>, side: f32, half_pixels: f32) -> vec2<f32> {
@@ -147,9 +160,9 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
 
 // Triangle strip per instance (one strand): vertices 2i and 2i + 1 straddle curve point i.
 @vertex
-fn vs_strand_ribbon(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> StrandVertex {
+fn vs_strand_ribbon(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> StrandVertex {
     let side = select(-1.0, 1.0, (vertex & 1u) == 1u);
-    return strand_vertex(strand, vertex / 2u, side);
+    return strand_vertex(listed_strand(instance), vertex / 2u, side);
 }
 
 // A strand line vertex shaded at the curve point.
@@ -162,15 +175,15 @@ struct LineVertex {
 
 // Line strip per instance (one strand): vertex i is curve point i (shaded per fragment).
 @vertex
-fn vs_strand_line(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> StrandVertex {
-    return strand_vertex(strand, vertex, 0.0);
+fn vs_strand_line(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> StrandVertex {
+    return strand_vertex(listed_strand(instance), vertex, 0.0);
 }
 
 // Line strip per instance (one strand): vertex i is curve point i, shaded here; the colour is
 // interpolated along the segment (`LineShading::PerVertex`).
 @vertex
-fn vs_strand_line_shaded(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> LineVertex {
-    let v = strand_vertex(strand, vertex, 0.0);
+fn vs_strand_line_shaded(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> LineVertex {
+    let v = strand_vertex(listed_strand(instance), vertex, 0.0);
     var out: LineVertex;
     out.clip = v.clip;
     out.color = strand_color(v);
@@ -279,7 +292,8 @@ struct ShadowVertex {
 // Line strip per instance (one strand) in the light passes: vertex i is curve point
 // i · stride (clamped to the last), projected by the light's view (the light passes' globals).
 @vertex
-fn vs_strand_shadow(@builtin(vertex_index) vertex: u32, @builtin(instance_index) strand: u32) -> ShadowVertex {
+fn vs_strand_shadow(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> ShadowVertex {
+    let strand = listed_strand(instance);
     let stride = max(u32(globals.shadow_surfaces.z), 1u);
     var out: ShadowVertex;
     out.clip = strand_vertex(strand, vertex * stride, 0.0).clip;
