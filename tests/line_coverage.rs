@@ -3,9 +3,11 @@
 //! the reference with its lines covering their width's share of a pixel than with lines covering
 //! whole pixels.
 
+mod common;
+
 use hairlod::benchmark::coverage::{coverage_camera, measure_coverage};
-use hairlod::render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions};
-use hairlod::{HangSettings, Level, Scene, hang_groom};
+use hairlod::render::FrameSettings;
+use hairlod::{HangSettings, Scene, hang_groom};
 
 /// At 320×180 an 80 µm fibre is 0.04 px wide at 0.8 m and 0.01 px at 3 m (focal length
 /// 285 px), so a whole-pixel line draws it 25–100 times too wide. The reference is rendered at
@@ -18,15 +20,7 @@ use hairlod::{HangSettings, Level, Scene, hang_groom};
 fn covered_lines_are_closer_to_the_supersampled_reference() {
     let mut scene = Scene::preset("paper-curly").unwrap();
     hang_groom(&mut scene, &HangSettings::default()).unwrap();
-    let options = RendererOptions::from_env().expect("HAIRLOD_BACKEND");
-    let mut renderer =
-        Renderer::new(&options).expect("a renderer (install mesa-vulkan-drivers or libegl-mesa0)");
-    renderer.upload_groom(&scene.groom).unwrap();
-    renderer.set_head_mesh(Some(&scene.head.mesh)).unwrap();
-    let mut active = ActiveSkeletons::new();
-    active
-        .gather_rest_pose(&scene.groom, Level::StrandGroup)
-        .unwrap();
+    let (mut renderer, active) = common::strands_at_rest(&scene);
     for distance in [0.8, 3.0] {
         let camera = coverage_camera(distance);
         let settings = FrameSettings::new(320, 180, camera);

@@ -2,11 +2,11 @@
 //! strands: far away it keeps the pixels the hair covers and the light it lets through (its
 //! shadows weigh each drawn strand for those left out), while drawing a fraction of the strands.
 
+mod common;
+
+use hairlod::Scene;
 use hairlod::benchmark::coverage::coverage_camera;
-use hairlod::render::{
-    ActiveSkeletons, FrameSettings, Renderer, RendererOptions, SkeletonFrame, StrandThinning,
-};
-use hairlod::{Level, Scene};
+use hairlod::render::{ActiveSkeletons, FrameSettings, Renderer, SkeletonFrame, StrandThinning};
 
 /// Pixels of `image` that differ from `bare` (the same view without hair), and their mean luma
 /// in `image` [0, 1].
@@ -45,15 +45,7 @@ fn render(
 #[test]
 fn thinned_far_hair_covers_and_shades_like_all_its_strands() {
     let scene = Scene::preset("paper-curly").unwrap();
-    let options = RendererOptions::from_env().expect("HAIRLOD_BACKEND");
-    let mut renderer =
-        Renderer::new(&options).expect("a renderer (install mesa-vulkan-drivers or libegl-mesa0)");
-    renderer.upload_groom(&scene.groom).unwrap();
-    renderer.set_head_mesh(Some(&scene.head.mesh)).unwrap();
-    let mut active = ActiveSkeletons::new();
-    active
-        .gather_rest_pose(&scene.groom, Level::StrandGroup)
-        .unwrap();
+    let (mut renderer, active) = common::strands_at_rest(&scene);
     let mut bare = ActiveSkeletons::new();
     for _ in 0..scene.groom.skeletons.chain_count() {
         bare.push_inactive_chain();
@@ -93,14 +85,7 @@ fn thinned_far_hair_covers_and_shades_like_all_its_strands() {
 #[test]
 fn near_hair_is_not_thinned() {
     let scene = Scene::preset("paper-curly").unwrap();
-    let options = RendererOptions::from_env().expect("HAIRLOD_BACKEND");
-    let mut renderer =
-        Renderer::new(&options).expect("a renderer (install mesa-vulkan-drivers or libegl-mesa0)");
-    renderer.upload_groom(&scene.groom).unwrap();
-    let mut active = ActiveSkeletons::new();
-    active
-        .gather_rest_pose(&scene.groom, Level::StrandGroup)
-        .unwrap();
+    let (mut renderer, active) = common::strands_at_rest(&scene);
     let settings = FrameSettings::new(640, 360, coverage_camera(0.1));
     let whole = render(&mut renderer, &active.frame(), &settings);
     let thinned = render(

@@ -1,11 +1,29 @@
 //! Helpers shared by the root package's integration tests.
 
 use hairlod::core::dynamics::strand_skeletons;
-use hairlod::{RigidTransform, Scene};
+use hairlod::render::{ActiveSkeletons, Renderer, RendererOptions};
+use hairlod::{Level, RigidTransform, Scene};
+
+/// A renderer (backend from `HAIRLOD_BACKEND`) with `scene`'s groom and head mesh uploaded, and
+/// the groom's rest pose gathered at the strand level.
+#[allow(dead_code)] // not every test crate that shares this module draws
+pub fn strands_at_rest(scene: &Scene) -> (Renderer, ActiveSkeletons) {
+    let options = RendererOptions::from_env().expect("HAIRLOD_BACKEND");
+    let mut renderer =
+        Renderer::new(&options).expect("a renderer (install mesa-vulkan-drivers or libegl-mesa0)");
+    renderer.upload_groom(&scene.groom).unwrap();
+    renderer.set_head_mesh(Some(&scene.head.mesh)).unwrap();
+    let mut active = ActiveSkeletons::new();
+    active
+        .gather_rest_pose(&scene.groom, Level::StrandGroup)
+        .unwrap();
+    (renderer, active)
+}
 
 /// Checks that `scene`'s groom hangs like hair at rest: no strand longer than 10 cm has its tip
 /// above its root, and seen from behind (along X) the hair is at most 2.5 times as wide as the
 /// head. `name` labels the failures.
+#[allow(dead_code)] // not every test crate that shares this module checks a hang
 pub fn assert_hangs_like_hair(name: &str, scene: &Scene) {
     let strands = strand_skeletons(&scene.groom).unwrap();
     let positions = strands.rest_positions(&RigidTransform::IDENTITY);
