@@ -111,7 +111,8 @@ pub struct AccuracyArgs {
     #[arg(long, value_name = "FILE")]
     pub chart: Option<PathBuf>,
     /// Measure a crowd scene instead (for example scenes/crowd.toml): the fixed levels and the
-    /// LODs at each of --tolerances against the crowd's all-strands frames.
+    /// LODs at each of --tolerances (and of --strands-per-pixel) against the crowd's
+    /// all-strands frames.
     #[arg(long, value_name = "SCENE.toml")]
     pub crowd: Option<PathBuf>,
 }
