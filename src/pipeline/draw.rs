@@ -129,8 +129,9 @@ impl PipelineRenderer {
 
     /// Renders the pipeline's current skeletons with `settings` as given, not this renderer's
     /// style (a benchmark's variants of one frame: without shadows, other textures, other map
-    /// sizes), its strand thinning the pipeline's ([`Pipeline::strand_thinning`]); returns the
-    /// image and the time it took [s].
+    /// sizes), its strand thinning the pipeline's
+    /// ([`PipelineSettings::strand_thinning`](super::PipelineSettings::strand_thinning));
+    /// returns the image and the time it took [s].
     pub fn render_with_settings(
         &mut self,
         pipeline: &mut Pipeline,
@@ -139,7 +140,7 @@ impl PipelineRenderer {
         let started = Instant::now();
         self.prepare(pipeline)?;
         let settings = FrameSettings {
-            strand_thinning: pipeline.strand_thinning(),
+            strand_thinning: pipeline.settings().strand_thinning(),
             ..*settings
         };
         let image = self.renderer.render(&self.active.frame(), &settings)?;
@@ -179,7 +180,7 @@ impl PipelineRenderer {
         let mut settings =
             self.style
                 .frame_settings(destination.width(), destination.height(), camera, mode);
-        settings.strand_thinning = pipeline.strand_thinning();
+        settings.strand_thinning = pipeline.settings().strand_thinning();
         self.renderer
             .render_to_texture(&self.active.frame(), &settings, destination)?;
         Ok(started.elapsed().as_secs_f64())
@@ -199,7 +200,7 @@ impl PipelineRenderer {
         let mut settings = self
             .style
             .frame_settings(width, height, camera, ShadingMode::Shaded);
-        settings.strand_thinning = pipeline.strand_thinning();
+        settings.strand_thinning = pipeline.settings().strand_thinning();
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;

@@ -437,13 +437,6 @@ impl Pipeline {
         &self.settings
     }
 
-    /// How many of each strand group's strands are drawn: thinned to the LOD settings'
-    /// [`strands_per_pixel`](hair_core::lod::LodSettings::strands_per_pixel) in automatic mode,
-    /// all of them at a fixed level (what a reference render needs).
-    pub fn strand_thinning(&self) -> hair_render::StrandThinning {
-        self.settings.strand_thinning()
-    }
-
     /// The environment (head motion, wind, gravity).
     pub fn environment(&self) -> &Environment {
         &self.environment

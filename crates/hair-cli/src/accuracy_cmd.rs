@@ -177,9 +177,7 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
         if occlusion_test != OcclusionTest::default() {
             model.push_str(&format!(" ({occlusion_test} occlusion)"));
         }
-        if strands_per_pixel > 0.0 {
-            model.push_str(&format!(" thinned {strands_per_pixel}/px"));
-        }
+        model.push_str(&thinning_label(strands_per_pixel));
         let lead = if blend_lead == default_lead {
             String::new()
         } else {
@@ -380,6 +378,16 @@ fn print_fronts(points: &[Point]) {
         );
     } else {
         println!("\nno LODs configuration on the SSIM front keeps a mean SSIM of {TARGET_SSIM}");
+    }
+}
+
+/// How a LOD configuration's label names its strand thinning: ` thinned K/px`, or nothing
+/// when every strand is drawn (`strands_per_pixel` 0).
+pub(crate) fn thinning_label(strands_per_pixel: f32) -> String {
+    if strands_per_pixel > 0.0 {
+        format!(" thinned {strands_per_pixel}/px")
+    } else {
+        String::new()
     }
 }
 

@@ -367,11 +367,7 @@ pub fn accuracy(
                 ..lod
             };
             lod.validate()?;
-            let thinned = if thinning > 0.0 {
-                format!(" thinned {thinning}/px")
-            } else {
-                String::new()
-            };
+            let thinned = crate::accuracy_cmd::thinning_label(thinning);
             modes.push((format!("LODs {tolerance} px{thinned}"), LodMode::Auto(lod)));
         }
     }
