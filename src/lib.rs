@@ -23,6 +23,7 @@
 pub mod accuracy;
 pub mod benchmark;
 pub mod crowd;
+pub mod head_levels;
 pub mod loaded;
 pub mod metrics;
 pub mod pipeline;

@@ -10,6 +10,7 @@ use hair_render::{ActiveSkeletons, GroomGeometry, Renderer, RendererOptions, Sha
 
 use super::frame::Crowd;
 use super::model::CrowdModel;
+use crate::head_levels::{HEAD_PIXEL_TOLERANCE, HeadLevels};
 use crate::pipeline::{DrawStyle, Result};
 use crate::run::{Runnable, View};
 
@@ -17,10 +18,12 @@ use crate::run::{Runnable, View};
 pub struct CrowdRenderer {
     renderer: Renderer,
     active: ActiveSkeletons,
-    /// Each character's head mesh in head space.
-    heads: Vec<TriangleMesh>,
-    /// The poses the uploaded heads have (empty before the first frame).
-    poses: Vec<RigidTransform>,
+    /// The distinct heads' tessellations (characters with equal heads share one).
+    head_levels: Vec<HeadLevels>,
+    /// Each character's index into `head_levels`.
+    heads: Vec<usize>,
+    /// The poses and tessellations the uploaded heads have (empty before the first frame).
+    poses: Vec<(RigidTransform, usize)>,
     /// Line shading, hair shading, line coverage.
     style: DrawStyle,
 }
@@ -32,6 +35,7 @@ impl CrowdRenderer {
         let mut crowd_renderer = CrowdRenderer {
             renderer,
             active: ActiveSkeletons::new(),
+            head_levels: Vec::new(),
             heads: Vec::new(),
             poses: Vec::new(),
             style: DrawStyle::default(),
@@ -52,11 +56,26 @@ impl CrowdRenderer {
             .upload_strands_with_shapes(&geometry.strands(), &geometry.strand_shapes())?;
         self.renderer.upload_clusters(&geometry.clusters())?;
         self.renderer.upload_patches(&geometry.patches())?;
-        self.heads = model
-            .members
-            .iter()
-            .map(|m| m.scene.head.mesh.clone())
-            .collect();
+        // Characters with the same procedural head share its tessellations; a mesh from a file
+        // is its own.
+        let mut distinct: Vec<&hair_core::Head> = Vec::new();
+        self.head_levels.clear();
+        self.heads.clear();
+        for member in &model.members {
+            let head = &member.scene.head;
+            let same = |other: &&hair_core::Head| {
+                head.is_procedural() && other.is_procedural() && other.params == head.params
+            };
+            let index = match distinct.iter().position(same) {
+                Some(index) => index,
+                None => {
+                    distinct.push(head);
+                    self.head_levels.push(HeadLevels::new(head));
+                    distinct.len() - 1
+                }
+            };
+            self.heads.push(index);
+        }
         self.poses.clear();
         Ok(())
     }
@@ -66,15 +85,33 @@ impl CrowdRenderer {
         &self.renderer
     }
 
-    /// Gathers every character's skeletons and poses the heads where the simulation has them.
-    fn prepare(&mut self, crowd: &mut Crowd) -> Result<()> {
+    /// Gathers every character's skeletons and poses the heads where the simulation has them,
+    /// each tessellated as coarsely as [`HEAD_PIXEL_TOLERANCE`] allows from `camera` in an image
+    /// `height` pixels tall.
+    fn prepare(&mut self, crowd: &mut Crowd, camera: &Camera, height: u32) -> Result<()> {
         self.active.clear();
         for pipeline in crowd.pipelines_mut() {
             pipeline.append_drawn(&mut self.active)?;
         }
-        let poses: Vec<RigidTransform> = crowd.pipelines().iter().map(|p| p.head_pose()).collect();
+        let poses: Vec<(RigidTransform, usize)> = crowd
+            .pipelines()
+            .iter()
+            .zip(&self.heads)
+            .map(|(p, &head)| {
+                let pose = p.head_pose();
+                let level =
+                    self.head_levels[head].select(camera, height, &pose, HEAD_PIXEL_TOLERANCE);
+                (pose, level)
+            })
+            .collect();
         if poses != self.poses {
-            let mesh = merged_heads(&self.heads, &poses);
+            let meshes: Vec<&TriangleMesh> = self
+                .heads
+                .iter()
+                .zip(&poses)
+                .map(|(&head, &(_, level))| &self.head_levels[head].levels()[level].mesh)
+                .collect();
+            let mesh = merged_heads(&meshes, &poses);
             self.renderer.set_head_mesh(Some(&mesh))?;
             self.poses = poses;
         }
@@ -91,7 +128,7 @@ impl CrowdRenderer {
         mode: ShadingMode,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        self.prepare(crowd)?;
+        self.prepare(crowd, camera, height)?;
         let mut settings = self.style.frame_settings(width, height, camera, mode);
         settings.strand_thinning = crowd.settings().strand_thinning();
         let image = self.renderer.render(&self.active.frame(), &settings)?;
@@ -107,7 +144,7 @@ impl CrowdRenderer {
         (width, height): (u32, u32),
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        self.prepare(crowd)?;
+        self.prepare(crowd, camera, height)?;
         let mut settings = self
             .style
             .frame_settings(width, height, camera, ShadingMode::Shaded);
@@ -223,12 +260,12 @@ pub fn concatenated_geometry(model: &CrowdModel) -> GroomGeometry {
 }
 
 /// The heads (head space) moved to their `poses` and joined into one mesh.
-fn merged_heads(heads: &[TriangleMesh], poses: &[RigidTransform]) -> TriangleMesh {
+fn merged_heads(heads: &[&TriangleMesh], poses: &[(RigidTransform, usize)]) -> TriangleMesh {
     let mut merged = TriangleMesh::default();
     let normals = heads
         .iter()
         .all(|mesh| mesh.normals.len() == mesh.positions.len());
-    for (mesh, pose) in heads.iter().zip(poses) {
+    for (mesh, (pose, _)) in heads.iter().zip(poses) {
         let base = merged.positions.len() as u32;
         merged
             .positions

@@ -1,6 +1,7 @@
 //! Drawing a pipeline's frame: the skeletons to draw gathered on the groom's chain numbering and
 //! handed to the wgpu renderer, which evaluates the NURBS on the GPU; the head mesh drawn at its
-//! simulated pose.
+//! simulated pose, tessellated as coarsely as its size on screen allows
+//! ([`crate::head_levels`]).
 
 use std::time::Instant;
 
@@ -10,15 +11,18 @@ use hair_render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, Sha
 use super::error::Result;
 use super::pipeline::Pipeline;
 use super::style::DrawStyle;
+use crate::head_levels::{HEAD_PIXEL_TOLERANCE, HeadLevels};
 
 /// A renderer bound to one pipeline's groom and head (uploaded once), with its per-frame buffer.
 /// The head mesh is drawn where the simulation has it: it is uploaded again, posed, whenever the
-/// head has moved since the last frame drawn.
+/// head has moved or its tessellation changed since the last frame drawn.
 pub struct PipelineRenderer {
     renderer: Renderer,
     active: ActiveSkeletons,
-    /// The pose the uploaded head mesh has.
-    head_pose: RigidTransform,
+    /// The head's tessellations.
+    head_levels: HeadLevels,
+    /// The pose and tessellation the uploaded head mesh has.
+    head_pose: (RigidTransform, usize),
     /// Line shading, hair shading, line coverage.
     style: DrawStyle,
 }
@@ -32,7 +36,8 @@ impl PipelineRenderer {
         Ok(PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),
-            head_pose: RigidTransform::IDENTITY,
+            head_levels: HeadLevels::new(&scene.head),
+            head_pose: (RigidTransform::IDENTITY, 0),
             style: DrawStyle::default(),
         })
     }
@@ -46,7 +51,8 @@ impl PipelineRenderer {
         Ok(PipelineRenderer {
             renderer,
             active: ActiveSkeletons::new(),
-            head_pose: RigidTransform::IDENTITY,
+            head_levels: HeadLevels::new(&scene.head),
+            head_pose: (RigidTransform::IDENTITY, 0),
             style: DrawStyle::default(),
         })
     }
@@ -86,24 +92,33 @@ impl PipelineRenderer {
         self.renderer.upload_groom(&pipeline.scene().groom)?;
         self.renderer
             .set_head_mesh(Some(&pipeline.scene().head.mesh))?;
-        self.head_pose = RigidTransform::IDENTITY;
+        self.head_levels = HeadLevels::new(&pipeline.scene().head);
+        self.head_pose = (RigidTransform::IDENTITY, 0);
         Ok(())
     }
 
     /// Gathers the pipeline's skeletons to draw and poses the head mesh where the simulation
-    /// has it.
-    fn prepare(&mut self, pipeline: &mut Pipeline) -> Result<()> {
+    /// has it, for a frame drawn with `settings`.
+    fn prepare(&mut self, pipeline: &mut Pipeline, settings: &FrameSettings) -> Result<()> {
         pipeline.gather_drawn(&mut self.active)?;
-        self.pose_head(pipeline)
+        self.pose_head(pipeline, settings)
     }
 
-    /// Poses the head mesh where the simulation has it (uploaded again only when it moved).
-    fn pose_head(&mut self, pipeline: &Pipeline) -> Result<()> {
+    /// Poses the head mesh where the simulation has it, tessellated as coarsely as
+    /// [`HEAD_PIXEL_TOLERANCE`] allows through `settings`' camera (uploaded again only when
+    /// either changed).
+    fn pose_head(&mut self, pipeline: &Pipeline, settings: &FrameSettings) -> Result<()> {
         let pose = pipeline.head_pose();
-        if pose != self.head_pose {
-            let mesh = pipeline.scene().head.mesh.posed(&pose);
+        let level = self.head_levels.select(
+            &settings.camera,
+            settings.height,
+            &pose,
+            HEAD_PIXEL_TOLERANCE,
+        );
+        if (pose, level) != self.head_pose {
+            let mesh = self.head_levels.levels()[level].mesh.posed(&pose);
             self.renderer.set_head_mesh(Some(&mesh))?;
-            self.head_pose = pose;
+            self.head_pose = (pose, level);
         }
         Ok(())
     }
@@ -138,7 +153,7 @@ impl PipelineRenderer {
         settings: &FrameSettings,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        self.prepare(pipeline)?;
+        self.prepare(pipeline, settings)?;
         let settings = FrameSettings {
             strand_thinning: pipeline.settings().strand_thinning(),
             ..*settings
@@ -156,7 +171,7 @@ impl PipelineRenderer {
         settings: &FrameSettings,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        self.pose_head(pipeline)?;
+        self.pose_head(pipeline, settings)?;
         self.active.clear();
         for _ in 0..pipeline.scene().groom.skeletons.chain_count() {
             self.active.push_inactive_chain();
@@ -176,11 +191,11 @@ impl PipelineRenderer {
         destination: &hair_render::wgpu::Texture,
     ) -> Result<f64> {
         let started = Instant::now();
-        self.prepare(pipeline)?;
         let mut settings =
             self.style
                 .frame_settings(destination.width(), destination.height(), camera, mode);
         settings.strand_thinning = pipeline.settings().strand_thinning();
+        self.prepare(pipeline, &settings)?;
         self.renderer
             .render_to_texture(&self.active.frame(), &settings, destination)?;
         Ok(started.elapsed().as_secs_f64())
@@ -196,11 +211,11 @@ impl PipelineRenderer {
         height: u32,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        self.prepare(pipeline)?;
         let mut settings = self
             .style
             .frame_settings(width, height, camera, ShadingMode::Shaded);
         settings.strand_thinning = pipeline.settings().strand_thinning();
+        self.prepare(pipeline, &settings)?;
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;
