@@ -17,7 +17,7 @@ use hair_collide::closest::closest_point_on_triangle;
 use hair_core::head::tessellation::tessellate;
 use hair_core::{Camera, Head, RigidTransform, TriangleMesh};
 
-/// Largest projected deviation [pixels] of the head mesh drawn from the finest one.
+/// Largest projected deviation \[pixels\] of the head mesh drawn from the finest one.
 pub const HEAD_PIXEL_TOLERANCE: f32 = 0.5;
 
 /// Fewest bands, latitude or longitude, of a coarser tessellation (the procedural head's
@@ -27,9 +27,9 @@ const MIN_BANDS: usize = 8;
 /// One tessellation of a head.
 #[derive(Debug, Clone)]
 pub struct HeadLevel {
-    /// The mesh in head space [m].
+    /// The mesh in head space \[m\].
     pub mesh: TriangleMesh,
-    /// The largest distance from a vertex of the finest mesh to this mesh [m] (0 for the finest).
+    /// The largest distance from a vertex of the finest mesh to this mesh \[m\] (0 for the finest).
     pub deviation: f32,
 }
 
@@ -37,9 +37,9 @@ pub struct HeadLevel {
 #[derive(Debug, Clone)]
 pub struct HeadLevels {
     levels: Vec<HeadLevel>,
-    /// Centre of the finest mesh's bounding box, head space [m].
+    /// Centre of the finest mesh's bounding box, head space \[m\].
     centre: Vec3,
-    /// Largest distance from `centre` to a vertex of the finest mesh [m].
+    /// Largest distance from `centre` to a vertex of the finest mesh \[m\].
     radius: f32,
 }
 
@@ -136,7 +136,7 @@ fn cached_deviation(key: [usize; 4], measure: impl FnOnce() -> f32) -> f32 {
     deviation
 }
 
-/// The largest distance [m] from a vertex of `fine` to the surface of `coarse` (brute force over
+/// The largest distance \[m\] from a vertex of `fine` to the surface of `coarse` (brute force over
 /// `coarse`'s triangles, pruned by their bounding spheres).
 pub fn deviation_from(fine: &TriangleMesh, coarse: &TriangleMesh) -> f32 {
     let triangles: Vec<(Triangle, Vec3, f32)> = coarse
