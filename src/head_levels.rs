@@ -48,7 +48,7 @@ impl HeadLevels {
     /// half the latitude and longitude bands, and half again, while both stay at least 8. A
     /// mesh read from a file has its own mesh only.
     pub fn new(head: &Head) -> HeadLevels {
-        let finest = head.mesh.clone();
+        let finest = &head.mesh;
         let mut levels = vec![HeadLevel {
             mesh: finest.clone(),
             deviation: 0.0,
@@ -66,14 +66,11 @@ impl HeadLevels {
                     latitude,
                     longitude,
                 ];
-                let deviation = cached_deviation(key, || deviation_from(&finest, &mesh));
+                let deviation = cached_deviation(key, || deviation_from(finest, &mesh));
                 levels.push(HeadLevel { mesh, deviation });
             }
         }
-        let (low, high) = finest.positions.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(low, high), &p| (low.min(p), high.max(p)),
-        );
+        let (low, high) = finest.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
         let centre = 0.5 * (low + high);
         let radius = finest
             .positions

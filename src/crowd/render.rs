@@ -105,13 +105,13 @@ impl CrowdRenderer {
             })
             .collect();
         if poses != self.poses {
-            let meshes: Vec<&TriangleMesh> = self
+            let placed: Vec<(&TriangleMesh, RigidTransform)> = self
                 .heads
                 .iter()
                 .zip(&poses)
-                .map(|(&head, &(_, level))| &self.head_levels[head].levels()[level].mesh)
+                .map(|(&head, &(pose, level))| (&self.head_levels[head].levels()[level].mesh, pose))
                 .collect();
-            let mesh = merged_heads(&meshes, &poses);
+            let mesh = merged_heads(&placed);
             self.renderer.set_head_mesh(Some(&mesh))?;
             self.poses = poses;
         }
@@ -259,13 +259,13 @@ pub fn concatenated_geometry(model: &CrowdModel) -> GroomGeometry {
     all
 }
 
-/// The heads (head space) moved to their `poses` and joined into one mesh.
-fn merged_heads(heads: &[&TriangleMesh], poses: &[(RigidTransform, usize)]) -> TriangleMesh {
+/// The head meshes (head space) moved to their poses and joined into one mesh.
+fn merged_heads(placed: &[(&TriangleMesh, RigidTransform)]) -> TriangleMesh {
     let mut merged = TriangleMesh::default();
-    let normals = heads
+    let normals = placed
         .iter()
-        .all(|mesh| mesh.normals.len() == mesh.positions.len());
-    for (mesh, (pose, _)) in heads.iter().zip(poses) {
+        .all(|(mesh, _)| mesh.normals.len() == mesh.positions.len());
+    for (mesh, pose) in placed {
         let base = merged.positions.len() as u32;
         merged
             .positions

@@ -30,16 +30,7 @@ pub struct PipelineRenderer {
 impl PipelineRenderer {
     /// A renderer from `options` (adapter and backend), with `scene`'s groom and head uploaded.
     pub fn new(options: &RendererOptions, scene: &Scene) -> Result<Self> {
-        let mut renderer = Renderer::new(options)?;
-        renderer.upload_groom(&scene.groom)?;
-        renderer.set_head_mesh(Some(&scene.head.mesh))?;
-        Ok(PipelineRenderer {
-            renderer,
-            active: ActiveSkeletons::new(),
-            head_levels: HeadLevels::new(&scene.head),
-            head_pose: (RigidTransform::IDENTITY, 0),
-            style: DrawStyle::default(),
-        })
+        PipelineRenderer::with_renderer(Renderer::new(options)?, scene)
     }
 
     /// A pipeline renderer on an already built `renderer` (for example one on a window's
