@@ -43,6 +43,11 @@ impl SceneFile {
         let path = self.resolve_path(value);
         if path.is_file() {
             Ok(path)
+        } else if path.is_dir() {
+            Err(SceneFileError::new(format!(
+                "{field} = {value:?}: {} is a folder, not a file",
+                path.display()
+            )))
         } else {
             Err(SceneFileError::new(format!(
                 "{field} = {value:?}: no such file {}{}",

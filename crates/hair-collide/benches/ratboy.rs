@@ -7,8 +7,9 @@
 //!   ([`query_body_brute_force`]) and through the hierarchies, for the speedup (the full brute
 //!   force costs about 16× the subset's: it is linear in the segment count).
 //!
-//! The data lives in `../shared/data/tressfx` beside the workspace (the bench stops, naming the
-//! folder, without it). `cargo bench -p hair-collide --bench ratboy`
+//! The data is AMD's TressFX samples (`hair_core::samples`: `HAIRLOD_DATA`, or `../shared/data`
+//! beside the workspace). Without it the bench measures nothing and says which file it looked
+//! for. `cargo bench -p hair-collide --bench ratboy`
 
 #[path = "../tests/support/tressfx.rs"]
 mod tressfx;
@@ -51,7 +52,13 @@ fn chains_of(
 }
 
 fn ratboy(c: &mut Criterion) {
-    let dir = data_dir();
+    let dir = match data_dir() {
+        Ok(dir) => dir,
+        Err(error) => {
+            eprintln!("ratboy benches skipped: {error}");
+            return;
+        }
+    };
     let mesh = read_tfxmesh(&dir.join("ratboy_body.tfxmesh")).expect("readable mesh");
     let (vertices_per_strand, positions) =
         read_tfx4(&dir.join("ratboy_mohawk.tfx")).expect("readable groom");

@@ -1,8 +1,9 @@
 //! Real data: the TressFX Ratboy mohawk (2,228 strands × 32 vertices) against its body mesh
 //! (25,814 triangles). BVH query == brute force exactly; refit after moving == fresh build.
 //!
-//! The data lives in `../shared/data/tressfx` beside the workspace (it is not part of this
-//! repository; CI always has it): without it the tests fail, naming the folder. The brute force
+//! The data is AMD's TressFX samples (`hair_core::samples`: `HAIRLOD_DATA`, or `../shared/data`
+//! beside the workspace; not part of this repository): the tests are ignored by default,
+//! `.ci/run` runs them, and without the data they fail naming the file. The brute force
 //! runs on a subset of strands (every 32nd) to keep the test short; the BVH query on all of them
 //! is timed by the criterion bench `cargo bench -p hair-collide --bench ratboy`.
 
@@ -28,7 +29,7 @@ struct Ratboy {
 }
 
 fn load() -> Ratboy {
-    let dir = data_dir();
+    let dir = data_dir().unwrap_or_else(|error| panic!("{error}"));
     let mesh = read_tfxmesh(&dir.join("ratboy_body.tfxmesh")).expect("readable mesh");
     assert_eq!(
         (mesh.positions.len(), mesh.triangles.len()),
@@ -59,6 +60,7 @@ fn hair_of(
 }
 
 #[test]
+#[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
 fn ratboy_mohawk_bvh_equals_brute_force() {
     let mut ratboy = load();
     let (offsets, kinds, mut nodes) = hair_of(&ratboy, SUBSET_STRIDE, THICKNESS);
@@ -100,6 +102,7 @@ fn ratboy_mohawk_bvh_equals_brute_force() {
 }
 
 #[test]
+#[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
 fn ratboy_lone_strands_bvh_equals_brute_force() {
     let ratboy = load();
     let (offsets, kinds, nodes) = hair_of(&ratboy, SUBSET_STRIDE, 0.0);

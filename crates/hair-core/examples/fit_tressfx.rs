@@ -2,8 +2,9 @@
 //! parts in centimetres) and prints counts, errors per level and fit times, for the default
 //! settings and for the alternatives the defaults were chosen against.
 //!
-//! `cargo run --release -p hair-core --example fit_tressfx [DATA_DIR]` (default: the shared
-//! `data/tressfx` beside the project; the example does nothing when the files are missing).
+//! `cargo run --release -p hair-core --example fit_tressfx [TRESSFX_DIR]` (default: the samples'
+//! `tressfx/` folder, `hair_core::samples`: `HAIRLOD_DATA`, or `../shared/data` beside the
+//! workspace). A missing or unreadable file is an error naming it, and the example exits 1.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,18 +13,16 @@ use hair_core::Level;
 use hair_core::fit::{FitSettings, GroupSplit, Representative, SectionCount, fit_hierarchy};
 use hair_core::formats::{Curves, ImportAxes, ImportOptions, read_curves_file};
 
-fn read(dir: &std::path::Path, name: &str, scale_to_metres: f32) -> Option<Curves> {
+fn read(
+    dir: &std::path::Path,
+    name: &str,
+    scale_to_metres: f32,
+) -> Result<Curves, hair_core::formats::FormatError> {
     let options = ImportOptions::with_axes(ImportAxes {
         scale_to_metres,
         ..ImportAxes::default()
     });
-    match read_curves_file(dir.join(name), &options) {
-        Ok(curves) => Some(curves),
-        Err(error) => {
-            eprintln!("skipping {name}: {error}");
-            None
-        }
-    }
+    read_curves_file(dir.join(name), &options)
 }
 
 /// The best of `runs` fits: (seconds, report line of drawn mean errors per level).
@@ -51,13 +50,11 @@ fn time_fit(curves: &Curves, settings: &FitSettings, runs: usize) -> (f64, Strin
     (best, line)
 }
 
-fn main() {
-    let dir = std::env::args_os()
-        .nth(1)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/tressfx")
-        });
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = match std::env::args_os().nth(1) {
+        Some(dir) => PathBuf::from(dir),
+        None => hair_core::samples::tressfx_dir()?,
+    };
     let files = [
         ("ratboy_mohawk.tfx", 1.0),
         ("ponytail_back.tfx", 0.01),
@@ -66,9 +63,7 @@ fn main() {
         ("ponytail_tail.tfx", 0.01),
     ];
     for (name, scale) in files {
-        let Some(curves) = read(&dir, name, scale) else {
-            continue;
-        };
+        let curves = read(&dir, name, scale)?;
         let lengths: Vec<f32> = curves.iter().map(hair_core::fit::curve_length).collect();
         let (lo, hi) = lengths
             .iter()
@@ -135,4 +130,5 @@ fn main() {
             println!("{label:>24}: {:.1} ms  {line}", seconds * 1e3);
         }
     }
+    Ok(())
 }

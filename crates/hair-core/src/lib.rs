@@ -24,6 +24,7 @@ pub mod obj;
 pub mod per_level;
 pub mod random;
 pub mod representation;
+pub mod samples;
 pub mod scene;
 pub mod skeleton;
 pub mod style;

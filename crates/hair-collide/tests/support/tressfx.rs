@@ -4,17 +4,11 @@
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
-/// `../shared/data/tressfx` seen from the workspace root. Panics, naming the path, when it is
-/// absent: the data is not part of this repository, but CI always has it.
-pub fn data_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/tressfx");
-    assert!(
-        dir.is_dir(),
-        "the TressFX Ratboy data is missing: expected the folder {} (`../shared/data/tressfx` \
-         beside the workspace)",
-        dir.display()
-    );
-    dir
+/// The samples' `tressfx/` folder ([`hair_core::samples`]: `HAIRLOD_DATA`, or `../shared/data`
+/// beside the workspace), or the error naming the file that is missing. The tests that read it are
+/// ignored by default, `.ci/run` runs them, and they fail with this error without the data.
+pub fn data_dir() -> Result<PathBuf, hair_core::samples::MissingSample> {
+    hair_core::samples::tressfx_dir()
 }
 
 /// Strands of a TressFX 4.x file: `(vertices_per_strand, positions)`, strand after strand

@@ -62,28 +62,37 @@ fn message<T: std::fmt::Debug>(result: Result<T, crate::formats::FormatError>) -
     result.unwrap_err().to_string()
 }
 
+/// Writes `curves` as USD text into `dir`, reads them back strictly and through the dispatcher:
+/// every bit the same.
+fn usda_round_trip(dir: &std::path::Path, name: &str, curves: &Curves) {
+    let path = dir.join(name);
+    write_usda_curves(&path, curves).unwrap();
+    let read = read_usda_file(&path, &ImportOptions::strict()).unwrap();
+    assert_eq!(bits(&read), bits(curves), "{name}");
+    assert!(read.skipped.is_empty());
+    let dispatched = read_curves_file(&path, &ImportOptions::default()).unwrap();
+    assert_eq!(bits(&dispatched), bits(curves), "{name}");
+}
+
 #[test]
 fn written_usda_reads_back_bit_for_bit() {
     let dir = scratch_dir("usda-round-trip");
-    let mohawk = read_tfx_file(data_file("ratboy_mohawk.tfx"), &ImportOptions::default()).unwrap();
     let bare = Curves {
         widths: None,
         colors: None,
         ..hard_curves()
     };
-    for (name, curves) in [
-        ("hard.usda", hard_curves()),
-        ("bare.usd", bare),
-        ("mohawk.usda", mohawk),
-    ] {
-        let path = dir.join(name);
-        write_usda_curves(&path, &curves).unwrap();
-        let read = read_usda_file(&path, &ImportOptions::strict()).unwrap();
-        assert_eq!(bits(&read), bits(&curves), "{name}");
-        assert!(read.skipped.is_empty());
-        let dispatched = read_curves_file(&path, &ImportOptions::default()).unwrap();
-        assert_eq!(bits(&dispatched), bits(&curves), "{name}");
-    }
+    usda_round_trip(&dir, "hard.usda", &hard_curves());
+    usda_round_trip(&dir, "bare.usd", &bare);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+#[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
+fn the_mohawk_reads_back_from_usda_bit_for_bit() {
+    let dir = scratch_dir("usda-round-trip-mohawk");
+    let mohawk = read_tfx_file(data_file("ratboy_mohawk.tfx"), &ImportOptions::default()).unwrap();
+    usda_round_trip(&dir, "mohawk.usda", &mohawk);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
