@@ -367,4 +367,22 @@ mod tests {
             assert!(camera.sphere_in_frustum(Vec3::new(0.0, 0.0, 0.0), 0.15, 16.0 / 9.0));
         }
     }
+
+    /// `section_count = 1`, documented as valid, builds (one section has no neighbour to take
+    /// its width from), hangs and simulates a frame.
+    #[test]
+    fn a_single_section_groom_builds_and_runs_a_frame() {
+        let shot = crate::SceneFile::parse(
+            "[groom]\npreset = \"straight\"\nsection_count = 1\nstrands_per_group = 1\n",
+        )
+        .unwrap()
+        .resolve()
+        .unwrap();
+        let scene = shot.build_scene().unwrap();
+        assert_eq!(scene.groom.section_count(), 1);
+        assert!(scene.groom.sections[0].width > 0.05);
+        let mut pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
+        let report = pipeline.advance(&shot.camera(0)).unwrap();
+        assert_eq!(report.sections_at.iter().sum::<usize>(), 1);
+    }
 }

@@ -165,3 +165,214 @@ fn a_checkpoint_of_another_scene_or_a_damaged_state_is_refused() {
         .to_string();
     assert!(error.contains("not finite"), "{error}");
 }
+
+/// Writes the checkpoint JSON `value` to `name` in the test's folder and resumes `shot` from it:
+/// the error, or `None` when it resumes.
+fn resume_error(
+    shot: &Shot,
+    scene: &hairlod::Scene,
+    value: &serde_json::Value,
+    name: &str,
+) -> Option<String> {
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&path, serde_json::to_string(value).unwrap()).unwrap();
+    let checkpoint = match Checkpoint::read(&path) {
+        Ok(checkpoint) => checkpoint,
+        Err(error) => return Some(error.to_string()),
+    };
+    shot.pipeline(scene, shot.settings, Some(checkpoint))
+        .err()
+        .map(|error| error.to_string())
+}
+
+/// The checkpoint JSON `value` with its state's checksum made right again (as an editor that
+/// knew the hash would), so that the state's own checks are what refuse it.
+fn resealed(value: &serde_json::Value) -> serde_json::Value {
+    let state: PipelineState = serde_json::from_value(value["state"].clone()).unwrap();
+    let fingerprint = value["scene_fingerprint"].as_str().unwrap().to_string();
+    serde_json::to_value(Checkpoint::new(fingerprint, state)).unwrap()
+}
+
+#[test]
+fn an_edited_checkpoint_is_refused_naming_the_field() {
+    let shot = shot();
+    let scene = shot.build_scene().unwrap();
+    let outcome = run(0..FRAMES / 2, None, 1);
+    let original = serde_json::to_value(&outcome.checkpoint).unwrap();
+    assert_eq!(
+        resume_error(&shot, &scene, &resealed(&original), "unedited.json"),
+        None,
+        "the unedited checkpoint resumes"
+    );
+    // The block with the most nodes at this frame (the zoom-out moves sections down the levels).
+    let block = ["patch", "cluster", "strand_group"]
+        .into_iter()
+        .max_by_key(|level| {
+            original["state"]["blocks"][level]["state"]["node_positions"]
+                .as_array()
+                .map_or(0, Vec::len)
+        })
+        .unwrap();
+    let velocities = format!("blocks.{block}.state.node_velocities[5]");
+    let positions = format!("blocks.{block}.state.node_positions[5]");
+    let memory_field = format!("blocks.{block}.collision_memory.positions");
+    type Edit<'a> = Box<dyn Fn(&mut serde_json::Value) + 'a>;
+    let edits: [(&str, Edit, &str); 8] = [
+        (
+            "time 100 s",
+            Box::new(|v| v["state"]["time"] = 100.0.into()),
+            "time",
+        ),
+        (
+            "time -1 s",
+            Box::new(|v| v["state"]["time"] = (-1.0).into()),
+            "time",
+        ),
+        (
+            "a fade from 50",
+            Box::new(|v| v["state"]["levels"]["shown"][0]["from"] = 50.0.into()),
+            "levels.shown[0]",
+        ),
+        (
+            "a velocity of 1e6 m/s",
+            Box::new(|v| {
+                v["state"]["blocks"][block]["state"]["node_velocities"][5] =
+                    serde_json::json!([1e6, 0.0, 0.0])
+            }),
+            velocities.as_str(),
+        ),
+        (
+            "a node 10 m from its root",
+            Box::new(|v| {
+                v["state"]["blocks"][block]["state"]["node_positions"][5] =
+                    serde_json::json!([10.0, 0.0, 0.0])
+            }),
+            positions.as_str(),
+        ),
+        (
+            "the collision memory one entry short",
+            Box::new(|v| {
+                let memory = &mut v["state"]["blocks"][block]["collision_memory"];
+                memory["positions"].as_array_mut().unwrap().pop();
+            }),
+            memory_field.as_str(),
+        ),
+        (
+            "the choices one entry short",
+            Box::new(|v| {
+                v["state"]["choices"].as_array_mut().unwrap().pop();
+            }),
+            "choices",
+        ),
+        (
+            "a negative pixel tolerance",
+            Box::new(|v| v["state"]["pixel_tolerance"] = (-2.0).into()),
+            "pixel_tolerance",
+        ),
+    ];
+    for (what, edit, field) in edits {
+        let mut edited = original.clone();
+        edit(&mut edited);
+        // Edited without resealing: the checksum refuses it.
+        let error = resume_error(&shot, &scene, &edited, "edited.json")
+            .unwrap_or_else(|| panic!("{what} resumed"));
+        assert!(error.contains("state_checksum"), "{what}: {error}");
+        // Resealed: the state's own check refuses it, naming the field.
+        let error = resume_error(&shot, &scene, &resealed(&edited), "resealed.json")
+            .unwrap_or_else(|| panic!("{what} (resealed) resumed"));
+        assert!(error.contains(field), "{what}: {error}");
+    }
+    // A selector depth of -5 m is a depth the selector can hold (a section behind the camera):
+    // only the checksum refuses it.
+    let mut edited = original.clone();
+    edited["state"]["selector_depths"][0] = (-5.0).into();
+    let error =
+        resume_error(&shot, &scene, &edited, "depth.json").expect("an edited depth resumed");
+    assert!(error.contains("state_checksum"), "{error}");
+}
+
+/// Every number of the state's JSON, as a path of keys and indices.
+fn number_paths(value: &serde_json::Value, path: &mut Vec<String>, out: &mut Vec<Vec<String>>) {
+    match value {
+        serde_json::Value::Number(_) => out.push(path.clone()),
+        serde_json::Value::Array(items) => {
+            for (k, item) in items.iter().enumerate() {
+                path.push(k.to_string());
+                number_paths(item, path, out);
+                path.pop();
+            }
+        }
+        serde_json::Value::Object(fields) => {
+            for (key, item) in fields {
+                path.push(key.clone());
+                number_paths(item, path, out);
+                path.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Random numbers of a checkpoint's state set to random values, resealed (the checksum made
+/// right), then resumed from: each resumes or is refused, never panics; an edit that breaks an
+/// invariant the check knows (a time, a count) is refused. Fixed seed, bounded cases.
+#[test]
+fn randomly_edited_checkpoints_resume_or_are_refused_without_panicking() {
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+    let shot = shot();
+    let scene = shot.build_scene().unwrap();
+    let pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
+    let original = serde_json::to_value(pipeline.checkpoint().unwrap()).unwrap();
+    let mut paths = Vec::new();
+    number_paths(&original["state"], &mut vec!["state".into()], &mut paths);
+    assert!(paths.len() > 1000, "{} numbers", paths.len());
+    let values = prop::sample::select(vec![
+        -1.0,
+        0.0,
+        0.5,
+        2.0,
+        100.0,
+        1e6,
+        -1e6,
+        3.4e38,
+        -3.4e38,
+        1e-30,
+        4294967296.0,
+    ]);
+    let mut runner = TestRunner::new_with_rng(
+        Config {
+            cases: 64,
+            failure_persistence: None,
+            ..Config::default()
+        },
+        TestRng::from_seed(RngAlgorithm::ChaCha, &[3; 32]),
+    );
+    runner
+        .run(
+            &(any::<prop::sample::Index>(), values),
+            |(index, number)| {
+                let path = &paths[index.index(paths.len())];
+                let mut edited = original.clone();
+                let mut slot = &mut edited;
+                for key in path {
+                    slot = match slot {
+                        serde_json::Value::Array(items) => {
+                            &mut items[key.parse::<usize>().unwrap()]
+                        }
+                        other => &mut other[key.as_str()],
+                    };
+                }
+                *slot = serde_json::json!(number);
+                // Integers that do not fit their field are a parse error; either way no panic.
+                let resealed =
+                    match serde_json::from_value::<PipelineState>(edited["state"].clone()) {
+                        Ok(_) => resealed(&edited),
+                        Err(_) => edited,
+                    };
+                let _ = resume_error(&shot, &scene, &resealed, "fuzzed.json");
+                Ok(())
+            },
+        )
+        .unwrap();
+}

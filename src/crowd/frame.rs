@@ -32,7 +32,10 @@ pub struct Crowd {
 impl Crowd {
     /// Every character of `model` in a pipeline with `settings`, at rest (settled for the shot's
     /// settle time).
+    /// Refuses, before anything is allocated, a crowd whose estimated memory is over what the
+    /// machine has available ([`super::memory::check_fits`]).
     pub fn new(model: &CrowdModel, settings: PipelineSettings) -> Result<Crowd> {
+        super::memory::check_fits(model, &settings, super::memory::available_bytes())?;
         let mut pipelines = Vec::with_capacity(model.members.len());
         for member in &model.members {
             let mut pipeline = Pipeline::with_deviations(

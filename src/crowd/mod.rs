@@ -15,8 +15,10 @@
 //!   scene;
 //! - **one picture**: [`CrowdRenderer`] draws every character's groom and head in one pass.
 //!
-//! Characters with the same groom parameters share one built groom and one deviation
-//! measurement ([`CrowdModel`]).
+//! Characters with the same groom parameters share one built groom (one `Arc<Scene>`, in their
+//! pipelines too) and one deviation measurement ([`CrowdModel`]). A crowd whose estimated memory
+//! is over what the machine has available is refused before its pipelines are built
+//! ([`memory`]).
 //!
 //! ```no_run
 //! use hairlod::crowd::{Crowd, CrowdModel};
@@ -31,6 +33,7 @@
 //! ```
 
 mod frame;
+pub mod memory;
 mod model;
 mod render;
 mod run;

@@ -1,6 +1,8 @@
 //! [`CrowdModel`]: the built characters of a crowd shot (each groom built, hung and measured once
 //! however many characters wear it), from which each mode's [`Crowd`](super::Crowd) starts.
 
+use std::sync::Arc;
+
 use hair_core::Scene;
 use hair_core::lod::{LevelDeviation, level_deviations};
 
@@ -13,11 +15,12 @@ use crate::shot::{Character, Shot};
 pub struct CrowdMember {
     /// What the shot says of it.
     pub character: Character,
-    /// Its groom on the procedural head (head space).
-    pub scene: Scene,
+    /// Its groom on the procedural head (head space), shared with the characters that wear the
+    /// same groom (and with their pipelines).
+    pub scene: Arc<Scene>,
     /// Its sections' level deviations [m] ([`level_deviations`]), shared by characters with the
     /// same groom.
-    pub deviations: Vec<LevelDeviation>,
+    pub deviations: Arc<Vec<LevelDeviation>>,
 }
 
 /// The built characters of a crowd shot.
@@ -38,7 +41,7 @@ impl CrowdModel {
                 "the shot has no characters: a crowd needs [[character]] tables".into(),
             ));
         }
-        let mut built: Vec<(usize, Scene, Vec<LevelDeviation>)> = Vec::new();
+        let mut built: Vec<(usize, Arc<Scene>, Arc<Vec<LevelDeviation>>)> = Vec::new();
         let mut members = Vec::with_capacity(shot.characters.len());
         for (k, character) in shot.characters.iter().enumerate() {
             let same = built
@@ -47,8 +50,8 @@ impl CrowdModel {
             let (scene, deviations) = match same {
                 Some((_, scene, deviations)) => (scene.clone(), deviations.clone()),
                 None => {
-                    let scene = shot.build_scene_with(&character.groom)?;
-                    let deviations = level_deviations(&scene.groom)?;
+                    let scene = Arc::new(shot.build_scene_with(&character.groom)?);
+                    let deviations = Arc::new(level_deviations(&scene.groom)?);
                     built.push((k, scene.clone(), deviations.clone()));
                     (scene, deviations)
                 }

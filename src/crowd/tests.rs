@@ -282,3 +282,37 @@ fn stepping_side_by_side_charges_the_frame_its_wall_time() {
     super::frame::charge_wall_time(&mut idle, 0.050);
     assert_eq!(idle.times.dynamics, 0.0);
 }
+
+/// The memory estimate grows by one character's share per character, and a crowd over what is
+/// available is refused before its pipelines are built, naming its size and the estimate.
+#[test]
+fn a_crowd_over_the_available_memory_is_refused_before_it_is_built() {
+    let one = shot("[[character]]\nposition = [0.0, 0.0, 0.0]\n");
+    let three = shot(
+        "[[character]]\nposition = [0.0, 0.0, 0.0]\n\
+         [[character]]\nposition = [1.0, 0.0, 0.0]\n\
+         [[character]]\nposition = [2.0, 0.0, 0.0]\n",
+    );
+    let one = CrowdModel::build(&one).unwrap();
+    let three = CrowdModel::build(&three).unwrap();
+    // The three characters wear one groom: one scene, shared.
+    assert!(std::sync::Arc::ptr_eq(
+        &three.members[0].scene,
+        &three.members[2].scene
+    ));
+    let settings = three.shot.settings;
+    let each = memory::estimated_bytes(&one, &settings);
+    assert_eq!(memory::estimated_bytes(&three, &settings), 3 * each);
+    // The head's collision mesh dominates a small groom's character.
+    let triangles = three.members[0].scene.head.mesh.triangles.len() as u64;
+    assert!(each > triangles * memory::BYTES_PER_BODY_TRIANGLE);
+    assert!(memory::check_fits(&three, &settings, Some(3 * each)).is_ok());
+    assert!(memory::check_fits(&three, &settings, None).is_ok());
+    let error = memory::check_fits(&three, &settings, Some(3 * each - 1))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("3 characters") && error.contains("GiB") && error.contains("collision"),
+        "{error}"
+    );
+}

@@ -244,6 +244,7 @@ pub fn load_scene(
         .paths
         .first()
         .ok_or_else(|| HairError::invalid("groom.file", "no file", "at least one groom file"))?;
+    check_distinct_files(&groom.paths)?;
     let mut curves = Curves {
         offsets: vec![0],
         ..Curves::default()
@@ -263,6 +264,7 @@ pub fn load_scene(
         .into());
     }
     check_extent(&curves, groom, first)?;
+    check_section_count(&curves, groom, first)?;
     let fit = fit_hierarchy(&curves, &groom.fit_settings())
         .map_err(|error| file_error("fitting groom.file", first, error))?;
     let mut groom_model = Groom::from_fit_with_children(&fit, &curves, params, &groom.children)
@@ -357,6 +359,62 @@ fn append_curves(all: &mut Curves, part: Curves) {
     all.skipped.extend(part.skipped);
 }
 
+/// Refuses a list of groom files that names one file twice (by its canonical path, so `a.tfx`
+/// and `./a.tfx` are the same): read twice, every strand of it would be doubled. The error names
+/// both indices and both paths as given.
+fn check_distinct_files(paths: &[PathBuf]) -> Result<()> {
+    let canonical: Vec<PathBuf> = paths
+        .iter()
+        .map(|path| std::fs::canonicalize(path).unwrap_or_else(|_| path.clone()))
+        .collect();
+    for (j, later) in canonical.iter().enumerate() {
+        if let Some(i) = canonical[..j].iter().position(|earlier| earlier == later) {
+            return Err(file_error(
+                "reading groom.file",
+                &paths[j],
+                format!(
+                    "groom.file[{j}] ({}) is the same file as groom.file[{i}] ({}): list each \
+                     part of the groom once (read twice, every strand of it would be doubled)",
+                    paths[j].display(),
+                    paths[i].display()
+                ),
+            )
+            .into());
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a fixed section count the curves cannot hold: a fitted section needs 5 strands (one
+/// per strand group), so `N` curves make at most `N / 5` sections. Asking for more would build
+/// fewer sections than asked, silently; a count up to that is kept, less the sections merged
+/// because they would hold fewer than 5 strands
+/// ([`FitReport::merged_sections`](hair_core::fit::FitReport::merged_sections), which
+/// `hairlod groom --file` prints).
+fn check_section_count(curves: &Curves, groom: &GroomFile, path: &std::path::Path) -> Result<()> {
+    let SectionCount::Fixed(asked) = groom.sections else {
+        return Ok(());
+    };
+    let strands = curves.curve_count();
+    let most = (strands / STRANDS_PER_FITTED_SECTION).max(1);
+    if asked <= most {
+        return Ok(());
+    }
+    Err(file_error(
+        "fitting groom.file",
+        path,
+        format!(
+            "groom.section_count = {asked}: its {strands} strands make at most {most} sections \
+             ({STRANDS_PER_FITTED_SECTION} strands each, one per strand group); ask for at most \
+             {most}, or give groom.strands_per_section instead"
+        ),
+    )
+    .into())
+}
+
+/// The fewest strands a fitted section holds: one per strand group.
+const STRANDS_PER_FITTED_SECTION: usize = 5;
+
 /// Refuses curves whose extent is outside [`GROOM_EXTENT_RANGE`], naming `groom.scale` and the
 /// (first) file.
 fn check_extent(curves: &Curves, groom: &GroomFile, path: &std::path::Path) -> Result<()> {
@@ -376,4 +434,71 @@ fn check_extent(curves: &Curves, groom: &GroomFile, path: &std::path::Path) -> R
         ),
     )
     .into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An OBJ groom of `strands` straight strands, 10 cm long, rooted over the top of the head,
+    /// written to a fresh folder `name`; its path.
+    fn obj_groom(name: &str, strands: usize) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("hairlod-loaded-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut text = String::new();
+        for k in 0..strands {
+            let angle = k as f32 * 2.399;
+            let (x, z) = (0.04 * angle.cos(), 0.04 * angle.sin());
+            for j in 0..4 {
+                let t = j as f32 / 3.0;
+                text += &format!("v {} {} {}\n", x * (1.0 + t), 0.1 - 0.1 * t, z * (1.0 + t));
+            }
+            let base = 4 * k + 1;
+            text += &format!("l {} {} {} {}\n", base, base + 1, base + 2, base + 3);
+        }
+        let path = dir.join("groom.obj");
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    /// One file listed twice would double every strand: refused, naming both entries.
+    #[test]
+    fn a_groom_file_listed_twice_is_refused() {
+        let path = obj_groom("twice", 10);
+        let again = path.parent().unwrap().join(".").join("groom.obj");
+        let groom = GroomFile::new(vec![path.clone(), again]);
+        let error = load_scene(&groom, None, &GroomParams::straight())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("groom.file[1]") && error.contains("groom.file[0]"),
+            "{error}"
+        );
+        assert!(error.contains("is the same file as"), "{error}");
+        assert!(error.contains(&path.display().to_string()), "{error}");
+        std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+    }
+
+    /// More sections than the strands can hold (5 each) is an error naming the field and the
+    /// most there can be, not fewer sections silently; that many builds.
+    #[test]
+    fn more_sections_than_the_strands_hold_are_refused() {
+        let path = obj_groom("sections", 20);
+        let mut groom = GroomFile::new(vec![path.clone()]);
+        groom.sections = SectionCount::Fixed(10);
+        let error = load_scene(&groom, None, &GroomParams::straight())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("groom.section_count = 10"), "{error}");
+        assert!(
+            error.contains("20 strands make at most 4 sections"),
+            "{error}"
+        );
+        groom.sections = SectionCount::Fixed(4);
+        let loaded = load_scene(&groom, None, &GroomParams::straight()).unwrap();
+        assert!((1..=4).contains(&loaded.scene.groom.section_count()));
+        std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+    }
 }

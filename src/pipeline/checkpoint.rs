@@ -4,10 +4,15 @@
 //! A resumed run is bit-identical to an uninterrupted one, whatever the thread count.
 //!
 //! The file is JSON: floats are written in their shortest round-tripping form, so every bit of
-//! the state comes back.
+//! the state comes back. It carries a checksum of its state (FNV-1a, 64 bits, over the state as
+//! written), and a read checks the state's values against their invariants when the pipeline
+//! resumes from it ([`PipelineState::check`]): an edited or damaged checkpoint is refused, naming
+//! the field, instead of resuming silently wrong.
 
+use std::io::Write;
 use std::path::Path;
 
+use hair_core::obj::write_file_atomically;
 use serde::{Deserialize, Serialize};
 
 use super::error::{PipelineError, Result};
@@ -16,8 +21,9 @@ use super::state::PipelineState;
 /// The `format` field of every checkpoint file.
 pub const CHECKPOINT_FORMAT: &str = "hairlod-checkpoint";
 
-/// The version of the checkpoint layout; a file of another version is refused.
-pub const CHECKPOINT_VERSION: u32 = 1;
+/// The version of the checkpoint layout; a file of another version is refused, naming it.
+/// Version 2 (2026-12-01) added the state's checksum; version 1 files are refused.
+pub const CHECKPOINT_VERSION: u32 = 2;
 
 /// A pipeline state with what it belongs to.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -32,33 +38,51 @@ pub struct Checkpoint {
     /// The fingerprint of the scene, environment and settings it was run with
     /// ([`Pipeline::fingerprint`](super::Pipeline::fingerprint)).
     pub scene_fingerprint: String,
+    /// FNV-1a (64 bits, 16 hex digits) of the state as serialized to JSON: a read refuses a
+    /// file whose state does not hash to it (edited or damaged).
+    pub state_checksum: String,
     /// The state.
     pub state: PipelineState,
+}
+
+/// The checksum of `state` ([`Checkpoint::state_checksum`]): FNV-1a over its compact JSON, which
+/// is the same for every state that reads back with the same bits (floats are written in their
+/// shortest round-tripping form, fields in declaration order).
+fn state_checksum(state: &PipelineState) -> std::result::Result<String, serde_json::Error> {
+    let mut hash = Fnv1a::new();
+    hash.write(serde_json::to_string(state)?.as_bytes());
+    Ok(hash.hex())
 }
 
 impl Checkpoint {
     /// A checkpoint of `state` for the run whose fingerprint is `scene_fingerprint`.
     pub fn new(scene_fingerprint: String, state: PipelineState) -> Self {
+        let state_checksum = state_checksum(&state).unwrap_or_default();
         Checkpoint {
             format: CHECKPOINT_FORMAT.to_string(),
             version: CHECKPOINT_VERSION,
             hairlod_version: env!("CARGO_PKG_VERSION").to_string(),
             scene_fingerprint,
+            state_checksum,
             state,
         }
     }
 
-    /// Writes the checkpoint to `path` atomically (a temporary file renamed into place: no
-    /// half-written checkpoint is ever left under the name).
+    /// Writes the checkpoint to `path` atomically, through the project's one atomic writer
+    /// ([`write_file_atomically`]: a temporary file named with the process id, synced, renamed
+    /// into place, removed on any error), so no half-written checkpoint is ever left under the
+    /// name or beside it.
     pub fn write(&self, path: &Path) -> Result<()> {
-        let fail = |why: String| PipelineError::Checkpoint {
+        let text = serde_json::to_string(self).map_err(|e| PipelineError::Checkpoint {
             path: path.to_path_buf(),
-            why,
-        };
-        let text = serde_json::to_string(self).map_err(|e| fail(e.to_string()))?;
-        let temporary = path.with_extension("partial");
-        std::fs::write(&temporary, text).map_err(|e| fail(format!("cannot write: {e}")))?;
-        std::fs::rename(&temporary, path).map_err(|e| fail(format!("cannot write: {e}")))
+            why: e.to_string(),
+        })?;
+        write_file_atomically(path, |file| file.write_all(text.as_bytes())).map_err(|e| {
+            PipelineError::Checkpoint {
+                path: path.to_path_buf(),
+                why: format!("cannot write: {}", io_reason(&e, path)),
+            }
+        })
     }
 
     /// Reads a checkpoint from `path`; refuses a file that is not a checkpoint, or one of another
@@ -77,11 +101,26 @@ impl Checkpoint {
                 header.format
             )));
         }
-        if header.version != Some(CHECKPOINT_VERSION) {
-            return Err(fail(format!(
-                "checkpoint layout version {:?}, this hairlod reads version {CHECKPOINT_VERSION}",
-                header.version
-            )));
+        match header.version {
+            Some(CHECKPOINT_VERSION) => {}
+            Some(1) => {
+                return Err(fail(format!(
+                    "checkpoint layout version 1 (written before checkpoints carried a checksum), \
+                     this hairlod reads version {CHECKPOINT_VERSION}: run the frames again from \
+                     the start, or from a checkpoint this version wrote"
+                )));
+            }
+            Some(version) => {
+                return Err(fail(format!(
+                    "checkpoint layout version {version}, this hairlod reads version \
+                     {CHECKPOINT_VERSION}"
+                )));
+            }
+            None => {
+                return Err(fail(format!(
+                    "no layout version: this hairlod reads version {CHECKPOINT_VERSION}"
+                )));
+            }
         }
         let ours = env!("CARGO_PKG_VERSION");
         if header.hairlod_version.as_deref() != Some(ours) {
@@ -91,8 +130,27 @@ impl Checkpoint {
                 header.hairlod_version
             )));
         }
-        serde_json::from_str(&text).map_err(|e| fail(format!("damaged checkpoint: {e}")))
+        let checkpoint: Checkpoint =
+            serde_json::from_str(&text).map_err(|e| fail(format!("damaged checkpoint: {e}")))?;
+        let checksum = state_checksum(&checkpoint.state)
+            .map_err(|e| fail(format!("damaged checkpoint: {e}")))?;
+        if checksum != checkpoint.state_checksum {
+            return Err(fail(format!(
+                "state_checksum: the state hashes to {checksum}, the file says {:?}: the \
+                 checkpoint was edited or damaged",
+                checkpoint.state_checksum
+            )));
+        }
+        Ok(checkpoint)
     }
+}
+
+/// The reason of a failed write `error` on `path`, without the path the atomic writer puts
+/// before it (the checkpoint error names it already).
+fn io_reason(error: &std::io::Error, path: &Path) -> String {
+    let text = error.to_string();
+    let prefix = format!("writing {}: ", path.display());
+    text.strip_prefix(&prefix).unwrap_or(&text).to_string()
 }
 
 /// The fields checked before the state is parsed.
@@ -159,10 +217,14 @@ mod tests {
                 "version",
             ),
             (
-                "{\"format\": \"hairlod-checkpoint\", \"version\": 1, \"hairlod_version\": \"0.0.0\"}",
+                "{\"format\": \"hairlod-checkpoint\", \"version\": 2, \"hairlod_version\": \"0.0.0\"}",
                 "hairlod 0.1",
             ),
             ("not json", "not a checkpoint"),
+            (
+                "{\"format\": \"hairlod-checkpoint\", \"version\": 1}",
+                "layout version 1 (written before checkpoints carried a checksum)",
+            ),
         ] {
             std::fs::write(&path, text).unwrap();
             let error = Checkpoint::read(&path).unwrap_err().to_string();

@@ -71,6 +71,21 @@ pub enum PipelineError {
     /// A state handed to the pipeline (a checkpoint) does not fit its scene.
     #[error("pipeline state: {0}")]
     State(String),
+    /// A crowd whose estimated memory is over what the machine has available, refused before
+    /// its pipelines are built ([`crate::crowd::memory`]).
+    #[error("{message}")]
+    CrowdTooLarge {
+        /// The estimate, what it is made of and what is available.
+        message: String,
+    },
+    /// A field of a restored state breaks its invariant (an edited or damaged checkpoint).
+    #[error("pipeline state: {field}: {why}")]
+    StateField {
+        /// The field, as written in the checkpoint (`blocks.strand_group.state.time`).
+        field: String,
+        /// What is wrong with its value.
+        why: String,
+    },
     /// A checkpoint could not be read or written, or belongs to another scene or version.
     #[error("checkpoint {path}: {why}")]
     Checkpoint {

@@ -176,6 +176,56 @@ impl SectionLevels {
         self.current.len()
     }
 
+    /// Checks restored state against its invariants at `time` [s]: every blend and visibility
+    /// fade started at a finite time in `[0, time]` and lasts a finite duration ≥ 0 s, a blend
+    /// is between two different levels, and a fade starts from a weight in `[0, 1]`. Returns the
+    /// field and what is wrong with it.
+    pub(crate) fn check_at(&self, time: f64) -> std::result::Result<(), (String, String)> {
+        let started = |start: f64| start.is_finite() && (0.0..=time).contains(&start);
+        let lasting = |duration: f32| duration.is_finite() && duration >= 0.0;
+        for (section, blend) in self.blending.iter().enumerate() {
+            let Some((previous, start, duration)) = *blend else {
+                continue;
+            };
+            let field = format!("levels.blending[{section}]");
+            if previous == self.current[section] {
+                return Err((field, format!("blends from {} to itself", previous.name())));
+            }
+            if !started(start) || !lasting(duration) {
+                return Err((
+                    field,
+                    format!(
+                        "starts at {start} s and lasts {duration} s: a blend starts in [0, {time}] s \
+                         (the state's time) and lasts a finite duration of at least 0 s"
+                    ),
+                ));
+            }
+        }
+        for (section, fade) in self.shown.iter().enumerate() {
+            let field = format!("levels.shown[{section}]");
+            if !(0.0..=1.0).contains(&fade.from) {
+                return Err((
+                    field,
+                    format!(
+                        "fades from {}: a fade starts from a weight in [0, 1]",
+                        fade.from
+                    ),
+                ));
+            }
+            if !started(fade.start) || !lasting(fade.duration) {
+                return Err((
+                    field,
+                    format!(
+                        "starts at {} s and lasts {} s: a fade starts in [0, {time}] s (the \
+                         state's time) and lasts a finite duration of at least 0 s",
+                        fade.start, fade.duration
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Whether every per-section list has `sections` entries (a check on restored state).
     pub fn is_consistent(&self, sections: usize) -> bool {
         self.current.len() == sections

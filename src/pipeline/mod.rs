@@ -22,6 +22,7 @@ mod pipeline;
 mod report;
 mod settings;
 mod state;
+mod state_check;
 mod strands_out;
 mod style;
 
@@ -34,4 +35,5 @@ pub use pipeline::Pipeline;
 pub use report::{FrameReport, LodChanges, StageTimes};
 pub use settings::{LodMode, PipelineSettings};
 pub use state::PipelineState;
+pub use state_check::{MAX_NODE_SPEED, MAX_STATE_FRAMES};
 pub use style::DrawStyle;

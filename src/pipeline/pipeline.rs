@@ -1,6 +1,7 @@
 //! The frame pipeline (DESIGN "One frame"): control → level selection and transitions → dynamics
 //! with collision → skeletons for the renderer, with the wall-clock time of each stage.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use hair_collide::{
@@ -47,7 +48,8 @@ use super::state::PipelineState;
 /// # Ok::<(), hairlod::pipeline::PipelineError>(())
 /// ```
 pub struct Pipeline {
-    scene: Scene,
+    /// The scene, shared with the other characters of a crowd that wear the same groom.
+    scene: Arc<Scene>,
     environment: Environment,
     settings: PipelineSettings,
     params: DynamicsParams,
@@ -94,7 +96,14 @@ impl Pipeline {
     /// at rest at the finest level, strand groups (automatic mode: [`settle`](Self::settle) lets
     /// the hair fall into place at full detail, and the first frame hands each section down to
     /// the level it is given), or at the fixed level.
-    pub fn new(scene: Scene, environment: Environment, settings: PipelineSettings) -> Result<Self> {
+    /// The scene may be an `Arc<Scene>` shared with other pipelines (a crowd's characters that
+    /// wear one groom share its model).
+    pub fn new(
+        scene: impl Into<Arc<Scene>>,
+        environment: Environment,
+        settings: PipelineSettings,
+    ) -> Result<Self> {
+        let scene = scene.into();
         let params = DynamicsParams::for_style(&scene.groom.params.style);
         Pipeline::with_material(scene, environment, settings, params)
     }
@@ -102,29 +111,30 @@ impl Pipeline {
     /// [`Pipeline::new`] with the skeletons' material given instead of the groom style's
     /// ([`DynamicsParams::for_style`]): mass, stiffness, damping and drag.
     pub fn with_material(
-        scene: Scene,
+        scene: impl Into<Arc<Scene>>,
         environment: Environment,
         settings: PipelineSettings,
         params: DynamicsParams,
     ) -> Result<Self> {
-        Pipeline::build(scene, environment, settings, params, None)
+        Pipeline::build(scene.into(), environment, settings, params, None)
     }
 
     /// [`Pipeline::new`] with the sections' level deviations [m] already measured
     /// ([`level_deviations`](hair_core::lod::level_deviations) of this scene's groom, one per
     /// section): characters of a crowd that share a groom measure it once.
     pub fn with_deviations(
-        scene: Scene,
+        scene: impl Into<Arc<Scene>>,
         environment: Environment,
         settings: PipelineSettings,
         deviations: &[LevelDeviation],
     ) -> Result<Self> {
+        let scene = scene.into();
         let params = DynamicsParams::for_style(&scene.groom.params.style);
         Pipeline::build(scene, environment, settings, params, Some(deviations))
     }
 
     fn build(
-        scene: Scene,
+        scene: Arc<Scene>,
         environment: Environment,
         settings: PipelineSettings,
         params: DynamicsParams,
@@ -285,23 +295,7 @@ impl Pipeline {
     /// Replaces the state with `state` (checked against the groom and the settings) and
     /// rebuilds every solver around it.
     fn restore(&mut self, state: PipelineState) -> Result<()> {
-        let groom = &self.scene.groom;
-        let sections = groom.section_count();
-        if !state.levels.is_consistent(sections) || state.choices.len() != sections {
-            return Err(PipelineError::State(format!(
-                "the state has levels for {} sections, the groom has {sections}",
-                state.levels.section_count()
-            )));
-        }
-        for (level, block) in state.blocks.iter() {
-            block.check(groom, level)?;
-            if block.sections != state.levels.members(level) {
-                return Err(PipelineError::State(format!(
-                    "the {} block does not hold the sections at that level",
-                    level.name()
-                )));
-            }
-        }
+        state.check(&self.scene.groom, self.settings.dynamics.time_step)?;
         match (&mut self.selector, state.pixel_tolerance) {
             (Some(selector), Some(tolerance)) => {
                 selector.set_pixel_tolerance(tolerance)?;

@@ -1,8 +1,9 @@
 //! Scene files, version 2: a TOML file that describes everything a run needs (groom, body, head
 //! motion, wind, camera path, levels of detail, dynamics, frames and outputs). Every field is
-//! optional with a sensible default; unknown keys are errors, and every bad value gets an error
-//! that names the field path and the allowed range. [`SceneFile::resolve`] turns a file into a
-//! [`Shot`](crate::shot::Shot).
+//! optional with a sensible default, except what an entry needs once it is given (a keyframe's
+//! `time`, a camera keyframe's `position`, a `[[character]]`'s `position`); unknown keys are
+//! errors, and every bad value gets an error that names the field path and the allowed range.
+//! [`SceneFile::resolve`] turns a file into a [`Shot`](crate::shot::Shot).
 //!
 //! `scenes/example.toml` in the repository documents every field; `scenes/paper-table1.toml` and
 //! `scenes/paper-table2.toml` are the paper's benchmark (`hairlod bench paper` runs them).
@@ -18,9 +19,13 @@
 //! # Ok::<(), hairlod::scene_file::SceneFileError>(())
 //! ```
 
+mod bounds;
 mod files;
+#[cfg(test)]
+mod fuzz;
 mod resolve;
 
+pub use bounds::{MAX_CAMERA_DISTANCE, MAX_HEAD_COORDINATE, MIN_CAMERA_DISTANCE};
 pub use resolve::{DEFAULT_FILE_MATERIAL, parse_size};
 
 use std::path::{Path, PathBuf};
@@ -103,7 +108,8 @@ pub struct SceneFile {
 pub struct CharacterTable {
     /// A name for reports (default `character K`).
     pub name: Option<String>,
-    /// Where the head's centre stands [m].
+    /// Where the head's centre stands [m], required; each coordinate in
+    /// `-MAX_HEAD_COORDINATE..=MAX_HEAD_COORDINATE` ([`MAX_HEAD_COORDINATE`], 1 km).
     pub position: [f32; 3],
     /// The head turned about the vertical [degrees], -360..=360 (default 0: facing +Z).
     pub yaw_degrees: Option<f32>,
@@ -152,8 +158,13 @@ pub struct GroomTable {
     /// With `file`: a child's offset at the tip as a fraction of that at the root, 0..=1
     /// (default 0.5; smaller gathers children to their guide's skeleton).
     pub child_clump: Option<f32>,
-    /// Number of sections (each 1 patch = 3 clusters = 5 strand groups), 1..=10000; with `file`,
-    /// the sections the fit makes (fewer where some would hold fewer than 5 strands).
+    /// Number of sections (each 1 patch = 3 clusters = 5 strand groups), 1..=10000 (a single
+    /// section is as wide as each of two, 14 cm: [`GroomParams::section_width`]); with
+    /// `file`, the sections the fit makes: at most one per 5 file strands (more is an error that
+    /// names that maximum), fewer where some would hold fewer than 5 strands (merged; `hairlod
+    /// groom --file` reports how many).
+    ///
+    /// [`GroomParams::section_width`]: hair_core::GroomParams::section_width
     pub section_count: Option<usize>,
     /// Strands per strand group, 1..=10000.
     pub strands_per_group: Option<usize>,
@@ -239,7 +250,7 @@ pub struct HeadKeyframeEntry {
     /// Rotation [degrees] about X, Y, Z (applied in that order), default none.
     #[serde(default)]
     pub rotation_degrees: [f32; 3],
-    /// Translation [m], default none.
+    /// Translation [m], default none; each coordinate in -1000..=1000 ([`MAX_HEAD_COORDINATE`]).
     #[serde(default)]
     pub translation: [f32; 3],
 }
@@ -250,7 +261,8 @@ pub struct HeadKeyframeEntry {
 pub struct WindTable {
     /// Mean speed [m/s], ≥ 0 (default 0: calm).
     pub speed: Option<f32>,
-    /// Direction the wind blows towards (normalised), default `[0.6, 0, -0.8]`.
+    /// Direction the wind blows towards (normalised; any finite vector but zero), default
+    /// `[0.6, 0, -0.8]`.
     pub direction: Option<[f32; 3]>,
     /// Gust speed [m/s], ≥ 0 (default 0: steady).
     pub gusts: Option<f32>,
@@ -268,11 +280,14 @@ pub struct WindTable {
 pub struct CameraTable {
     /// `orbit` (default), `zoom-out`, `fixed` or `keyframes`.
     pub path: Option<String>,
-    /// The point looked at [m], default the head's centre `[0, 0, 0]`.
+    /// The point looked at [m], default the head's centre `[0, 0, 0]`; each coordinate in
+    /// `-10000..=10000` ([`MAX_CAMERA_DISTANCE`]).
     pub target: Option<[f32; 3]>,
-    /// Distance from the target [m], > 0 (default 0.8; zoom-out: at the first frame).
+    /// Distance from the target [m], in `0.001..=10000` ([`MIN_CAMERA_DISTANCE`],
+    /// [`MAX_CAMERA_DISTANCE`]; default 0.8; zoom-out: at the first frame).
     pub distance: Option<f32>,
-    /// Distance at the last frame of a zoom-out [m], > 0 (default 4 × distance).
+    /// Distance at the last frame of a zoom-out [m], in `0.001..=10000` (default 4 × distance,
+    /// at most 10000).
     pub end_distance: Option<f32>,
     /// Azimuth [degrees] (0: in front of the face), default 150.
     pub azimuth_degrees: Option<f32>,
@@ -291,9 +306,10 @@ pub struct CameraTable {
 pub struct CameraKeyframeEntry {
     /// Time [s], ≥ 0.
     pub time: f64,
-    /// Camera position [m].
+    /// Camera position [m], required; each coordinate in `-10000..=10000`, and
+    /// `0.001..=10000` m from the target ([`MAX_CAMERA_DISTANCE`]).
     pub position: [f32; 3],
-    /// The point looked at [m], default `[0, 0, 0]`.
+    /// The point looked at [m], default `[0, 0, 0]`; each coordinate in `-10000..=10000`.
     #[serde(default)]
     pub target: [f32; 3],
 }

@@ -246,7 +246,8 @@ impl SceneFile {
                 )));
             }
             let groom = own.groom_params(false).map_err(within_character)?;
-            let position = vector("position", table.position).map_err(within_character)?;
+            let position =
+                super::bounds::head_point("position", table.position).map_err(within_character)?;
             let yaw = within(
                 "yaw_degrees",
                 table.yaw_degrees.unwrap_or(0.0),
@@ -396,7 +397,10 @@ impl SceneFile {
                         time: key.time,
                         transform: RigidTransform {
                             rotation: Quat::from_euler(EulerRot::XYZ, x, y, z),
-                            translation: vector(&format!("{field}.translation"), key.translation)?,
+                            translation: super::bounds::head_point(
+                                &format!("{field}.translation"),
+                                key.translation,
+                            )?,
                         },
                     });
                 }
@@ -422,15 +426,8 @@ impl SceneFile {
             100.0,
             "a speed in 0..=100 m/s",
         )?;
-        let direction = vector(
-            "wind.direction",
-            table.direction.unwrap_or([0.6, 0.0, -0.8]),
-        )?;
-        let Some(direction) = direction.try_normalize() else {
-            return Err(SceneFileError::new(
-                "wind.direction = [0, 0, 0]: expected a direction (not all zero)",
-            ));
-        };
+        let given = table.direction.unwrap_or([0.6, 0.0, -0.8]);
+        let direction = super::bounds::direction("wind.direction", given)?;
         let period = positive("wind.gust_period", table.gust_period.unwrap_or(1.0))?;
         let length = positive("wind.gust_length", table.gust_length.unwrap_or(0.5))?;
         Ok(if gusts > 0.0 {
@@ -456,7 +453,8 @@ impl SceneFile {
             path,
             &["orbit", "zoom-out", "fixed", "keyframes"],
         )?;
-        let distance = positive("camera.distance", table.distance.unwrap_or(0.8))?;
+        let distance =
+            super::bounds::camera_distance("camera.distance", table.distance.unwrap_or(0.8))?;
         let motion = match path {
             "orbit" => CameraMotion::Orbit,
             "zoom-out" => CameraMotion::ZoomOut,
@@ -478,13 +476,14 @@ impl SceneFile {
                             key.time
                         )));
                     }
-                    let position = vector(&format!("{field}.position"), key.position)?;
-                    let target = vector(&format!("{field}.target"), key.target)?;
-                    if position.distance(target) <= 1e-6 {
-                        return Err(SceneFileError::new(format!(
-                            "{field}: the position is the target; the camera needs a direction"
-                        )));
-                    }
+                    let position =
+                        super::bounds::camera_point(&format!("{field}.position"), key.position)?;
+                    let target =
+                        super::bounds::camera_point(&format!("{field}.target"), key.target)?;
+                    super::bounds::camera_distance(
+                        &format!("{field}: the distance from position to target"),
+                        position.distance(target),
+                    )?;
                     keys.push(CameraKeyframe {
                         time: key.time,
                         position,
@@ -501,11 +500,13 @@ impl SceneFile {
         }
         Ok(CameraPath {
             motion,
-            target: vector("camera.target", table.target.unwrap_or([0.0; 3]))?,
+            target: super::bounds::camera_point("camera.target", table.target.unwrap_or([0.0; 3]))?,
             distance,
-            end_distance: positive(
+            end_distance: super::bounds::camera_distance(
                 "camera.end_distance",
-                table.end_distance.unwrap_or(4.0 * distance),
+                table
+                    .end_distance
+                    .unwrap_or((4.0 * distance).min(super::MAX_CAMERA_DISTANCE)),
             )?,
             azimuth: within(
                 "camera.azimuth_degrees",
@@ -689,7 +690,11 @@ mod tests {
                 "camera.fov_degrees",
                 "1..=170",
             ),
-            ("[camera]\ndistance = nan", "camera.distance", "> 0"),
+            (
+                "[camera]\ndistance = nan",
+                "camera.distance",
+                "0.001..=10000 m",
+            ),
             ("[frames]\ncount = 0", "frames.count", "1..=1000000"),
             ("[frames]\nsize = \"big\"", "frames.size", "WIDTHxHEIGHT"),
             ("[groom]\npreset = \"afro\"", "groom.preset", "paper-curly"),
@@ -725,6 +730,11 @@ mod tests {
             ),
             ("version = 1", "version", "2"),
             ("[groom]\nfile = \"x.tfx\"", "groom.file", "no such file"),
+            (
+                "[groom]\nfile = \".\"",
+                "groom.file",
+                "is a folder, not a file",
+            ),
             (
                 "[groom]\nfile = \"x.tfx\"\nscale = 0.0",
                 "groom.file",

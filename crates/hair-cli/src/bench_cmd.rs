@@ -773,12 +773,11 @@ pub fn print_table(
     }
 }
 
-/// Writes `value` as pretty JSON to `path` atomically (a temporary file renamed into place).
+/// Writes `value` as pretty JSON to `path` through the one atomic writer (a temporary file with
+/// the process id, synced, renamed into place, removed on error).
 pub fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(value)?;
-    let temporary = path.with_extension("json.partial");
-    std::fs::write(&temporary, text).with_context(|| format!("writing {}", temporary.display()))?;
-    std::fs::rename(&temporary, path).with_context(|| format!("writing {}", path.display()))?;
+    crate::charts::write_atomically(path, text.as_bytes())?;
     println!("wrote {}", path.display());
     Ok(())
 }

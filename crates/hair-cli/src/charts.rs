@@ -32,23 +32,47 @@ pub fn register_chart_font() -> Result<()> {
         .map_err(|message| anyhow!(message))
 }
 
-/// Re-encodes a PNG with the best compression (plotters writes a fast, large one).
-pub fn recompress_png(path: &Path) -> Result<()> {
+/// A scratch file beside `path` for a plotters backend that writes a file itself:
+/// `.<name>.<process id>.<ext>` in the same folder (two runs into one folder never share it).
+pub fn scratch_beside(path: &Path, ext: &str) -> PathBuf {
+    let name = path
+        .file_name()
+        .map_or_else(|| "chart".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.{}.{ext}", std::process::id()))
+}
+
+/// Draws a PNG through `draw` into a scratch file beside `path` ([`scratch_beside`]), then
+/// re-encodes it with the best compression (plotters writes a fast, large one) into `path`
+/// through the one atomic writer. The scratch file is removed whether drawing succeeds or not.
+pub fn write_png_through(path: &Path, draw: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     use image::ImageEncoder;
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-    let picture = image::open(path)
-        .with_context(|| format!("reading back {}", path.display()))?
-        .into_rgb8();
-    let mut bytes = Vec::new();
-    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
-        .write_image(
-            picture.as_raw(),
-            picture.width(),
-            picture.height(),
-            image::ExtendedColorType::Rgb8,
-        )
-        .with_context(|| format!("encoding {}", path.display()))?;
-    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))?;
+    let scratch = scratch_beside(path, "png");
+    let result = draw(&scratch).and_then(|()| {
+        let picture = image::open(&scratch)
+            .with_context(|| format!("reading back {}", scratch.display()))?
+            .into_rgb8();
+        let mut bytes = Vec::new();
+        PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
+            .write_image(
+                picture.as_raw(),
+                picture.width(),
+                picture.height(),
+                image::ExtendedColorType::Rgb8,
+            )
+            .with_context(|| format!("encoding {}", path.display()))?;
+        write_atomically(path, &bytes)
+    });
+    let _ = std::fs::remove_file(&scratch);
+    result
+}
+
+/// Writes `bytes` to `path` through the one atomic writer
+/// ([`hairlod::core::obj::write_file_atomically`]: a temporary file with the process id, synced,
+/// renamed, removed on error). Its error names the path.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    use std::io::Write;
+    hairlod::core::obj::write_file_atomically(path, |file| file.write_all(bytes))?;
     Ok(())
 }
 
@@ -64,8 +88,7 @@ pub trait Chart {
 }
 
 /// Draws `chart` into `path` with the extension `png` and into the same path with the extension
-/// `svg`; both are written under a temporary name first and renamed, so a stopped run leaves no
-/// half-written chart. Returns the two paths.
+/// `svg`; both go through the one atomic writer, so a stopped run leaves no half-written chart. Returns the two paths.
 pub fn write_png_and_svg(
     path: &Path,
     size: (u32, u32),
@@ -74,25 +97,22 @@ pub fn write_png_and_svg(
     register_chart_font()?;
     let png = path.with_extension("png");
     let svg = path.with_extension("svg");
-    let png_partial = path.with_extension("partial.png");
-    let svg_partial = path.with_extension("partial.svg");
-    {
-        let root = BitMapBackend::new(&png_partial, size).into_drawing_area();
+    write_png_through(&png, |scratch| {
+        let root = BitMapBackend::new(scratch, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
         chart.draw(&root)?;
         root.present()
-            .with_context(|| format!("writing {}", png_partial.display()))?;
-    }
-    recompress_png(&png_partial)?;
+            .with_context(|| format!("drawing {}", png.display()))
+    })?;
+    let mut text = String::new();
     {
-        let root = SVGBackend::new(&svg_partial, size).into_drawing_area();
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
         chart.draw(&root)?;
         root.present()
-            .with_context(|| format!("writing {}", svg_partial.display()))?;
+            .with_context(|| format!("drawing {}", svg.display()))?;
     }
-    std::fs::rename(&png_partial, &png).with_context(|| format!("writing {}", png.display()))?;
-    std::fs::rename(&svg_partial, &svg).with_context(|| format!("writing {}", svg.display()))?;
+    write_atomically(&svg, text.as_bytes())?;
     Ok((png, svg))
 }
 

@@ -186,20 +186,16 @@ fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
     let fit_seconds = started.elapsed().as_secs_f64();
     if !curves.skipped.is_empty() {
         eprintln!(
-            "skipped {} degenerate curves of {} (the first: curve {}, {:?})",
+            "skipped {} degenerate curves of {} (the first: curve {}, {})",
             curves.skipped.len(),
             file.display(),
             curves.skipped[0].index,
             curves.skipped[0].reason
         );
     }
-    let rest_pose = match drawn_rest_errors(args, file) {
-        Ok(errors) => Some(errors),
-        Err(error) => {
-            eprintln!("could not build the groom a scene would run: {error:#}");
-            None
-        }
-    };
+    // The fit report is printed either way; a groom a scene could not build is an error after it.
+    let built = drawn_rest_errors(args, file);
+    let rest_pose = built.as_ref().ok();
     if args.json {
         let json = serde_json::json!({
             "file": file.display().to_string(),
@@ -208,6 +204,7 @@ fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
             "skipped_curves": curves.skipped.len(),
             "fit": fit.report,
             "rest_pose": rest_pose,
+            "rest_pose_error": built.as_ref().err().map(|error| format!("{error:#}")),
         });
         println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
@@ -216,7 +213,7 @@ fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
             file.display()
         );
         println!("{}", fit.report);
-        if let Some(errors) = &rest_pose {
+        if let Some(errors) = rest_pose {
             println!(
                 "as a scene loads it (one node count for the groom, residual profiles bound), \
                  rest pose against the file:"
@@ -231,7 +228,14 @@ fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
             }
         }
     }
-    Ok(())
+    built.map(|_| ()).with_context(|| {
+        format!(
+            "{} was fitted (above), but a scene's `[groom] file` could not use it at --scale {} \
+             (a scene's groom.scale; --fit-sections is its groom.section_count)",
+            file.display(),
+            args.scale
+        )
+    })
 }
 
 /// The rest errors of the groom a scene's `[groom] file` builds from `file` (the scene's fit

@@ -13,6 +13,7 @@ mod charts;
 mod cli_args;
 mod crowd_cmd;
 mod demo_cmd;
+mod destinations;
 mod groom_cmd;
 mod pareto;
 mod render_cmd;

@@ -17,12 +17,14 @@ use hairlod::pipeline::{Checkpoint, DrawStyle, FrameReport, PipelineRenderer, St
 use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
+use hairlod::shot::Shot;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli_args::{
     BackendArg, CameraArg, ClustersArg, CoverageArg, FramesArg, LevelArg, MotionArg, Preset,
     ShadingArg, ShotOverrides,
 };
+use crate::destinations::{writable_file, writable_folder};
 
 /// Arguments of `hairlod render`.
 #[derive(Debug, Args)]
@@ -172,12 +174,54 @@ impl RenderArgs {
 /// skeleton's resolution, enough to follow a curl's turn.
 const HAIR_SAMPLES_PER_SEGMENT: usize = 2;
 
-/// The error of writing an export file.
+/// The error of writing an export file: `writing PATH: why`, the path named once (the writers'
+/// own errors name it already, [`hairlod::HairError::io`]).
 fn writing(path: &Path, error: std::io::Error) -> hairlod::HairError {
-    hairlod::HairError::Io {
-        action: "writing",
-        path: path.display().to_string(),
-        message: error.to_string(),
+    hairlod::HairError::io("writing", path, &error)
+}
+
+/// Checks every place the run will write before anything is built or simulated: the output
+/// folder (and its per-view and hair folders), the JSON report, the USD file and the checkpoint
+/// folder. A destination that cannot be written fails the run in its first second, naming the
+/// path and the reason, instead of after the last frame.
+fn check_destinations(args: &RenderArgs, shot: &Shot, json: Option<&Path>) -> Result<()> {
+    writable_folder(&args.out, "output folder")?;
+    if !shot.is_crowd() {
+        let views = View::of_outputs(&shot.outputs);
+        if views.len() > 1 {
+            for view in &views {
+                writable_folder(&args.out.join(view.name()), "output folder")?;
+            }
+        }
+        if shot.outputs.hair {
+            writable_folder(&args.out.join("hair"), "hair folder")?;
+        }
+        if shot.outputs.usd {
+            writable_file(&args.out.join("hair.usda"), "USD file")?;
+        }
+    }
+    if let Some(path) = json {
+        writable_file(path, "JSON report")?;
+    }
+    if let Some(dir) = &args.checkpoint {
+        writable_folder(dir, "checkpoint folder")?;
+    }
+    Ok(())
+}
+
+/// What the banner calls the groom: the file (or files) it was read from, or its preset
+/// (`preset`, the scene's `groom.preset`; `paper-curly` when none is given).
+fn groom_name(shot: &hairlod::Shot, preset: Option<&str>) -> String {
+    match &shot.groom_file {
+        Some(groom) => {
+            let paths: Vec<String> = groom
+                .paths
+                .iter()
+                .map(|path| path.display().to_string())
+                .collect();
+            format!("the groom file {}", paths.join(" + "))
+        }
+        None => format!("`{}`", preset.unwrap_or("paper-curly")),
     }
 }
 
@@ -195,6 +239,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(frames) => frames.range(shot.frames)?,
         None => start..shot.frames,
     };
+    let json = args
+        .json
+        .clone()
+        .or_else(|| file.json_output().map(|name| args.out.join(name)));
+    check_destinations(args, &shot, json.as_deref())?;
     let mut device = DeviceOptions::from_env()?;
     if let Some(backend) = args.backend {
         device.backend = backend.into();
@@ -209,10 +258,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             frames: frames.end,
             ..shot
         };
-        let json = args
-            .json
-            .clone()
-            .or_else(|| file.json_output().map(|name| args.out.join(name)));
         return crate::crowd_cmd::render(
             &shot,
             &args.out,
@@ -229,22 +274,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         views.iter().map(|v| args.out.join(v.name())).collect()
     };
     for folder in &folders {
-        std::fs::create_dir_all(folder)
-            .with_context(|| format!("cannot create output folder {}", folder.display()))?;
+        writable_folder(folder, "output folder")?;
     }
-    let json = args
-        .json
-        .clone()
-        .or_else(|| file.json_output().map(|name| args.out.join(name)));
     let hair_folder = args.out.join("hair");
-    if shot.outputs.hair {
-        std::fs::create_dir_all(&hair_folder)
-            .with_context(|| format!("cannot create output folder {}", hair_folder.display()))?;
-    }
-    if let Some(dir) = &args.checkpoint {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create checkpoint folder {}", dir.display()))?;
-    }
 
     let options = RunOptions {
         frames: frames.clone(),
@@ -256,11 +288,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let counts = scene.groom.counts();
     eprintln!("adapter: {}", renderer.renderer().adapter_report());
     eprintln!(
-        "rendering frames {}..{} of {} of `{}` ({} sections, {} strands) at {}x{}, {}, {}",
+        "rendering frames {}..{} of {} of {} ({} sections, {} strands) at {}x{}, {}, {}",
         frames.start,
         frames.end,
         shot.frames,
-        file.groom.preset.as_deref().unwrap_or("paper-curly"),
+        groom_name(&shot, file.groom.preset.as_deref()),
         counts.sections,
         counts.strands,
         shot.width,

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::charts::{recompress_png, register_chart_font};
+use crate::charts::{register_chart_font, write_atomically, write_png_through};
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::core::dynamics::IntegratorKind;
@@ -50,15 +50,15 @@ pub fn run(args: &StabilityArgs) -> Result<()> {
     );
     if let Some(path) = &args.json {
         let text = serde_json::to_string_pretty(&report)?;
-        std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+        write_atomically(path, text.as_bytes())?;
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.chart {
-        draw_chart(&report, path)?;
+        write_png_through(path, |scratch| draw_chart(&report, scratch))?;
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.cost_chart {
-        draw_cost_chart(&report, path)?;
+        write_png_through(path, |scratch| draw_cost_chart(&report, scratch))?;
         println!("wrote {}", path.display());
     }
     Ok(())
@@ -271,9 +271,8 @@ fn draw_chart(report: &StabilityReport, path: &Path) -> Result<()> {
         small,
     ))?;
     root.present()
-        .with_context(|| format!("writing {}", path.display()))?;
-    drop(root);
-    recompress_png(path)
+        .with_context(|| format!("drawing {}", path.display()))?;
+    Ok(())
 }
 
 fn integrator_colour(integrator: IntegratorKind) -> RGBColor {
@@ -285,7 +284,7 @@ fn integrator_colour(integrator: IntegratorKind) -> RGBColor {
     }
 }
 
-/// Error against cost per simulated second: one panel per chain and scenario, one line per
+/// Error against cost per simulated second (drawn into the PNG file `path`): one panel per chain and scenario, one line per
 /// integrator through its substep counts (runs that failed are left out), log-log, with the error
 /// tolerance as a dashed line.
 fn draw_cost_chart(report: &StabilityReport, path: &Path) -> Result<()> {
@@ -418,7 +417,6 @@ fn draw_cost_chart(report: &StabilityReport, path: &Path) -> Result<()> {
         }
     }
     root.present()
-        .with_context(|| format!("writing {}", path.display()))?;
-    drop(root);
-    recompress_png(path)
+        .with_context(|| format!("drawing {}", path.display()))?;
+    Ok(())
 }

@@ -66,12 +66,21 @@ impl HairError {
 }
 
 impl HairError {
-    /// An [`HairError::Io`] for `path`.
+    /// An [`HairError::Io`] for `path`. An `error` whose message names the action and the path
+    /// already (as [`write_file_atomically`](crate::obj::write_file_atomically)'s do: `writing
+    /// PATH: why`) keeps only the why, so that the message says `writing PATH:` once.
     pub fn io(action: &'static str, path: &std::path::Path, error: &std::io::Error) -> Self {
+        let path = path.display().to_string();
+        let message = error.to_string();
+        let prefix = format!("{action} {path}: ");
+        let message = match message.strip_prefix(&prefix) {
+            Some(why) => why.to_string(),
+            None => message,
+        };
         HairError::Io {
             action,
-            path: path.display().to_string(),
-            message: error.to_string(),
+            path,
+            message,
         }
     }
 }
@@ -123,5 +132,22 @@ mod tests {
         assert!(require_positive("hair_length", f32::NAN).is_err());
         assert!(require_non_negative("radius", 0.0).is_ok());
         assert!(require_in_range("curl_factor", 91.0, 0.0, 90.0, "0..=90 degrees").is_err());
+    }
+
+    /// A failed atomic write names its path once, not `writing X: writing X: …`.
+    #[test]
+    fn a_failed_write_names_its_path_once() {
+        let path = std::env::temp_dir()
+            .join(format!("hairlod-no-such-folder-{}", std::process::id()))
+            .join("groom.obj");
+        let io = crate::obj::write_file_atomically(&path, |_| Ok(())).unwrap_err();
+        let error = HairError::io("writing", &path, &io).to_string();
+        let named = format!("writing {}", path.display());
+        assert!(error.starts_with(&format!("{named}: ")), "{error}");
+        assert_eq!(error.matches(&named).count(), 1, "{error}");
+        // A message that does not name the path keeps all of it.
+        let plain = std::io::Error::other("disk full");
+        let error = HairError::io("writing", &path, &plain).to_string();
+        assert_eq!(error, format!("{named}: disk full"));
     }
 }

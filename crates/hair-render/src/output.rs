@@ -1,8 +1,9 @@
 //! PNG output: atomic writes, frame names that sort, side-by-side and contact-sheet composition.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
+
+use hair_core::obj::write_file_atomically;
 
 use crate::error::{RenderError, Result, invalid};
 
@@ -24,9 +25,12 @@ pub fn frame_path(directory: &Path, index: u64, frame_count: u64) -> PathBuf {
     directory.join(frame_file_name(index, frame_count))
 }
 
-/// Writes `image` as a PNG at `path` atomically: the bytes go to `path.tmp` in the same folder,
-/// are flushed to disk, and the file is renamed over `path`. A stopped run leaves either the old
-/// file or the complete new one (and at worst a stray `*.tmp`), never a half-written PNG.
+/// Writes `image` as a PNG at `path` atomically, through the project's one atomic writer
+/// ([`hair_core::obj::write_file_atomically`]): the bytes go to a temporary file beside `path`
+/// named with the process id, are synced to disk, and the file is renamed over `path`; on any
+/// error the temporary file is removed. A stopped run leaves either the old file or the complete
+/// new one, never a half-written PNG, and two runs writing into one folder never share a
+/// temporary file.
 ///
 /// Errors name the path that failed.
 pub fn write_png_atomic(image: &image::RgbaImage, path: &Path) -> Result<()> {
@@ -38,44 +42,19 @@ pub fn write_png_atomic(image: &image::RgbaImage, path: &Path) -> Result<()> {
             path.display()
         )));
     }
-    let Some(file_name) = path.file_name() else {
+    if path.file_name().is_none() {
         return Err(invalid(format!("{} does not name a file", path.display())));
-    };
-    let mut temp_name = file_name.to_owned();
-    temp_name.push(".tmp");
-    let temp_path = path.with_file_name(temp_name);
-
-    let result = write_png_to(image, &temp_path).and_then(|()| {
-        std::fs::rename(&temp_path, path).map_err(|cause| RenderError::Io {
-            path: path.to_owned(),
-            cause,
-        })
-    });
-    if result.is_err() {
-        // Best effort: the original error is the one worth reporting.
-        let _ = std::fs::remove_file(&temp_path);
     }
-    result
-}
-
-fn write_png_to(image: &image::RgbaImage, path: &Path) -> Result<()> {
-    let io_error = |cause| RenderError::Io {
+    write_file_atomically(path, |writer| {
+        image
+            .write_to(writer, image::ImageFormat::Png)
+            .map_err(std::io::Error::other)?;
+        writer.flush()
+    })
+    .map_err(|cause| RenderError::Io {
         path: path.to_owned(),
         cause,
-    };
-    let file = File::create(path).map_err(io_error)?;
-    let mut writer = BufWriter::new(file);
-    image
-        .write_to(&mut writer, image::ImageFormat::Png)
-        .map_err(|cause| RenderError::Encode {
-            path: path.to_owned(),
-            cause,
-        })?;
-    writer.flush().map_err(io_error)?;
-    let file = writer
-        .into_inner()
-        .map_err(|error| io_error(error.into_error()))?;
-    file.sync_all().map_err(io_error)
+    })
 }
 
 /// `left` and `right` next to each other (e.g. shaded | colour-coded); the shorter one is padded

@@ -72,49 +72,78 @@ pub(crate) fn step_batch(step: &BatchStep, state: BatchState) -> Option<u32> {
     {
         return None;
     }
+    let xpbd = step.settings.integrator == IntegratorKind::Xpbd;
+    let n = nodes.len();
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            return Some(unsafe { step_batch_avx2(step, state, nodes, roots) });
+            return Some(unsafe {
+                match (xpbd, n <= 16, n <= 32) {
+                    (true, true, _) => kernel_avx2::<16, true>(step, state, nodes, roots),
+                    (true, false, true) => kernel_avx2::<32, true>(step, state, nodes, roots),
+                    (true, false, false) => {
+                        kernel_avx2::<MAX_LANE_NODES, true>(step, state, nodes, roots)
+                    }
+                    (false, true, _) => kernel_avx2::<16, false>(step, state, nodes, roots),
+                    (false, false, true) => kernel_avx2::<32, false>(step, state, nodes, roots),
+                    (false, false, false) => {
+                        kernel_avx2::<MAX_LANE_NODES, false>(step, state, nodes, roots)
+                    }
+                }
+            });
         }
     }
-    Some(step_batch_sized(step, state, nodes, roots))
+    Some(match (xpbd, n <= 16, n <= 32) {
+        (true, true, _) => kernel::<16, true>(step, state, nodes, roots),
+        (true, false, true) => kernel::<32, true>(step, state, nodes, roots),
+        (true, false, false) => kernel::<MAX_LANE_NODES, true>(step, state, nodes, roots),
+        (false, true, _) => kernel::<16, false>(step, state, nodes, roots),
+        (false, false, true) => kernel::<32, false>(step, state, nodes, roots),
+        (false, false, false) => kernel::<MAX_LANE_NODES, false>(step, state, nodes, roots),
+    })
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn step_batch_avx2(
+/// One instance of the batch kernels: chains of at most `N` nodes, XPBD or the position-based
+/// step. Each instance is a function of its own (never inlined into [`step_batch`]), so a
+/// batch's stack frame holds one instance's scratch (up to about 80 KiB of lane arrays), not
+/// all six: nested rayon jobs can stack several batch frames on one worker thread, and with the
+/// six instances in one frame a crowd of 100 small characters overflowed the 2 MiB worker
+/// stacks.
+#[inline(never)]
+fn kernel<const N: usize, const XPBD: bool>(
     step: &BatchStep,
     state: BatchState,
     nodes: &[LaneNode],
     roots: &LaneRoots,
 ) -> u32 {
-    step_batch_sized(step, state, nodes, roots)
+    kernel_body::<N, XPBD>(step, state, nodes, roots)
+}
+
+/// [`kernel`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+fn kernel_avx2<const N: usize, const XPBD: bool>(
+    step: &BatchStep,
+    state: BatchState,
+    nodes: &[LaneNode],
+    roots: &LaneRoots,
+) -> u32 {
+    kernel_body::<N, XPBD>(step, state, nodes, roots)
 }
 
 #[inline(always)]
-fn step_batch_sized(
+fn kernel_body<const N: usize, const XPBD: bool>(
     step: &BatchStep,
     state: BatchState,
     nodes: &[LaneNode],
     roots: &LaneRoots,
 ) -> u32 {
-    if step.settings.integrator == IntegratorKind::Xpbd {
-        return if nodes.len() <= 16 {
-            step_xpbd_lanes::<16>(step, state, nodes, roots)
-        } else if nodes.len() <= 32 {
-            step_xpbd_lanes::<32>(step, state, nodes, roots)
-        } else {
-            step_xpbd_lanes::<MAX_LANE_NODES>(step, state, nodes, roots)
-        };
-    }
-    if nodes.len() <= 16 {
-        step_lanes::<16>(step, state, nodes, roots)
-    } else if nodes.len() <= 32 {
-        step_lanes::<32>(step, state, nodes, roots)
+    if XPBD {
+        step_xpbd_lanes::<N>(step, state, nodes, roots)
     } else {
-        step_lanes::<MAX_LANE_NODES>(step, state, nodes, roots)
+        step_lanes::<N>(step, state, nodes, roots)
     }
 }
 

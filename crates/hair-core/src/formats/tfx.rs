@@ -82,6 +82,9 @@ fn read(data: &[u8], options: &ImportOptions) -> Result<Curves, FormatErrorKind>
     options.axes.validate()?;
     let bytes = Bytes::new(data);
     let version_bytes = bytes.slice(0, 4, || "the TressFX version".into())?;
+    if let Some(first_line) = text_first_line(data) {
+        return Err(text_tfx_error(&first_line));
+    }
     let version = f32_at(version_bytes, 0);
     let layout = if (3.0..4.0).contains(&version) {
         Layout::V3
@@ -154,6 +157,49 @@ fn read(data: &[u8], options: &ImportOptions) -> Result<Curves, FormatErrorKind>
         })?;
     }
     builder.finish()
+}
+
+/// The first line of `data` (at most 64 bytes, trimmed) when its first four bytes are printable
+/// ASCII or whitespace: a text file, not a binary `.tfx` (whose first four bytes, a
+/// little-endian `f32` version 3.x or 4.x, start with two zero bytes).
+fn text_first_line(data: &[u8]) -> Option<String> {
+    let head = data.get(..4)?;
+    if !head
+        .iter()
+        .all(|b| b.is_ascii_graphic() || b.is_ascii_whitespace())
+    {
+        return None;
+    }
+    let line: Vec<u8> = data
+        .iter()
+        .take(64)
+        .take_while(|&&b| b != b'\n' && b != b'\r')
+        .copied()
+        .collect();
+    Some(String::from_utf8_lossy(&line).trim().to_string())
+}
+
+/// The error for a text file read as a binary `.tfx`: a TressFX 2.x text groom
+/// (`version 2.0` on its first line, as FibermeshCurve2TressFX and the TressFX 2 SDK write them)
+/// or some other text.
+fn text_tfx_error(first_line: &str) -> FormatErrorKind {
+    let mut words = first_line.split_whitespace();
+    let what = match (words.next(), words.next()) {
+        (Some(key), Some(version))
+            if key.eq_ignore_ascii_case("version") && version.parse::<f32>().is_ok() =>
+        {
+            format!("`{first_line}` (a TressFX {version} text file)")
+        }
+        _ => format!("`{first_line}` (a text file)"),
+    };
+    FormatErrorKind::WrongMagic {
+        format: "binary TressFX (3.x or 4.x)",
+        found: what,
+        expected: "a little-endian f32 version 3.x or 4.x (the binary .tfx AMD's TressFX 3 and 4 \
+                   exporters write); a TressFX 2 text .tfx (FibermeshCurve2TressFX writes them) \
+                   is not read: convert its strands to OBJ polylines (`v x y z` per vertex, one \
+                   `l` line per strand) or a cyHair .hair file and read that",
+    }
 }
 
 #[cfg(test)]
@@ -252,5 +298,37 @@ pub(crate) mod tests {
             "<memory>: invalid offset of the vertex positions = 100 at byte 12 (allowed: past the \
              header (0 means no positions))"
         );
+    }
+
+    /// A TressFX 2.0 text groom (FibermeshCurve2TressFX's layout) is named as what it is, with
+    /// what to convert it to, not read as a version float.
+    #[test]
+    fn a_tressfx_2_text_file_is_named_as_one() {
+        let text = b"version 2.0\nscale 1.0\nnumStrands 1\nis sorted 1\n\
+                     strand 0 numVerts 2 texcoord 0.0 0.0\n0, 0, 0\n0, 1, 0\n";
+        let error = read_tfx(text, &ImportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("`version 2.0` (a TressFX 2.0 text file)"),
+            "{error}"
+        );
+        assert!(
+            error.contains("not a binary TressFX (3.x or 4.x) file"),
+            "{error}"
+        );
+        assert!(error.contains("OBJ polylines"), "{error}");
+        assert!(!error.contains("unsupported TressFX version"), "{error}");
+        let error = read_tfx(b"hello world", &ImportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("`hello world` (a text file)"), "{error}");
+        // A binary file of an unknown version still says so.
+        let mut bytes = tfx4_bytes(&two_strands());
+        bytes[..4].copy_from_slice(&7.0f32.to_le_bytes());
+        let error = read_tfx(&bytes, &ImportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("unsupported TressFX version 7"), "{error}");
     }
 }

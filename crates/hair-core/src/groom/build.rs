@@ -29,13 +29,13 @@ impl Groom {
         let roots = head.scalp_roots(params.section_count)?;
         let width = match params.section_width {
             Some(width) => width,
-            None => params.section_coverage * mean_nearest_neighbour_distance(&roots),
+            None => params.section_coverage * root_spacing(head, &roots)?,
         };
         if !(width.is_finite() && width > 0.0) {
             return Err(HairError::invalid(
                 "section width (m)",
                 width,
-                "a finite number > 0 (set it explicitly when there is a single section)",
+                "a finite number > 0",
             ));
         }
         let sections = roots
@@ -131,6 +131,19 @@ fn child_root(head: &Head, section: &Section, child: usize, count: usize) -> Vec
     }
 }
 
+/// The spacing of the section roots [m]: the mean distance from each root to its nearest
+/// neighbour. A single root has no neighbour: it takes the spacing of the two roots
+/// [`Head::scalp_roots`] places for two sections (9.6 cm on the default head), so one section
+/// is as wide as each of two (and of three to five, 9.6 to 11 cm apart), not the whole scalp's
+/// width, which would put its outer strand groups over the ears.
+fn root_spacing(head: &Head, roots: &[ScalpRoot]) -> Result<f32> {
+    if roots.len() >= 2 {
+        Ok(mean_nearest_neighbour_distance(roots))
+    } else {
+        Ok(mean_nearest_neighbour_distance(&head.scalp_roots(2)?))
+    }
+}
+
 /// Mean distance from each root to its nearest neighbour [m] (0 for fewer than two roots).
 fn mean_nearest_neighbour_distance(roots: &[ScalpRoot]) -> f32 {
     if roots.len() < 2 {
@@ -167,5 +180,30 @@ mod tests {
         let downhill = -climbing;
         assert_eq!(level_where_climbing(downhill, normal), downhill);
         assert_eq!(level_where_climbing(Vec3::X, Vec3::Y), Vec3::X);
+    }
+
+    /// One section builds (it has no neighbour to take its width from): as wide as each of two,
+    /// with every level's skeleton and strand in place.
+    #[test]
+    fn a_single_section_is_as_wide_as_each_of_two() {
+        let head = Head::procedural(&crate::head::HeadParams::default()).unwrap();
+        let params = |sections| GroomParams {
+            section_count: sections,
+            strands_per_group: 1,
+            ..GroomParams::straight()
+        };
+        let one = Groom::generate(&params(1), &head).unwrap();
+        let two = Groom::generate(&params(2), &head).unwrap();
+        assert_eq!(one.section_count(), 1);
+        let width = one.sections[0].width;
+        assert_eq!(width, two.sections[0].width);
+        // 1.5 × the 9.6 cm spacing of two roots: a patch, not the scalp (about 23 cm across).
+        assert!((0.1..0.2).contains(&width), "{width}");
+        assert_eq!(one.strands.strand_count(), 5);
+        assert_eq!(one.patch_widths, [width]);
+        let nodes = one
+            .skeletons
+            .rest_positions(&crate::RigidTransform::IDENTITY);
+        assert!(!nodes.is_empty() && nodes.iter().all(|p| p.is_finite()));
     }
 }

@@ -18,7 +18,9 @@ pub struct GroomParams {
     /// Rest shape of every skeleton.
     pub style: HairStyle,
     /// Width of a section across the scalp [m]; `None` chooses it from the root spacing
-    /// (`section_coverage` × the mean nearest-neighbour distance between section roots).
+    /// (`section_coverage` × the mean nearest-neighbour distance between section roots; a single
+    /// section, which has no neighbour, takes the spacing of two, 9.6 cm on the default head, so
+    /// it is 14 cm wide at the presets' coverage).
     pub section_width: Option<f32>,
     /// With `section_width = None`: width as a multiple of the root spacing (> 0; the presets'
     /// 1.5 overlaps neighbouring sections by half a spacing, so the scalp does not show between
