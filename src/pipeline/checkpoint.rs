@@ -96,10 +96,14 @@ impl Checkpoint {
         let header: Header =
             serde_json::from_str(&text).map_err(|e| fail(format!("not a checkpoint: {e}")))?;
         if header.format.as_deref() != Some(CHECKPOINT_FORMAT) {
-            return Err(fail(format!(
-                "not a checkpoint (its format is {:?}, expected {CHECKPOINT_FORMAT:?})",
-                header.format
-            )));
+            return Err(fail(match &header.format {
+                Some(format) => format!(
+                    "not a checkpoint (its format is \"{format}\", expected \"{CHECKPOINT_FORMAT}\")"
+                ),
+                None => {
+                    format!("not a checkpoint (it has no format, expected \"{CHECKPOINT_FORMAT}\")")
+                }
+            }));
         }
         match header.version {
             Some(CHECKPOINT_VERSION) => {}
@@ -125,9 +129,12 @@ impl Checkpoint {
         let ours = env!("CARGO_PKG_VERSION");
         if header.hairlod_version.as_deref() != Some(ours) {
             return Err(fail(format!(
-                "written by hairlod {:?}, this is hairlod {ours}: a run resumes only on the \
+                "written by hairlod {}, this is hairlod {ours}: a run resumes only on the \
                  version that started it",
-                header.hairlod_version
+                header
+                    .hairlod_version
+                    .as_deref()
+                    .unwrap_or("of no stated version")
             )));
         }
         let checkpoint: Checkpoint =
