@@ -38,11 +38,12 @@ impl Crowd {
         super::memory::check_fits(model, &settings, super::memory::available_bytes())?;
         let mut pipelines = Vec::with_capacity(model.members.len());
         for member in &model.members {
-            let mut pipeline = Pipeline::with_deviations(
+            let mut pipeline = Pipeline::with_shared(
                 member.scene.clone(),
                 member.character.environment.clone(),
                 settings,
                 &member.deviations,
+                &member.body,
             )?;
             pipeline.settle(model.shot.settle_seconds)?;
             pipelines.push(pipeline);

@@ -3,6 +3,7 @@
 
 use std::sync::Arc;
 
+use hair_collide::CollisionBody;
 use hair_core::Scene;
 use hair_core::lod::{LevelDeviation, level_deviations};
 
@@ -21,6 +22,9 @@ pub struct CrowdMember {
     /// Its sections' level deviations [m] ([`level_deviations`]), shared by characters with the
     /// same groom.
     pub deviations: Arc<Vec<LevelDeviation>>,
+    /// Its head's collision body, built once per groom: a clone, which shares the mesh, its
+    /// tree and pseudonormals with the other characters' (and their pipelines').
+    pub body: CollisionBody,
 }
 
 /// The built characters of a crowd shot.
@@ -41,26 +45,30 @@ impl CrowdModel {
                 "the shot has no characters: a crowd needs [[character]] tables".into(),
             ));
         }
-        let mut built: Vec<(usize, Arc<Scene>, Arc<Vec<LevelDeviation>>)> = Vec::new();
+        let mut built: Vec<(usize, CrowdMember)> = Vec::new();
         let mut members = Vec::with_capacity(shot.characters.len());
         for (k, character) in shot.characters.iter().enumerate() {
             let same = built
                 .iter()
-                .find(|(first, _, _)| shot.characters[*first].groom == character.groom);
-            let (scene, deviations) = match same {
-                Some((_, scene, deviations)) => (scene.clone(), deviations.clone()),
+                .find(|(first, _)| shot.characters[*first].groom == character.groom);
+            let member = match same {
+                Some((_, first)) => CrowdMember {
+                    character: character.clone(),
+                    ..first.clone()
+                },
                 None => {
                     let scene = Arc::new(shot.build_scene_with(&character.groom)?);
-                    let deviations = Arc::new(level_deviations(&scene.groom)?);
-                    built.push((k, scene.clone(), deviations.clone()));
-                    (scene, deviations)
+                    let member = CrowdMember {
+                        character: character.clone(),
+                        deviations: Arc::new(level_deviations(&scene.groom)?),
+                        body: CollisionBody::from_mesh(&scene.head.mesh)?,
+                        scene,
+                    };
+                    built.push((k, member.clone()));
+                    member
                 }
             };
-            members.push(CrowdMember {
-                character: character.clone(),
-                scene,
-                deviations,
-            });
+            members.push(member);
         }
         Ok(CrowdModel {
             shot: shot.clone(),

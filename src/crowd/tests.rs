@@ -283,8 +283,34 @@ fn stepping_side_by_side_charges_the_frame_its_wall_time() {
     assert_eq!(idle.times.dynamics, 0.0);
 }
 
-/// The memory estimate grows by one character's share per character, and a crowd over what is
-/// available is refused before its pipelines are built, naming its size and the estimate.
+/// Every character's pipeline collides with one shared body: the head's mesh and tree are held
+/// once, and each pipeline poses its own copy.
+#[test]
+fn the_characters_share_one_collision_body() {
+    let shot = shot(
+        "[[character]]\nposition = [0.0, 0.0, 0.0]\nmotion = { kind = \"shake\" }\n\
+         [[character]]\nposition = [1.0, 0.0, 0.0]\n",
+    );
+    let model = CrowdModel::build(&shot).unwrap();
+    let mut crowd = Crowd::new(&model, shot.settings).unwrap();
+    crowd.advance(&shot.camera(0)).unwrap();
+    crowd.advance(&shot.camera(1)).unwrap();
+    let [first, second] = crowd.pipelines() else {
+        panic!("two characters");
+    };
+    let (a, b) = (
+        first.collision_body().unwrap(),
+        second.collision_body().unwrap(),
+    );
+    assert!(a.shares_shape_with(b) && a.shares_shape_with(&model.members[0].body));
+    // Each is posed at its own head: the second character stands 1 m to the side.
+    let (pose_a, pose_b) = (a.pose(), b.pose());
+    assert!((pose_b.1 - pose_a.1).x > 0.5, "{pose_a:?} {pose_b:?}");
+}
+
+/// The memory estimate counts the shared head once and each character's pipeline once per
+/// character, and a crowd over what is available is refused before its pipelines are built,
+/// naming its size and the estimate.
 #[test]
 fn a_crowd_over_the_available_memory_is_refused_before_it_is_built() {
     let one = shot("[[character]]\nposition = [0.0, 0.0, 0.0]\n");
@@ -295,20 +321,33 @@ fn a_crowd_over_the_available_memory_is_refused_before_it_is_built() {
     );
     let one = CrowdModel::build(&one).unwrap();
     let three = CrowdModel::build(&three).unwrap();
-    // The three characters wear one groom: one scene, shared.
+    // The three characters wear one groom: one scene and one collision body, shared.
     assert!(std::sync::Arc::ptr_eq(
         &three.members[0].scene,
         &three.members[2].scene
     ));
+    assert!(
+        three.members[0]
+            .body
+            .shares_shape_with(&three.members[2].body)
+    );
     let settings = three.shot.settings;
-    let each = memory::estimated_bytes(&one, &settings);
-    assert_eq!(memory::estimated_bytes(&three, &settings), 3 * each);
-    // The head's collision mesh dominates a small groom's character.
     let triangles = three.members[0].scene.head.mesh.triangles.len() as u64;
-    assert!(each > triangles * memory::BYTES_PER_BODY_TRIANGLE);
-    assert!(memory::check_fits(&three, &settings, Some(3 * each)).is_ok());
+    let body = triangles * memory::BYTES_PER_BODY_TRIANGLE;
+    let alone = memory::estimated_bytes(&one, &settings);
+    let each = alone - body;
+    assert!(alone > body);
+    assert_eq!(memory::estimated_bytes(&three, &settings), body + 3 * each);
+    // Without collision there is no body to hold.
+    let no_collision = PipelineSettings {
+        collision: false,
+        ..settings
+    };
+    assert_eq!(memory::estimated_bytes(&three, &no_collision), 3 * each);
+    let needed = body + 3 * each;
+    assert!(memory::check_fits(&three, &settings, Some(needed)).is_ok());
     assert!(memory::check_fits(&three, &settings, None).is_ok());
-    let error = memory::check_fits(&three, &settings, Some(3 * each - 1))
+    let error = memory::check_fits(&three, &settings, Some(needed - 1))
         .unwrap_err()
         .to_string();
     assert!(

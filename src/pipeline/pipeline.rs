@@ -84,6 +84,13 @@ struct LevelWork {
     solver: Option<CollisionSolver>,
 }
 
+/// What a pipeline is given already built instead of building it ([`Pipeline::with_shared`]).
+#[derive(Default, Clone, Copy)]
+struct Shared<'a> {
+    deviations: Option<&'a [LevelDeviation]>,
+    body: Option<&'a CollisionBody>,
+}
+
 /// What [`Pipeline::begin_frame`] leaves for [`Pipeline::finish_frame`].
 #[derive(Debug, Clone, Copy, Default)]
 struct PendingFrame {
@@ -116,21 +123,43 @@ impl Pipeline {
         settings: PipelineSettings,
         params: DynamicsParams,
     ) -> Result<Self> {
-        Pipeline::build(scene.into(), environment, settings, params, None)
+        Pipeline::build(
+            scene.into(),
+            environment,
+            settings,
+            params,
+            Shared::default(),
+        )
     }
 
-    /// [`Pipeline::new`] with the sections' level deviations [m] already measured
+    /// [`Pipeline::new`] with what characters of a crowd that wear one groom on one head build
+    /// once and share: the sections' level deviations [m]
     /// ([`level_deviations`](hair_core::lod::level_deviations) of this scene's groom, one per
-    /// section): characters of a crowd that share a groom measure it once.
-    pub fn with_deviations(
+    /// section) and the head's collision body (a clone of
+    /// `CollisionBody::from_mesh(&scene.head.mesh)`, which shares its mesh and tree; read only
+    /// with collision on). Errors when the body has another triangle count than the scene's head.
+    pub fn with_shared(
         scene: impl Into<Arc<Scene>>,
         environment: Environment,
         settings: PipelineSettings,
         deviations: &[LevelDeviation],
+        body: &CollisionBody,
     ) -> Result<Self> {
         let scene = scene.into();
+        let triangles = scene.head.mesh.triangles.len();
+        if body.triangle_count() != triangles {
+            return Err(PipelineError::State(format!(
+                "the shared collision body has {} triangles, the scene's head {triangles}: share \
+                 the body built from this scene's head mesh",
+                body.triangle_count()
+            )));
+        }
         let params = DynamicsParams::for_style(&scene.groom.params.style);
-        Pipeline::build(scene, environment, settings, params, Some(deviations))
+        let shared = Shared {
+            deviations: Some(deviations),
+            body: Some(body),
+        };
+        Pipeline::build(scene, environment, settings, params, shared)
     }
 
     fn build(
@@ -138,7 +167,7 @@ impl Pipeline {
         environment: Environment,
         settings: PipelineSettings,
         params: DynamicsParams,
-        deviations: Option<&[LevelDeviation]>,
+        shared: Shared<'_>,
     ) -> Result<Self> {
         settings.dynamics.validate()?;
         params.validate()?;
@@ -147,7 +176,7 @@ impl Pipeline {
         let occluders = scene.head.occluder_boxes();
         let (selector, start_level) = match settings.lod {
             LodMode::Auto(lod) => {
-                let mut selector = match deviations {
+                let mut selector = match shared.deviations {
                     Some(deviations) if lod.error_model == ErrorModel::Deviation => {
                         LodSelector::with_deviations(groom, &occluders, lod, deviations)?
                     }
@@ -159,7 +188,10 @@ impl Pipeline {
             LodMode::Fixed(level) => (None, level),
         };
         let bodies = if settings.collision {
-            vec![CollisionBody::from_mesh(&scene.head.mesh)?]
+            vec![match shared.body {
+                Some(body) => body.clone(),
+                None => CollisionBody::from_mesh(&scene.head.mesh)?,
+            }]
         } else {
             Vec::new()
         };
@@ -234,6 +266,12 @@ impl Pipeline {
         }
         pipeline.restore(checkpoint.state)?;
         Ok(pipeline)
+    }
+
+    /// The head's collision body (`None` with collision off): shared with the pipelines built
+    /// with a clone of it ([`Pipeline::with_shared`]), posed at this pipeline's head.
+    pub fn collision_body(&self) -> Option<&CollisionBody> {
+        self.bodies.first()
     }
 
     /// The fingerprint of this run's model: the groom (parameters and skeleton rest data:

@@ -54,11 +54,11 @@ pub fn attach_roots(
     body: &CollisionBody,
     roots: &[Vec3],
 ) -> Result<(Vec<RootAttachment>, AttachmentReport)> {
-    let triangles = body.triangles();
+    let triangles = body.local_triangles();
     let mut attachments = Vec::with_capacity(roots.len());
     for (index, &root) in roots.iter().enumerate() {
         let surface = body
-            .closest_surface_point(root)
+            .closest_local_surface_point(body.to_local(root))
             .ok_or(CollideError::NonFinite {
                 what: "root",
                 index,
@@ -173,7 +173,7 @@ mod tests {
             let on = attachment.point_on(&mesh);
             // The brute-force distance: the least over every triangle.
             let brute = body
-                .triangles()
+                .local_triangles()
                 .iter()
                 .map(|t| {
                     crate::closest::closest_point_on_triangle(*root, t)

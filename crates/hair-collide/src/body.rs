@@ -1,60 +1,61 @@
-//! Collision bodies (head, neck, shoulders, a character mesh): world-space triangles, a PSS at
-//! the top level (§5.2) and a parry3d `Bvh` over the triangles, refitted when the body moves.
+//! Collision bodies (head, neck, shoulders, a character mesh): a triangle mesh in its own frame
+//! with a parry3d `Bvh` over its triangles and a PSS at the top level (§5.2), and the pose that
+//! places it in the world.
 //!
-//! parry's `TriMesh` also carries a triangle BVH, but it cannot be moved without rebuilding; this
-//! keeps the local mesh and refits a `Bvh` of triangle AABBs on every [`CollisionBody::set_pose`].
+//! The mesh, its tree and its pseudonormals never change once built: they are kept in the body's
+//! own frame and shared (an `Arc`) by every copy of the body, so a crowd of characters on one
+//! head holds that head once. Moving a body only changes its pose: queries bring their points
+//! into the body's frame instead of the body into the world's, and cost nothing when it moves.
+
+use std::sync::Arc;
 
 use glam::{Quat, Vec3};
 use hair_core::TriangleMesh;
 use parry3d::bounding_volume::Aabb;
-use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 
 use crate::error::{Result, require_pose};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
-use crate::surface::Pseudonormals;
+use crate::pseudonormals::Pseudonormals;
 use crate::volume::Pss;
 
-/// A rigid triangle mesh that hair collides with.
+/// What a body is in its own frame: built once by [`CollisionBody::from_mesh`], never changed,
+/// shared by the body's copies.
+#[derive(Debug)]
+pub(crate) struct BodyShape {
+    /// Per triangle, its three vertex indices into the mesh.
+    pub indices: Vec<[u32; 3]>,
+    /// The triangles with their unit normals \[m\] (body frame), indexed by triangle id.
+    pub triangles: Vec<Triangle>,
+    /// The ball around the vertices that triangles use \[m\] (body frame).
+    pub bound: Pss,
+    /// The triangle tree (leaf data = triangle id), over unpadded triangle AABBs.
+    pub bvh: Bvh,
+    /// Angle-weighted pseudonormals (body frame) and the edge structure.
+    pub pseudonormals: Pseudonormals,
+}
+
+/// A rigid triangle mesh that hair collides with, placed in the world by a pose.
+///
+/// Cloning is cheap (the mesh, its tree and its pseudonormals are shared); each clone has its
+/// own pose.
+#[derive(Clone)]
 pub struct CollisionBody {
-    local_positions: Vec<Vec3>,
-    indices: Vec<[u32; 3]>,
-    local_bound: Pss,
+    pub(crate) shape: Arc<BodyShape>,
     rotation: Quat,
     translation: Vec3,
-    triangles: Vec<Triangle>,
     bound: Pss,
-    bvh: Bvh,
-    workspace: BvhWorkspace,
-    pub(crate) pseudonormals: Pseudonormals,
 }
 
 impl std::fmt::Debug for CollisionBody {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("CollisionBody")
-            .field("triangle_count", &self.indices.len())
+            .field("triangle_count", &self.shape.indices.len())
             .field("bound", &self.bound)
             .field("rotation", &self.rotation)
             .field("translation", &self.translation)
             .finish_non_exhaustive()
-    }
-}
-
-impl Clone for CollisionBody {
-    /// A copy with its own (empty) refit workspace.
-    fn clone(&self) -> Self {
-        Self {
-            local_positions: self.local_positions.clone(),
-            indices: self.indices.clone(),
-            local_bound: self.local_bound,
-            rotation: self.rotation,
-            translation: self.translation,
-            triangles: self.triangles.clone(),
-            bound: self.bound,
-            bvh: self.bvh.clone(),
-            workspace: BvhWorkspace::default(),
-            pseudonormals: self.pseudonormals.clone(),
-        }
     }
 }
 
@@ -86,7 +87,7 @@ impl CollisionBody {
             .filter(|(_, u)| **u)
             .map(|(p, _)| *p)
             .collect();
-        let local_bound = enclosing_ball(&used_positions).unwrap_or(Pss {
+        let bound = enclosing_ball(&used_positions).unwrap_or(Pss {
             center: Vec3::ZERO,
             radius: 0.0,
         });
@@ -102,51 +103,35 @@ impl CollisionBody {
             BvhBuildStrategy::Binned,
             triangles.iter().map(triangle_aabb).enumerate(),
         );
-        let pseudonormals = Pseudonormals::of(mesh);
-        Ok(Self {
-            pseudonormals,
-            local_positions: mesh.positions.clone(),
+        let shape = BodyShape {
+            pseudonormals: Pseudonormals::of(mesh),
             indices: mesh.triangles.clone(),
-            local_bound,
+            triangles,
+            bound,
+            bvh,
+        };
+        Ok(Self {
+            shape: Arc::new(shape),
             rotation: Quat::IDENTITY,
             translation: Vec3::ZERO,
-            triangles,
-            bound: local_bound,
-            bvh,
-            workspace: BvhWorkspace::default(),
+            bound,
         })
     }
 
-    /// Places the body: world = `rotation` · local + `translation` \[m\]. Recomputes the world
-    /// triangles and refits the triangle tree (no rebuild). `rotation` is normalised; errors on a
-    /// non-finite or zero rotation or a non-finite translation, leaving the pose unchanged.
-    ///
-    /// Placing it where it already is costs nothing (the solvers pose their bodies before and
-    /// after every step, and a still head keeps its pose).
+    /// Places the body: world = `rotation` · local + `translation` \[m\]. Only the pose changes
+    /// (constant time, whatever the mesh). `rotation` is normalised; errors on a non-finite or
+    /// zero rotation or a non-finite translation, leaving the pose unchanged.
     pub fn set_pose(&mut self, rotation: Quat, translation: Vec3) -> Result<()> {
         let rotation = require_pose(rotation, translation)?;
-        if rotation == self.rotation && translation == self.translation {
-            // The triangles and the tree were computed for exactly this pose.
-            return Ok(());
-        }
         self.rotation = rotation;
         self.translation = translation;
-        let to_world = |p: Vec3| rotation * p + translation;
-        for (triangle, indices) in self.triangles.iter_mut().zip(&self.indices) {
-            let [a, b, c] = indices.map(|i| to_world(self.local_positions[i as usize]));
-            *triangle = Triangle::new(a, b, c);
-        }
-        for (leaf, triangle) in self.triangles.iter().enumerate() {
-            self.bvh
-                .insert_or_update_partially(triangle_aabb(triangle), leaf as u32, 0.0);
-        }
-        self.bvh.refit(&mut self.workspace);
-        let center = to_world(self.local_bound.center);
+        let local = self.shape.bound;
+        let center = rotation * local.center + translation;
         // The rotated ball is the same ball; pad for the rounding of the transform.
-        let slack = 64.0 * f32::EPSILON * (center.abs().max_element() + self.local_bound.radius);
+        let slack = 64.0 * f32::EPSILON * (center.abs().max_element() + local.radius);
         self.bound = Pss {
             center,
-            radius: self.local_bound.radius + slack,
+            radius: local.radius + slack,
         };
         Ok(())
     }
@@ -156,19 +141,40 @@ impl CollisionBody {
         (self.rotation, self.translation)
     }
 
-    /// World-space triangles with their unit normals, indexed by triangle id.
-    pub fn triangles(&self) -> &[Triangle] {
-        &self.triangles
+    /// `point` \[m\] (world) in the body's own frame.
+    pub fn to_local(&self, point: Vec3) -> Vec3 {
+        self.rotation.conjugate() * (point - self.translation)
+    }
+
+    /// `point` \[m\] of the body's own frame, in the world.
+    pub fn to_world(&self, point: Vec3) -> Vec3 {
+        self.rotation * point + self.translation
+    }
+
+    /// The triangles with their unit normals in the body's own frame \[m\], indexed by triangle
+    /// id (the frame [`query_body`](crate::query_body) works in).
+    pub fn local_triangles(&self) -> &[Triangle] {
+        &self.shape.triangles
+    }
+
+    /// Triangle `id` placed in the world by the current pose; `None` past the last triangle.
+    pub fn world_triangle(&self, id: u32) -> Option<Triangle> {
+        let [a, b, c] = self.shape.triangles.get(id as usize)?.vertices;
+        Some(Triangle::new(
+            self.to_world(a),
+            self.to_world(b),
+            self.to_world(c),
+        ))
     }
 
     /// The mesh vertex index of corner `k` (0..3) of triangle `triangle`.
     pub(crate) fn triangle_vertex(&self, triangle: u32, k: u8) -> u32 {
-        self.indices[triangle as usize][k as usize]
+        self.shape.indices[triangle as usize][k as usize]
     }
 
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.triangles.len()
+        self.shape.triangles.len()
     }
 
     /// The top-level PSS \[m\] enclosing the whole body in world space (§5.3: "the point swept
@@ -177,9 +183,20 @@ impl CollisionBody {
         self.bound
     }
 
-    /// The underlying parry3d triangle tree (leaf data = triangle id).
+    /// The top-level PSS \[m\] in the body's own frame.
+    pub fn local_bounding_volume(&self) -> Pss {
+        self.shape.bound
+    }
+
+    /// The underlying parry3d triangle tree in the body's own frame (leaf data = triangle id).
     pub fn bvh(&self) -> &Bvh {
-        &self.bvh
+        &self.shape.bvh
+    }
+
+    /// Whether `self` and `other` share one mesh, tree and pseudonormals (one is a clone of the
+    /// other): what a crowd's characters on one head do.
+    pub fn shares_shape_with(&self, other: &CollisionBody) -> bool {
+        Arc::ptr_eq(&self.shape, &other.shape)
     }
 }
 
@@ -195,23 +212,46 @@ mod tests {
         }
     }
 
-    /// Posing where the body already is skips the work; posing away and back gives the first
-    /// pose's triangles exactly (they are always computed from the local mesh).
+    /// A pose moves the world triangles and the bound by exactly that rigid transform and leaves
+    /// the shared shape alone: a clone keeps its own pose.
     #[test]
-    fn posing_away_and_back_restores_the_triangles() {
+    fn a_pose_moves_the_world_triangles_and_copies_share_the_shape() {
         let mut body = CollisionBody::from_mesh(&tetrahedron()).unwrap();
+        let copy = body.clone();
         let rotation = Quat::from_rotation_y(0.7);
         let translation = Vec3::new(0.1, -0.2, 0.3);
         body.set_pose(rotation, translation).unwrap();
-        let first: Vec<[Vec3; 3]> = body.triangles().iter().map(|t| t.vertices).collect();
-        body.set_pose(rotation, translation).unwrap();
-        let again: Vec<[Vec3; 3]> = body.triangles().iter().map(|t| t.vertices).collect();
-        assert_eq!(first, again);
-        body.set_pose(Quat::IDENTITY, Vec3::ZERO).unwrap();
-        assert_eq!(body.triangles()[0].vertices, [Vec3::ZERO, Vec3::Y, Vec3::X]);
-        body.set_pose(rotation, translation).unwrap();
-        let back: Vec<[Vec3; 3]> = body.triangles().iter().map(|t| t.vertices).collect();
-        assert_eq!(first, back);
-        assert_eq!(body.pose(), (rotation.normalize(), translation));
+        assert!(body.shares_shape_with(&copy));
+        assert_eq!(copy.pose(), (Quat::IDENTITY, Vec3::ZERO));
+        assert_eq!(
+            copy.world_triangle(0).unwrap().vertices,
+            [Vec3::ZERO, Vec3::Y, Vec3::X]
+        );
+        for id in 0..4 {
+            let local = body.local_triangles()[id as usize];
+            let world = body.world_triangle(id).unwrap();
+            for k in 0..3 {
+                let expected = rotation * local.vertices[k] + translation;
+                assert!(world.vertices[k].distance(expected) < 1e-6);
+                assert!(body.to_local(world.vertices[k]).distance(local.vertices[k]) < 1e-6);
+            }
+            assert!((world.normal - rotation * local.normal).length() < 1e-6);
+        }
+        assert!(body.world_triangle(4).is_none());
+        let ball = body.bounding_volume();
+        let local_ball = body.local_bounding_volume();
+        assert!(
+            ball.center
+                .distance(rotation * local_ball.center + translation)
+                < 1e-6
+        );
+        // Padded by the rounding slack 64 ε (|centre|∞ + radius), under 64 ε · 2 for this body.
+        let slack = ball.radius - local_ball.radius;
+        assert!(
+            slack > 0.0 && slack <= 128.0 * f32::EPSILON,
+            "{ball:?} {local_ball:?}"
+        );
+        let fresh = CollisionBody::from_mesh(&tetrahedron()).unwrap();
+        assert!(!fresh.shares_shape_with(&body));
     }
 }

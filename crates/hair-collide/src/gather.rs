@@ -1,5 +1,6 @@
-//! The active chains' geometry, gathered contiguously from the simulation state: node positions,
-//! node frames and the cluster/patch control points the segment volumes enclose.
+//! The active chains' geometry, gathered contiguously from the simulation state and brought into
+//! head space (the bodies' own frame): node positions, node frames and the cluster/patch control
+//! points the segment volumes enclose.
 //!
 //! Memory is sized once per layout; [`ActiveHair::gather`] only writes into it.
 
@@ -82,8 +83,8 @@ impl ActiveHair {
         Ok(())
     }
 
-    /// Gathers positions from `node_positions` (the whole state, one per model node), computes
-    /// node frames with the head at `head` and the control points.
+    /// Gathers positions from `node_positions` (the whole state, one per model node, world) into
+    /// head space for the head at `head`, and computes node frames and control points there.
     pub fn gather(
         &mut self,
         rest: &SkeletonRest,
@@ -91,15 +92,16 @@ impl ActiveHair {
         head: &RigidTransform,
     ) -> Result<()> {
         require_len("node_positions", node_positions.len(), rest.node_count())?;
+        let to_head = head.inverse();
         for (gathered, &model) in self.positions.iter_mut().zip(&self.model_nodes) {
-            *gathered = node_positions[model as usize];
+            *gathered = to_head.transform_point(node_positions[model as usize]);
         }
         let mut control = 0;
         for (index, chain) in self.chains.iter().enumerate() {
             let nodes = self.chain_offsets[index] as usize..self.chain_offsets[index + 1] as usize;
             let positions = &self.positions[nodes.clone()];
             let frames = &mut self.frames[nodes.clone()];
-            let root = rest.world_root_frame(chain.chain as usize, head);
+            let root = rest.world_root_frame(chain.chain as usize, &RigidTransform::IDENTITY);
             node_frames(&root, positions, frames);
             let count = nodes.len() * chain.shape.volume().control_points_per_node();
             let out = &mut self.control_points[control..control + count];

@@ -25,6 +25,8 @@ pub mod geometry;
 pub mod hair_hair;
 pub mod layout;
 mod other_forces;
+mod projection;
+mod pseudonormals;
 pub mod query;
 pub mod response;
 pub mod sight;

@@ -96,6 +96,10 @@ fn aabb_touches_ball(aabb: &Aabb, ball: &Pss, padding: f32) -> bool {
 
 /// Hair against body through both hierarchies; writes into `contacts` (reusing its memory).
 ///
+/// `hair` is in the body's own frame (the collision solver builds its hierarchy in head space,
+/// where its bodies are given): the body's pose is not read, and the triangle ids returned index
+/// [`CollisionBody::local_triangles`].
+///
 /// The hair tree is culled by the body's top-level PSS, then both trees descend together on AABB
 /// overlap, and every surviving `(segment, triangle)` leaf pair gets the exact swept-sphere test
 /// [`crate::SweptSphere::intersects_triangle`]. The output equals
@@ -103,7 +107,7 @@ fn aabb_touches_ball(aabb: &Aabb, ball: &Pss, padding: f32) -> bool {
 pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentContacts) {
     contacts.pairs.clear();
     if hair.segment_count() > 0 && body.triangle_count() > 0 {
-        let bound = body.bounding_volume();
+        let bound = body.local_bounding_volume();
         let bound_padding =
             64.0 * f32::EPSILON * (1.0 + bound.center.abs().max_element() + bound.radius);
         let check = |hair_node: &BvhNode, body_node: &BvhNode| {
@@ -111,7 +115,7 @@ pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentCo
                 && aabb_touches_ball(&hair_node.aabb(), &bound, bound_padding)
         };
         let volumes = hair.volumes();
-        let triangles = body.triangles();
+        let triangles = body.local_triangles();
         for (segment, triangle) in hair.bvh().leaf_pairs(body.bvh(), check) {
             if volumes[segment as usize].intersects_triangle(&triangles[triangle as usize]) {
                 contacts.pairs.push((segment, triangle));
@@ -122,7 +126,8 @@ pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentCo
 }
 
 /// Hair against body by testing every segment volume against every triangle with the exact test
-/// (no culling at all): the reference for tests and the baseline for benchmarks.
+/// (no culling at all): the reference for tests and the baseline for benchmarks. `hair` is in
+/// the body's own frame, as for [`query_body`].
 pub fn query_body_brute_force(
     hair: &HairBvh,
     body: &CollisionBody,
@@ -130,7 +135,7 @@ pub fn query_body_brute_force(
 ) {
     contacts.pairs.clear();
     for (segment, volume) in hair.volumes().iter().enumerate() {
-        for (triangle, body_triangle) in body.triangles().iter().enumerate() {
+        for (triangle, body_triangle) in body.local_triangles().iter().enumerate() {
             if volume.intersects_triangle(body_triangle) {
                 contacts.pairs.push((segment as u32, triangle as u32));
             }

@@ -21,6 +21,7 @@ use crate::gather::ActiveHair;
 use crate::hair_hair::{HairHairSettings, add_repulsion_forces};
 use crate::layout::CollisionChain;
 use crate::other_forces::external_force;
+use crate::projection::{Projection, project_out, restore_length};
 use crate::query::{SegmentContacts, query_body};
 use crate::response::{
     approach_speed, average_normal, friction_force, response_force, rigid_point_velocity,
@@ -288,7 +289,8 @@ impl CollisionSolver {
         self.rebuild_count
     }
 
-    /// The hair hierarchy of the last step (`None` before the first).
+    /// The hair hierarchy of the last step, in head space (the bodies' own frame, where
+    /// [`query_body`] takes it); `None` before the first.
     pub fn hierarchy(&self) -> Option<&HairBvh> {
         self.hierarchy.as_ref()
     }
@@ -352,11 +354,12 @@ impl CollisionSolver {
             if !respond {
                 continue;
             }
-            let triangles = body.triangles();
+            let triangles = body.local_triangles();
             for (segment, touched) in self.contacts.iter() {
-                let Some(normal) = average_normal(triangles, touched) else {
+                let Some(local_normal) = average_normal(triangles, touched) else {
                     continue;
                 };
+                let normal = head.rotation * local_normal;
                 let top = hierarchy.segment_top_nodes()[segment as usize] as usize;
                 for node in [top, top + 1] {
                     if attached && self.hair.is_root[node] {
@@ -394,9 +397,11 @@ impl CollisionSolver {
                 hair_hair,
                 &mut self.gathered_forces,
             )?;
+            // The hierarchy is in head space: the forces turn back into the world.
             for (node, force) in self.gathered_forces.iter().enumerate() {
                 if !(attached && self.hair.is_root[node]) {
-                    state.collision_forces[self.hair.model_nodes[node] as usize] += *force;
+                    state.collision_forces[self.hair.model_nodes[node] as usize] +=
+                        head.rotation * *force;
                 }
             }
         }
@@ -546,139 +551,6 @@ impl CollisionSolver {
             projection,
         })
     }
-}
-
-/// Gives the segment `pair[0] → pair[1]` its rest `length` [m] with `pair[1]` outside `body`.
-/// First alternates giving the segment its length (moving `pair[1]` along it) and projecting
-/// `pair[1]` out, a few rounds: on a smooth body the two meet within rounding in two or three.
-/// Where they do not (a node driven deep into the head, or a crease), the segment is turned
-/// about `pair[0]` instead, from its direction towards the surface's outward normal at
-/// `pair[1]`, by the least angle (bisection) that puts `pair[1]`, at the segment's length, at
-/// least half the skin outside: length and position then hold together. Only where even the
-/// normal direction does not reach outside (the parent itself inside, a root set in the scalp)
-/// does the position win and the segment keep the stretch, which the caller reports.
-fn restore_length(
-    body: &CollisionBody,
-    pair: &mut [Vec3],
-    velocity: &mut Vec3,
-    length: f32,
-    skin: f32,
-    surface_velocity: impl Fn(Vec3) -> Vec3 + Copy,
-) {
-    const ROUNDS: usize = 4;
-    let parent = pair[0];
-    let kept = |p: Vec3| ((p - parent).length() - length).abs() <= LENGTH_KEPT * length;
-    for _ in 0..ROUNDS {
-        let Some(direction) = (pair[1] - parent).try_normalize() else {
-            return;
-        };
-        if kept(pair[1]) {
-            return;
-        }
-        pair[1] = parent + direction * length;
-        if let Projection::Outside { .. } =
-            project_out(body, &mut pair[1], velocity, skin, surface_velocity)
-        {
-            return;
-        }
-    }
-    if kept(pair[1]) {
-        return;
-    }
-    // Turn the segment towards the outward normal: d(s) = normalize((1 − s)·d₀ + s·n), s ∈ [0, 1].
-    let Some(start) = (pair[1] - parent).try_normalize() else {
-        return;
-    };
-    let Some(surface) = body.closest_surface_point(pair[1]) else {
-        return;
-    };
-    let normal = surface.normal;
-    let at = |s: f32| {
-        (start * (1.0 - s) + normal * s)
-            .try_normalize()
-            .map(|d| parent + d * length)
-    };
-    let outside = |p: Vec3| {
-        body.closest_surface_point(p)
-            .is_none_or(|s| s.signed_distance >= 0.5 * skin)
-    };
-    // The far end is the normal direction itself; where even that is inside, the position wins.
-    let (mut low, mut high) = (0.0f32, 1.0f32);
-    match at(high) {
-        Some(p) if outside(p) => {}
-        _ => return,
-    }
-    for _ in 0..TURN_BISECTIONS {
-        let middle = 0.5 * (low + high);
-        match at(middle) {
-            Some(p) if outside(p) => high = middle,
-            _ => low = middle,
-        }
-    }
-    if let Some(p) = at(high) {
-        pair[1] = p;
-        let relative = *velocity - surface_velocity(p);
-        let inward = relative.dot(normal);
-        if inward < 0.0 {
-            *velocity -= normal * inward;
-        }
-    }
-}
-
-/// Relative length error [1] within which the projection leaves a segment's length alone (about
-/// the rounding of a 1 cm segment's length in f32 at head scale, far inside the 0.1 % that the
-/// dynamics promise).
-const LENGTH_KEPT: f32 = 1e-6;
-
-/// Bisection steps of the segment turn in [`restore_length`] (the blend towards the normal is
-/// then found within 2⁻²⁰, about 1e-6 rad).
-const TURN_BISECTIONS: usize = 20;
-
-/// What [`project_out`] found.
-enum Projection {
-    /// The point is outside, at least `clearance` \[m\] from the surface.
-    Outside { clearance: f32 },
-    /// The point was `depth` \[m\] inside and has been moved out.
-    Moved { depth: f32 },
-}
-
-/// Moves `position` out of `body` when it is inside (to the closest surface point plus `skin`
-/// along the way out) and removes the inward normal part of `velocity` relative to the surface
-/// velocity `surface_velocity(p)`. Points outside the body's bounding ball are outside without a
-/// search (their clearance is the distance to the ball).
-fn project_out(
-    body: &CollisionBody,
-    position: &mut Vec3,
-    velocity: &mut Vec3,
-    skin: f32,
-    surface_velocity: impl Fn(Vec3) -> Vec3,
-) -> Projection {
-    let bound = body.bounding_volume();
-    let from_centre = position.distance(bound.center);
-    if from_centre > bound.radius {
-        return Projection::Outside {
-            clearance: from_centre - bound.radius,
-        };
-    }
-    let Some(surface) = body.closest_surface_point(*position) else {
-        return Projection::Outside { clearance: 0.0 };
-    };
-    if surface.signed_distance >= 0.0 {
-        return Projection::Outside {
-            clearance: surface.signed_distance,
-        };
-    }
-    let depth = -surface.signed_distance;
-    let outward = (surface.point - *position)
-        .try_normalize()
-        .unwrap_or(surface.normal);
-    *position = surface.point + outward * skin;
-    let relative = *velocity - surface_velocity(*position);
-    let inward = relative.dot(surface.normal);
-    if inward < 0.0 {
-        *velocity -= surface.normal * inward;
-    }
-    Projection::Moved { depth }
 }
 
 fn check_state(state: &SimulationState, node_count: usize) -> Result<()> {
