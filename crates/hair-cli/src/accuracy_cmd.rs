@@ -29,9 +29,9 @@ use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
 use hairlod::shot::Shot;
 
-use crate::bench_cmd::{progress_bar, write_json};
 use crate::charts::{ACCURACY_PANELS, GROUP_COLOURS, ParetoChart, write_png_and_svg};
 use crate::cli_args::Preset;
+use crate::report::{progress_bar, thinning_label, write_json};
 use sweep::{Group, Point, mark_pareto};
 
 /// The integrator sweep: each integrator at a coarser and a finer step around its recommended
@@ -378,16 +378,6 @@ fn print_fronts(points: &[Point]) {
         );
     } else {
         println!("\nno LODs configuration on the SSIM front keeps a mean SSIM of {TARGET_SSIM}");
-    }
-}
-
-/// How a LOD configuration's label names its strand thinning: ` thinned K/px`, or nothing
-/// when every strand is drawn (`strands_per_pixel` 0).
-pub(crate) fn thinning_label(strands_per_pixel: f32) -> String {
-    if strands_per_pixel > 0.0 {
-        format!(" thinned {strands_per_pixel}/px")
-    } else {
-        String::new()
     }
 }
 

@@ -11,9 +11,7 @@ use hairlod::Scene;
 use hairlod::accuracy::{
     geometric_error_of_visible, head_sight, sample_skeletons, strand_skeletons, visible_samples,
 };
-use hairlod::benchmark::{
-    BudgetedRun, paper_figures, paper_modes, paper_shot, resized, run_budgeted,
-};
+use hairlod::benchmark::{BudgetedRun, paper_figures, paper_modes, run_budgeted};
 use hairlod::core::lod::{BudgetMethod, BudgetSettings, ErrorModel, LodSettings};
 use hairlod::metrics::{luma, ssim};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
@@ -22,10 +20,10 @@ use hairlod::render::RendererOptions;
 use hairlod::run::{FrameLoop, ModeRun, RunOptions, View};
 use hairlod::scene_file::SceneFile;
 use hairlod::shot::Shot;
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use crate::charts::{ModelSeries, ModelSizeChart, write_png_and_svg};
+use crate::report::{PaperShotArgs, Speedups, print_table, progress_bar, write_json};
 
 /// Arguments of `hairlod bench`: a scene file, or one of the built-in benchmarks.
 #[derive(Debug, Args)]
@@ -105,34 +103,6 @@ pub struct PaperArgs {
     pub chart: Option<PathBuf>,
 }
 
-/// The paper's zoom-out as `bench paper` and `bench costs` take it.
-#[derive(Debug, Args)]
-pub struct PaperShotArgs {
-    /// Blow a gusting wind (Table 2) instead of calm air (Table 1).
-    #[arg(long)]
-    pub wind: bool,
-    /// Frames per mode (at least 2).
-    #[arg(long, default_value_t = 60)]
-    pub frames: usize,
-    /// Image size WIDTHxHEIGHT [pixels].
-    #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
-    pub size: (u32, u32),
-}
-
-impl PaperShotArgs {
-    /// The paper's shot (calm or windy) over `frames` frames at `size`; an error names a frame
-    /// count below 2.
-    pub fn shot(&self) -> Result<Shot> {
-        anyhow::ensure!(
-            self.frames >= 2,
-            "--frames must be at least 2 (got {})",
-            self.frames
-        );
-        let (width, height) = self.size;
-        Ok(resized(&paper_shot(self.wind), self.frames, width, height))
-    }
-}
-
 /// What `bench paper` runs beyond the four modes.
 #[derive(Debug, Clone, Default)]
 pub struct PaperExtras {
@@ -199,14 +169,6 @@ struct MeanPixelError {
     lods_instant_switching: f64,
     clusters: f64,
     patches: f64,
-}
-
-#[derive(Serialize, Clone, Copy)]
-pub struct Speedups {
-    dynamics: f64,
-    collision: f64,
-    rendering: f64,
-    total: f64,
 }
 
 /// Runs `hairlod bench`.
@@ -601,17 +563,6 @@ fn budgeted_run(
     })
 }
 
-/// A progress bar over `frames` frames labelled `label`.
-pub fn progress_bar(frames: usize, label: &str) -> ProgressBar {
-    let bar = ProgressBar::new(frames as u64).with_style(
-        ProgressStyle::with_template("{prefix:>26} [{bar:30}] {pos}/{len} frames {elapsed} {msg}")
-            .expect("a valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_prefix(label.to_string());
-    bar
-}
-
 /// Charts the simulated nodes and drawn segments per frame of the LODs and Strands runs with the
 /// camera distance.
 fn model_size_chart(path: &std::path::Path, shot: &Shot, modes: &[ModeRun]) -> Result<()> {
@@ -695,89 +646,4 @@ fn print_where_lods_sit(
             pixels
         );
     }
-}
-
-/// Prints the modes' stage times in the paper's layout (LODs first, then Strands); returns the
-/// LODs' speedups over Strands.
-pub fn print_table(
-    title: &str,
-    modes: &[ModeRun],
-    paper: Option<&[[f64; 4]; 3]>,
-    shot: &Shot,
-) -> Speedups {
-    println!();
-    println!(
-        "{title} ({} frames, {}x{}; seconds per frame, mean{})",
-        shot.frames,
-        shot.width,
-        shot.height,
-        if paper.is_some() {
-            "; the paper's in brackets"
-        } else {
-            ""
-        }
-    );
-    print!("{:<12}", "Breakdown");
-    for run in modes {
-        print!("{:>20}", run.mode);
-    }
-    println!("{:>14}", "LODs speedup");
-    type Row = (&'static str, fn(&ModeRun) -> f64);
-    let rows: [Row; 3] = [
-        ("Dyn Sim", |r| r.mean.dynamics),
-        ("Col Detect", |r| r.mean.collision),
-        ("Rendering", |r| r.mean.rendering),
-    ];
-    let mut speedup = [0.0; 4];
-    for (row, (name, value)) in rows.iter().enumerate() {
-        print!("{name:<12}");
-        for (column, run) in modes.iter().enumerate() {
-            match paper {
-                Some(paper) => print!("{:>11.4} ({:.3})", value(run), paper[row][column]),
-                None => print!("{:>20.4}", value(run)),
-            }
-        }
-        speedup[row] = value(&modes[1]) / value(&modes[0]).max(1e-12);
-        println!("{:>13.2}×", speedup[row]);
-    }
-    print!("{:<12}", "Total");
-    for (column, run) in modes.iter().enumerate() {
-        let total = run.mean.dynamics + run.mean.collision + run.mean.rendering;
-        match paper {
-            Some(paper) => {
-                let paper_total: f64 = paper.iter().map(|row| row[column]).sum();
-                print!("{total:>11.4} ({paper_total:.3})");
-            }
-            None => print!("{total:>20.4}"),
-        }
-    }
-    let total = |run: &ModeRun| run.mean.dynamics + run.mean.collision + run.mean.rendering;
-    speedup[3] = total(&modes[1]) / total(&modes[0]).max(1e-12);
-    println!("{:>13.2}×", speedup[3]);
-    if let Some(paper) = paper {
-        let paper_speedup =
-            paper.iter().map(|r| r[1]).sum::<f64>() / paper.iter().map(|r| r[0]).sum::<f64>();
-        print!("(the paper's LODs speedup in total: {paper_speedup:.2}×; ");
-    } else {
-        print!("(");
-    }
-    println!(
-        "LOD level selection took {:.4} s per frame)",
-        modes[0].mean.lod
-    );
-    Speedups {
-        dynamics: speedup[0],
-        collision: speedup[1],
-        rendering: speedup[2],
-        total: speedup[3],
-    }
-}
-
-/// Writes `value` as pretty JSON to `path` through the one atomic writer (a temporary file with
-/// the process id, synced, renamed into place, removed on error).
-pub fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<()> {
-    let text = serde_json::to_string_pretty(value)?;
-    crate::charts::write_atomically(path, text.as_bytes())?;
-    println!("wrote {}", path.display());
-    Ok(())
 }

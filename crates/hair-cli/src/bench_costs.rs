@@ -18,7 +18,7 @@ use hairlod::render::{
 };
 use hairlod::run::{FrameLoop, RunOptions};
 
-use crate::bench_cmd::progress_bar;
+use crate::report::progress_bar;
 
 /// The variants rendered per frame, in the columns' order.
 const VARIANTS: [&str; 6] = [
@@ -77,7 +77,7 @@ struct Sums {
 pub struct CostsArgs {
     /// The shot: air, frames, image size.
     #[command(flatten)]
-    pub shot: crate::bench_cmd::PaperShotArgs,
+    pub shot: crate::report::PaperShotArgs,
     /// Screen-space error tolerance of the LODs [pixels] (the paper's error model, `chord`).
     #[arg(long, default_value_t = 8.0)]
     pub pixel_tolerance: f32,

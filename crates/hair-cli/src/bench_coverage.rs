@@ -14,7 +14,7 @@ use hairlod::core::Level;
 use hairlod::render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, output};
 use serde::Serialize;
 
-use crate::bench_cmd::write_json;
+use crate::report::write_json;
 
 /// Arguments of `hairlod bench coverage`.
 #[derive(Debug, Args)]

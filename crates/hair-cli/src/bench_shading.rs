@@ -19,9 +19,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use plotters::style::RGBColor;
 use serde::Serialize;
 
-use crate::bench_cmd::write_json;
 use crate::charts::{ParetoChart, ScatterPoint, write_png_and_svg};
 use crate::pareto::pareto_front;
+use crate::report::write_json;
 
 /// Arguments of `hairlod bench shading`.
 #[derive(Debug, Args)]

@@ -19,7 +19,7 @@ use hairlod::run::{FrameLoop, ModeRun, View};
 use hairlod::shot::Shot;
 use serde::Serialize;
 
-use crate::bench_cmd::{print_table, progress_bar, write_json};
+use crate::report::{print_table, progress_bar, write_json};
 
 /// Builds the crowd, saying how big it is.
 fn build(shot: &Shot) -> Result<CrowdModel> {
@@ -367,7 +367,7 @@ pub fn accuracy(
                 ..lod
             };
             lod.validate()?;
-            let thinned = crate::accuracy_cmd::thinning_label(thinning);
+            let thinned = crate::report::thinning_label(thinning);
             modes.push((format!("LODs {tolerance} px{thinned}"), LodMode::Auto(lod)));
         }
     }

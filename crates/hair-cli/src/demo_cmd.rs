@@ -15,7 +15,8 @@ use hairlod::render::output::{frame_path, write_png_atomic};
 use hairlod::run::{RunOptions, View, run_shot};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::bench_cmd::{PaperExtras, paper_tables, write_json};
+use crate::bench_cmd::{PaperExtras, paper_tables};
+use crate::report::write_json;
 
 /// Arguments of `hairlod demo` (also writes `side_by_side.png`: a frame a quarter through, shaded |
 /// colour-coded).

@@ -17,6 +17,7 @@ mod destinations;
 mod groom_cmd;
 mod pareto;
 mod render_cmd;
+mod report;
 mod scene_args;
 mod stability_cmd;
 mod view_cmd;

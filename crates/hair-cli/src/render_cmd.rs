@@ -394,7 +394,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     if let Some(path) = &json {
-        crate::bench_cmd::write_json(path, &serde_json::to_value(&result.run)?)?;
+        crate::report::write_json(path, &serde_json::to_value(&result.run)?)?;
     }
     print_summary(&args.out, &result.run.frames, setup, write_time);
     Ok(())

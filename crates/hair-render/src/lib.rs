@@ -117,6 +117,7 @@ pub use error::{RenderError, Result};
 pub use inputs::{SkeletonFrame, StrandSet};
 pub use marschner::Marschner;
 pub use renderer::{Renderer, RendererOptions};
+pub use settings::StrandThinning;
 pub use settings::{
     ClusterGeometry, DirectionalLight, FrameSettings, HairMaterial, HairShading, IMPOSTOR_BANDS,
     LevelColors, LineCoverage, LineShading, ShadingMode, StrandStyle, SurfaceTexture, Tessellation,
@@ -124,7 +125,6 @@ pub use settings::{
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;
 pub use target::RenderTarget;
-pub use thinning::StrandThinning;
 pub use timings::RenderTimings;
 /// The wgpu this renderer is built on (its device, queue and textures), for callers that draw
 /// beside it, such as an interactive viewer.

@@ -13,42 +13,8 @@
 //! inverse of its group's drawn fraction.
 
 use crate::batches::GpuChain;
-use crate::error::{Result, invalid};
 use crate::inputs::StrandSet;
-
-/// How many of a strand group's strands are drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum StrandThinning {
-    /// Every strand (the default, and what a reference render needs).
-    #[default]
-    Off,
-    /// As many as `strands_per_pixel` times the group's projected width [pixels], at least one
-    /// and at most all: a group `2r` wide [m] at distance `d` [m] through a focal length of
-    /// `f` pixels draws `max(1, k·2r·f/d)` of its `n` strands.
-    ByScreenWidth {
-        /// Strands kept per pixel of the group's width (k above; 4 covers a group's pixels as
-        /// fully as all its strands do, see `docs/render.md`).
-        strands_per_pixel: f32,
-    },
-}
-
-impl StrandThinning {
-    /// Checks that `strands_per_pixel` is finite and positive.
-    pub fn validate(&self) -> Result<()> {
-        match *self {
-            StrandThinning::Off => Ok(()),
-            StrandThinning::ByScreenWidth { strands_per_pixel } => {
-                if strands_per_pixel.is_finite() && strands_per_pixel > 0.0 {
-                    Ok(())
-                } else {
-                    Err(invalid(format!(
-                        "strand thinning's strands per pixel is {strands_per_pixel} (allowed: finite, > 0)"
-                    )))
-                }
-            }
-        }
-    }
-}
+use crate::settings::StrandThinning;
 
 /// A chain's strands: how many follow it, and the largest root offset among them [m] (half the
 /// group's width).

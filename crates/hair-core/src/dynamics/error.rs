@@ -5,7 +5,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::dynamics::params::IntegratorKind;
+use crate::dynamics::integrator_kind::IntegratorKind;
 use crate::error::HairError;
 
 /// What went wrong in the chain that failed a step.

@@ -34,10 +34,13 @@
 
 mod banded;
 mod constraints;
+mod environment;
 mod error;
 mod forces;
 mod head_motion;
+mod integrator_kind;
 mod integrators;
+mod lane_batch;
 mod lane_blocks;
 mod lane_model;
 mod lane_springs;
@@ -77,6 +80,7 @@ pub use forces::{
     rest_local_direction, transport, walk_joints,
 };
 pub use head_motion::{HeadKeyframe, HeadMotion, NECK_PIVOT, angular_velocity};
+pub use integrator_kind::UnknownIntegrator;
 pub use model::DynamicsModel;
 pub use params::{
     DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind, RootMode,

@@ -7,42 +7,21 @@ use glam::{Mat3, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::error::{ChainFailure, DynamicsError, FailedQuantity};
-use crate::dynamics::forces::STANDARD_GRAVITY;
-use crate::dynamics::head_motion::{HeadMotion, angular_velocity};
+use crate::dynamics::head_motion::angular_velocity;
 use crate::dynamics::integrators::{
     ChainArrays, ChainConstants, Substep, linear_implicit, position_based, semi_implicit_euler,
 };
+use crate::dynamics::lane_batch::{BatchState, BatchStep};
 use crate::dynamics::lane_model::LaneModel;
 use crate::dynamics::model::DynamicsModel;
 use crate::dynamics::parallel::{ChainSlices, ChainWork, for_each_batch, for_each_chain};
 use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings};
-use crate::dynamics::position_based_lanes::{BatchState, BatchStep, step_batch};
+use crate::dynamics::position_based_lanes::step_batch;
 use crate::dynamics::state::SimulationState;
-use crate::dynamics::wind::WindField;
 use crate::dynamics::xpbd::{MAX_ADAPTIVE_HALVINGS, XpbdOutcome, xpbd};
 use crate::transform::RigidTransform;
 
-/// The control inputs of a simulation: head motion, wind and gravity.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Environment {
-    /// The head's pose over time (carries attached roots).
-    pub head: HeadMotion,
-    /// The wind field.
-    pub wind: WindField,
-    /// Gravitational acceleration [m/s²].
-    pub gravity: Vec3,
-}
-
-impl Default for Environment {
-    /// A still head at the origin, calm air, standard gravity.
-    fn default() -> Self {
-        Environment {
-            head: HeadMotion::default(),
-            wind: WindField::Calm,
-            gravity: STANDARD_GRAVITY,
-        }
-    }
-}
+pub use super::environment::Environment;
 
 /// What one step did.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]

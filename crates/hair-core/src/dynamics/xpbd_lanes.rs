@@ -21,13 +21,13 @@
 use crate::dynamics::constraints::LENGTH_TOLERANCE;
 use crate::dynamics::head_motion::angular_velocity;
 use crate::dynamics::integrators::LENGTH_STIFFNESS;
+use crate::dynamics::lane_batch::{BatchState, BatchStep, carried_roots};
 use crate::dynamics::lane_blocks::LaneSystem;
 use crate::dynamics::lane_model::{LaneNode, LaneRoots};
 use crate::dynamics::lane_springs::{LaneFrame, SpringScratch};
 use crate::dynamics::lane_twisted_cg::{LaneTwistScratch, twisted_step as lane_twisted_step};
 use crate::dynamics::lane_xpbd_system::{LaneChainTerms, assemble, objective};
 use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
-use crate::dynamics::position_based_lanes::{BatchState, BatchStep, carried_roots};
 use crate::dynamics::xpbd::{
     LENGTH_ITERATIONS, LINE_SEARCH_HALVINGS, NEWTON_ITERATIONS, NEWTON_TOLERANCE, ROUNDING,
     SMALL_STEP, TOO_LONG_MOVE,

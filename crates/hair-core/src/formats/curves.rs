@@ -2,53 +2,12 @@
 //! with the degenerate curves that were skipped listed in [`Curves::skipped`]; and the one place
 //! that checks and converts every curve a reader finds, so all formats treat bad curves alike.
 
-use std::fmt;
-
 use glam::Vec3;
 
 use super::error::{FormatErrorKind, Location};
 use super::options::ImportOptions;
 
-/// Why a curve of a file was skipped (or, under strict reading, refused).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SkipReason {
-    /// Fewer than two points: no segment to draw or simulate.
-    TooFewPoints {
-        /// Points the curve has (0 or 1).
-        count: usize,
-    },
-    /// Two consecutive points coincide (after conversion to metres).
-    ZeroLengthSegment {
-        /// Index of the segment in the curve (between points `segment` and `segment + 1`).
-        segment: usize,
-    },
-    /// A USC-HairSalon strand of one vertex: the format's mark for a root without hair. Skipped
-    /// even under strict reading.
-    EmptyRoot,
-}
-
-impl fmt::Display for SkipReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SkipReason::TooFewPoints { count } => {
-                write!(f, "fewer than two points ({count})")
-            }
-            SkipReason::ZeroLengthSegment { segment } => {
-                write!(f, "segment {segment} has zero length")
-            }
-            SkipReason::EmptyRoot => f.write_str("an empty root (one vertex)"),
-        }
-    }
-}
-
-/// A curve of the file that is not in [`Curves`], and why.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct SkippedCurve {
-    /// Index of the curve in the file (0-based, counting every curve the file holds).
-    pub index: usize,
-    /// Why it was skipped.
-    pub reason: SkipReason,
-}
+pub use super::skip::{SkipReason, SkippedCurve};
 
 /// Polylines read from a file, stored flat: curve `i` owns `points[offsets[i]..offsets[i + 1]]`,
 /// root first. Metres, +Y up, right-handed (after [`ImportAxes`](super::ImportAxes)).

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use thiserror::Error;
 
-use super::curves::SkipReason;
+use super::skip::SkipReason;
 use crate::error::HairError;
 use crate::mesh::MeshError;
 

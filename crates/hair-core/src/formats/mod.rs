@@ -29,6 +29,7 @@ mod obj_curves;
 mod obj_mesh;
 mod ogawa;
 mod options;
+mod skip;
 mod text;
 mod tfx;
 mod tfxmesh;
