@@ -16,6 +16,7 @@ use hair_core::obj::write_file_atomically;
 use serde::{Deserialize, Serialize};
 
 use super::error::{PipelineError, Result};
+use super::fingerprint::Fnv1a;
 use super::state::PipelineState;
 
 /// The `format` field of every checkpoint file.
@@ -168,49 +169,9 @@ struct Header {
     hairlod_version: Option<String>,
 }
 
-/// FNV-1a, 64 bits: a fingerprint that is the same on every machine and Rust version (the
-/// standard library's hasher promises neither).
-pub(crate) struct Fnv1a(u64);
-
-impl Fnv1a {
-    /// The empty hash.
-    pub(crate) fn new() -> Self {
-        Fnv1a(0xcbf2_9ce4_8422_2325)
-    }
-
-    /// Adds `bytes`.
-    pub(crate) fn write(&mut self, bytes: &[u8]) {
-        for &byte in bytes {
-            self.0 ^= u64::from(byte);
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-
-    /// Adds the bits of `values`.
-    pub(crate) fn write_f32s(&mut self, values: impl IntoIterator<Item = f32>) {
-        for value in values {
-            self.write(&value.to_bits().to_le_bytes());
-        }
-    }
-
-    /// The hash as 16 hexadecimal digits.
-    pub(crate) fn hex(&self) -> String {
-        format!("{:016x}", self.0)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fnv1a_matches_its_published_test_vectors() {
-        // FNV-1a 64 of "" and "a" (Fowler, Noll, Vo reference values).
-        assert_eq!(Fnv1a::new().hex(), "cbf29ce484222325");
-        let mut hash = Fnv1a::new();
-        hash.write(b"a");
-        assert_eq!(hash.hex(), "af63dc4c8601ec8c");
-    }
 
     #[test]
     fn files_that_are_not_checkpoints_are_refused_by_name() {

@@ -15,8 +15,11 @@
 mod block;
 mod checkpoint;
 mod draw;
+mod drawn;
 mod error;
+mod fingerprint;
 mod levels;
+mod observe;
 #[allow(clippy::module_inception)]
 mod pipeline;
 mod report;

@@ -10,15 +10,13 @@ use hair_collide::{
 use hair_core::dynamics::{DynamicsModel, DynamicsParams, Environment, Simulation};
 use hair_core::lod::{
     CostModel, ErrorModel, LevelDeviation, LodSelector, SectionChoice, SectionObservation,
-    SectionOptions, SectionWork, covered_pixels, head_point_acceleration_from_poses,
-    motion_measure,
+    SectionOptions, SectionWork,
 };
-use hair_core::skeleton::node_frames;
 use hair_core::{Camera, Frame, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
 use hair_render::ActiveSkeletons;
 
 use super::block::LevelBlock;
-use super::checkpoint::{Checkpoint, Fnv1a};
+use super::checkpoint::Checkpoint;
 use super::error::{PipelineError, Result};
 use super::levels::SectionLevels;
 use super::report::{FrameReport, LodChanges, StageTimes};
@@ -232,7 +230,7 @@ impl Pipeline {
             bodies,
             selector,
             budget: None,
-            section_work: section_work(&scene.groom),
+            section_work: super::drawn::section_work(&scene.groom),
             section_pixels: vec![0.0; sections],
             observations: vec![SectionObservation::default(); sections],
             frames_scratch: Vec::new(),
@@ -279,32 +277,12 @@ impl Pipeline {
     /// settings, hashed (FNV-1a, 64 bits) to 16 hex digits.
     /// A checkpoint resumes only where the fingerprint is the same.
     pub fn fingerprint(&self) -> String {
-        let mut hash = Fnv1a::new();
-        let groom = &self.scene.groom;
-        hash.write(
-            format!(
-                "{:?}|{:?}|{:?}|{:?}",
-                groom.params, self.environment, self.settings, self.params
-            )
-            .as_bytes(),
-        );
-        let rest = &groom.skeletons;
-        hash.write_f32s(rest.segment_rest_lengths.iter().copied());
-        hash.write_f32s(rest.rest_polar_angles.iter().copied());
-        hash.write_f32s(rest.rest_azimuth_angles.iter().copied());
-        hash.write_f32s(rest.natural_polar_angles.iter().copied());
-        hash.write_f32s(rest.natural_azimuth_angles.iter().copied());
-        hash.write_f32s(rest.root_positions.iter().flat_map(|p| p.to_array()));
-        hash.write_f32s(
-            self.scene
-                .head
-                .mesh
-                .positions
-                .iter()
-                .flat_map(|p| p.to_array()),
-        );
-        hash.write(&(groom.skeletons.node_count() as u64).to_le_bytes());
-        hash.hex()
+        super::fingerprint::model_fingerprint(
+            &self.scene,
+            &self.environment,
+            &self.settings,
+            &self.params,
+        )
     }
 
     /// Everything of the run that evolves, for a checkpoint ([`Checkpoint::new`] with
@@ -813,43 +791,22 @@ impl Pipeline {
     /// Observes every section on its current level (its observation and covered pixels this
     /// frame, for the selector and the cost model); nothing at a fixed level.
     fn observe_sections(&mut self, camera: &Camera) -> Result<()> {
-        let groom = &self.scene.groom;
         let Some(selector) = self.selector.as_ref() else {
             return Ok(());
         };
-        let state = &self.state;
-        let frame_time = self.settings.dynamics.time_step;
-        // The head's poses a frame before, now and a frame after, once for every node.
-        let head_poses = [-1.0, 0.0, 1.0].map(|k| {
-            self.environment
-                .head
-                .transform_at(state.time + k * f64::from(frame_time))
-        });
-        let wind = &self.environment.wind;
-        let time = state.time;
-        for (section, observation) in self.observations.iter_mut().enumerate() {
-            let level = state.levels.current()[section];
-            let block = &state.blocks[level];
-            let Some(slot) = block.slot(section) else {
-                return Err(PipelineError::State(format!(
-                    "section {section} is not simulated at its level, {}",
-                    level.name()
-                )));
-            };
-            let nodes = block.nodes(slot);
-            let positions = &block.state.node_positions[nodes.clone()];
-            let velocities = &block.state.node_velocities[nodes];
-            let motion = motion_measure(
-                positions,
-                velocities,
-                self.params.air_drag_rate,
-                |x| wind.velocity_at(x, time),
-                |x| head_point_acceleration_from_poses(&head_poses, frame_time, x),
-            );
-            *observation = SectionObservation::of_section(groom, section, level, positions, motion);
-            self.section_pixels[section] = covered_pixels(camera, observation, selector.settings());
-        }
-        Ok(())
+        super::observe::observe_sections(
+            super::observe::Observed {
+                groom: &self.scene.groom,
+                environment: &self.environment,
+                air_drag_rate: self.params.air_drag_rate,
+                frame_time: self.settings.dynamics.time_step,
+                state: &self.state,
+                lod: selector.settings(),
+            },
+            camera,
+            &mut self.observations,
+            &mut self.section_pixels,
+        )
     }
 
     /// Chooses levels (from the selector, or the `given` levels of a shared budget) and starts
@@ -959,28 +916,12 @@ impl Pipeline {
     /// at all once its coverage is 0, as a surface that gave way is in the second half of its
     /// blend).
     fn drawn_work(&self) -> ([usize; 3], [f64; 3]) {
-        let levels = &self.state.levels;
-        let display_time = self.display_time();
-        let (mut segments, mut pixels) = ([0; 3], [0.0; 3]);
-        for (section, work) in self.section_work.iter().enumerate() {
-            if levels.shown_weight(section, display_time) <= 0.0 {
-                continue;
-            }
-            for level in levels.drawn(section) {
-                let coverage = levels.coverage(section, level, display_time);
-                if coverage <= 0.0 {
-                    continue;
-                }
-                let whole = work.drawn_segments[level as usize];
-                segments[level as usize] += if level == Level::StrandGroup {
-                    (whole as f32 * coverage).round() as usize
-                } else {
-                    whole
-                };
-                pixels[level as usize] += self.section_pixels[section];
-            }
-        }
-        (segments, pixels)
+        super::drawn::drawn_work(
+            &self.state.levels,
+            &self.section_work,
+            &self.section_pixels,
+            self.display_time(),
+        )
     }
 
     /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
@@ -1000,67 +941,13 @@ impl Pipeline {
     /// chains before).
     pub fn append_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         let head = self.environment.head.transform_at(self.state.time);
-        let display_time = self.display_time();
-        let groom = &self.scene.groom;
-        let levels = &self.state.levels;
-        for chain in 0..groom.skeletons.chain_count() {
-            let (section, level, _) = groom.chain_owner(chain);
-            let shown = levels.shown_weight(section, display_time);
-            let drawn = shown > 0.0 && levels.drawn(section).any(|drawn| drawn == level);
-            let block = &self.state.blocks[level];
-            let located = block.slot(section).filter(|_| drawn);
-            let Some(slot) = located else {
-                active.push_inactive_chain();
-                continue;
-            };
-            // The chain's nodes inside the section's node range of the block.
-            let section_chains = groom.section_chains(section, level);
-            let before: usize = (section_chains.start..chain)
-                .map(|c| groom.skeletons.chain_node_count(c))
-                .sum();
-            let count = groom.skeletons.chain_node_count(chain);
-            let start = block.nodes(slot).start + before;
-            let positions = &block.state.node_positions[start..start + count];
-            self.frames_scratch.clear();
-            self.frames_scratch.resize(count, Frame::default());
-            let root_frame = groom.skeletons.world_root_frame(chain, &head);
-            node_frames(&root_frame, positions, &mut self.frames_scratch);
-            // While blending, the new level dissolves in over the first half of the blend while
-            // the old one dissolves out over the whole blend: no frame shows less hair than
-            // either level, and the switch frame itself changes little. Between two surfaces
-            // the old one gives way on the complementary pixels over the first half. A section
-            // coming into view or leaving it dissolves in or out as a whole.
-            let coverage = levels.coverage(section, level, display_time);
-            if levels.gives_way(section, level) {
-                active.push_chain_giving_way(positions, &self.frames_scratch, coverage)?;
-            } else {
-                active.push_chain_with_coverage(positions, &self.frames_scratch, coverage)?;
-            }
-        }
-        Ok(())
+        super::drawn::append_drawn(
+            &self.scene.groom,
+            &self.state,
+            &head,
+            self.display_time(),
+            &mut self.frames_scratch,
+            active,
+        )
     }
-}
-
-/// What each section of `groom` simulates and draws at each level: its skeleton nodes, and its
-/// skeleton segments drawn (a strand group's once per strand).
-fn section_work(groom: &hair_core::Groom) -> Vec<SectionWork> {
-    let first_group = groom.level_chains(Level::StrandGroup).start;
-    (0..groom.section_count())
-        .map(|section| {
-            let mut work = SectionWork::default();
-            for level in Level::ALL {
-                for chain in groom.section_chains(section, level) {
-                    let nodes = groom.skeletons.chain_node_count(chain);
-                    let copies = if level == Level::StrandGroup {
-                        groom.strands.strands(chain - first_group).len()
-                    } else {
-                        1
-                    };
-                    work.nodes[level as usize] += nodes;
-                    work.drawn_segments[level as usize] += nodes.saturating_sub(1) * copies;
-                }
-            }
-            work
-        })
-        .collect()
 }
