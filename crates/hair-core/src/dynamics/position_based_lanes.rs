@@ -4,7 +4,8 @@
 //!
 //! A batch is stepped this way when its chains have the same node count (2 to
 //! [`MAX_LANE_NODES`]); lanes past the batch's last chain repeat that chain and are discarded.
-//! The constants come laid out in lane form ([`LaneModel`]); the state is gathered once per step,
+//! The constants come laid out in lane form
+//! ([`LaneModel`](crate::dynamics::lane_model::LaneModel)); the state is gathered once per step,
 //! stepped through all substeps, checked, and scattered into the new state's arrays (the
 //! simulation swaps them in when every chain succeeded, so nothing is copied to back it up). Per step, not per substep: the external velocity kick `h·F_ext/m`, and
 //! the head's rotation matrices (the roots are rotated lane-wise). A chain that fails the check
