@@ -220,22 +220,18 @@ pub fn run_shot(
 /// checkpoint's frame.
 fn check_frames(shot: &Shot, frames: &Range<usize>, resume: Option<&Checkpoint>) -> Result<()> {
     if frames.start > frames.end || frames.end > shot.frames {
-        return Err(PipelineError::State(format!(
-            "frames {}..{} are not within the shot's 0..{}",
-            frames.start, frames.end, shot.frames
-        )));
+        return Err(PipelineError::FramesOutsideShot {
+            start: frames.start,
+            end: frames.end,
+            frames: shot.frames,
+        });
     }
     let start = resume.map_or(0, |c| c.state.frame);
     if start != frames.start {
-        return Err(PipelineError::State(format!(
-            "the run starts at frame {}, but {}",
-            frames.start,
-            if resume.is_some() {
-                format!("the checkpoint is at frame {start}: resume with --frames {start}..")
-            } else {
-                "no checkpoint is given to start there from (--resume FILE)".to_string()
-            }
-        )));
+        return Err(PipelineError::StartFrame {
+            start: frames.start,
+            checkpoint: resume.map(|_| start),
+        });
     }
     Ok(())
 }

@@ -4,9 +4,7 @@
 use std::ops::Range;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
-use hair_core::lod::{BudgetOutcome, CostModel, SectionOptions, refine_within_budget};
+use hair_core::lod::{BudgetOutcome, CostModel, SectionOptions};
 use hair_core::{Camera, Level};
 
 use super::model::CrowdModel;
@@ -38,16 +36,15 @@ impl Crowd {
         super::memory::check_fits(model, &settings, super::memory::available_bytes())?;
         let mut pipelines = Vec::with_capacity(model.members.len());
         for member in &model.members {
-            let mut pipeline = Pipeline::with_shared(
+            pipelines.push(Pipeline::with_shared(
                 member.scene.clone(),
                 member.character.environment.clone(),
                 settings,
                 &member.deviations,
                 &member.body,
-            )?;
-            pipeline.settle(model.shot.settle_seconds)?;
-            pipelines.push(pipeline);
+            )?);
         }
+        crate::pipeline::settle_together(&mut pipelines, model.shot.settle_seconds)?;
         Ok(Crowd {
             names: model
                 .members
@@ -106,21 +103,8 @@ impl Crowd {
     /// goes back to the pixel tolerance. Errors at a fixed level and for a budget that is not a
     /// positive number of seconds.
     pub fn set_frame_budget(&mut self, budget: Option<(f64, CostModel)>) -> Result<()> {
-        if let Some((seconds, _)) = &budget {
-            if matches!(self.settings.lod, crate::pipeline::LodMode::Fixed(_)) {
-                return Err(crate::pipeline::PipelineError::State(
-                    "a frame budget needs automatic levels (the levels are fixed)".into(),
-                ));
-            }
-            if !(seconds.is_finite() && *seconds > 0.0) {
-                return Err(hair_core::HairError::invalid(
-                    "frame budget (s)",
-                    seconds,
-                    "a positive number of seconds",
-                )
-                .into());
-            }
-        }
+        let automatic = matches!(self.settings.lod, crate::pipeline::LodMode::Auto(_));
+        crate::pipeline::check_budget(budget.as_ref(), automatic)?;
         self.budget = budget;
         Ok(())
     }
@@ -138,9 +122,7 @@ impl Crowd {
 
     /// Calibrates the shared budget's cost model with a finished frame's summed `report`.
     pub fn observe_frame(&mut self, report: &FrameReport) {
-        if let Some((_, model)) = &mut self.budget {
-            report.calibrate(model);
-        }
+        crate::pipeline::calibrate_budget(self.budget.as_mut(), report);
     }
 
     /// Advances every character one frame seen by `camera`: levels (each character's own
@@ -150,7 +132,8 @@ impl Crowd {
     pub fn advance(&mut self, camera: &Camera) -> Result<FrameReport> {
         let mut shared_lod = 0.0;
         match &self.budget {
-            Some((budget, model)) => {
+            Some(budget) => {
+                let model = &budget.1;
                 self.options.clear();
                 self.ranges.clear();
                 for pipeline in &mut self.pipelines {
@@ -160,10 +143,11 @@ impl Crowd {
                     self.ranges.push(start..self.options.len());
                 }
                 let started = Instant::now();
-                // The frame's overhead is not any section's: leave it out of what they share.
-                let share = (budget - model.rates().overhead).max(0.0);
-                self.levels.resize(self.options.len(), Level::Patch);
-                self.outcome = Some(refine_within_budget(&self.options, share, &mut self.levels));
+                self.outcome = Some(crate::pipeline::choose_within_budget(
+                    &self.options,
+                    budget,
+                    &mut self.levels,
+                ));
                 shared_lod = started.elapsed().as_secs_f64();
                 for (pipeline, range) in self.pipelines.iter_mut().zip(&self.ranges) {
                     pipeline.begin_frame_with_levels(camera, &self.levels[range.clone()])?;
@@ -175,35 +159,14 @@ impl Crowd {
                 }
             }
         }
-        // The characters step side by side (each is independent of the others, so the frame is
-        // the same whatever the order or the thread count).
+        // Every character's level blocks step side by side in one pass (each is independent of
+        // the others, so the frame is the same whatever the order or the thread count).
         let started = Instant::now();
-        let reports = self
-            .pipelines
-            .par_iter_mut()
-            .map(Pipeline::finish_frame)
-            .collect::<Result<Vec<FrameReport>>>()?;
+        let reports = crate::pipeline::step_together(&mut self.pipelines)?;
         let mut report = sum_reports(&reports);
         report.times.lod += shared_lod;
-        charge_wall_time(&mut report, started.elapsed().as_secs_f64());
+        crate::pipeline::charge_wall_time(&mut report, started.elapsed().as_secs_f64());
         Ok(report)
-    }
-}
-
-/// Characters stepped side by side measure, each, the time its own dynamics and collision took;
-/// summed, those exceed the time the frame took. Scales the summed dynamics, collision and
-/// per-level times so that dynamics and collision add up to `wall` [s], the time the stepping
-/// took, shared between them (and between the levels) as the characters' own times share it.
-pub(super) fn charge_wall_time(report: &mut FrameReport, wall: f64) {
-    let busy = report.times.dynamics + report.times.collision;
-    if !(busy > 0.0 && wall.is_finite()) {
-        return;
-    }
-    let scale = wall / busy;
-    report.times.dynamics *= scale;
-    report.times.collision *= scale;
-    for seconds in &mut report.level_seconds {
-        *seconds *= scale;
     }
 }
 

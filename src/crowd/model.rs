@@ -41,9 +41,7 @@ impl CrowdModel {
     /// errors for a shot without characters.
     pub fn build(shot: &Shot) -> Result<CrowdModel> {
         if !shot.is_crowd() {
-            return Err(PipelineError::State(
-                "the shot has no characters: a crowd needs [[character]] tables".into(),
-            ));
+            return Err(PipelineError::NoCharacters);
         }
         let mut built: Vec<(usize, CrowdMember)> = Vec::new();
         let mut members = Vec::with_capacity(shot.characters.len());

@@ -272,14 +272,14 @@ fn stepping_side_by_side_charges_the_frame_its_wall_time() {
     report.times.dynamics = 0.060;
     report.times.collision = 0.020;
     report.level_seconds = [0.020, 0.0, 0.060];
-    super::frame::charge_wall_time(&mut report, 0.050);
+    crate::pipeline::charge_wall_time(&mut report, 0.050);
     assert!((report.times.dynamics - 0.0375).abs() < 1e-12);
     assert!((report.times.collision - 0.0125).abs() < 1e-12);
     assert!((report.level_seconds[0] - 0.0125).abs() < 1e-12);
     assert!((report.level_seconds[2] - 0.0375).abs() < 1e-12);
     // Nothing measured: nothing to share.
     let mut idle = crate::pipeline::FrameReport::default();
-    super::frame::charge_wall_time(&mut idle, 0.050);
+    crate::pipeline::charge_wall_time(&mut idle, 0.050);
     assert_eq!(idle.times.dynamics, 0.0);
 }
 

@@ -99,9 +99,7 @@ impl LevelBlock {
                 .iter()
                 .find(|(l, b)| *l != level && b.slot(section).is_some())
             else {
-                return Err(PipelineError::State(format!(
-                    "section {section} is simulated at no level to hand over from"
-                )));
+                return Err(PipelineError::NothingToHandOver { section });
             };
             let from_nodes = from_block.nodes(from_block.slot(section).expect("found above"));
             let from = SectionStateRef {
@@ -125,12 +123,7 @@ impl LevelBlock {
     /// Checks a block read from a checkpoint against `groom`: its layout must be the one
     /// [`LevelBlock::laid_out`] gives for its sections, its state sized to it and finite.
     pub fn check(&self, groom: &Groom, level: Level) -> Result<()> {
-        let bad = |why: String| {
-            Err(PipelineError::State(format!(
-                "{} block: {why}",
-                level.name()
-            )))
-        };
+        let bad = |why: String| Err(PipelineError::Block { level, why });
         if self.level != level {
             return bad(format!("stored as the {} block", self.level.name()));
         }

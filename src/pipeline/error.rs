@@ -68,9 +68,109 @@ pub enum PipelineError {
         /// The stage's error (an unstable step).
         error: Box<PipelineError>,
     },
-    /// A state handed to the pipeline (a checkpoint) does not fit its scene.
-    #[error("pipeline state: {0}")]
-    State(String),
+    /// A call that must come between frames came while a frame was begun and not finished
+    /// ([`Pipeline::begin_frame`](crate::pipeline::Pipeline::begin_frame)).
+    #[error("pipeline state: a frame is begun and not finished: {action}")]
+    FrameBegun {
+        /// What to do instead (`take the state between frames`).
+        action: &'static str,
+    },
+    /// Something that chooses levels asked of a run whose levels are fixed.
+    #[error("pipeline state: {what} needs automatic levels (the levels are fixed)")]
+    FixedLevels {
+        /// What needs them (`a frame budget`).
+        what: &'static str,
+    },
+    /// A frame begun with given levels before its budget options were made.
+    #[error(
+        "pipeline state: the budget options were not made this frame: call budget_options first"
+    )]
+    NoBudgetOptions,
+    /// A checkpoint of another model (scene, groom, environment or settings) than the run's.
+    #[error(
+        "pipeline state: the checkpoint is of another scene (its fingerprint {theirs}, this \
+         scene's {ours}): resume with the scene file, groom and settings that wrote it"
+    )]
+    ForeignCheckpoint {
+        /// The checkpoint's model fingerprint.
+        theirs: String,
+        /// The run's.
+        ours: String,
+    },
+    /// A state of automatic levels given to a run at a fixed level, or the other way round.
+    #[error(
+        "pipeline state: the state is of automatic levels and the settings fix one (or the \
+         other way round)"
+    )]
+    LodModeMismatch,
+    /// A shared collision body built from another mesh than the scene's head
+    /// ([`Pipeline::with_shared`](crate::pipeline::Pipeline::with_shared)).
+    #[error(
+        "pipeline state: the shared collision body has {body} triangles, the scene's head \
+         {head}: share the body built from this scene's head mesh"
+    )]
+    SharedBodyMismatch {
+        /// The body's triangle count.
+        body: usize,
+        /// The scene head's.
+        head: usize,
+    },
+    /// A section missing from the block it should be simulated in (a state that does not fit
+    /// its groom).
+    #[error("pipeline state: section {section} is not simulated at the {} level", .level.name())]
+    SectionNotAt {
+        /// The section.
+        section: usize,
+        /// The level it should be at.
+        level: Level,
+    },
+    /// A section arriving at a level that no other level simulates (nothing to hand over from).
+    #[error("pipeline state: section {section} is simulated at no level to hand over from")]
+    NothingToHandOver {
+        /// The section.
+        section: usize,
+    },
+    /// A level's block that does not fit the groom (an edited or damaged checkpoint).
+    #[error("pipeline state: {} block: {why}", .level.name())]
+    Block {
+        /// The block's level.
+        level: Level,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// A crowd asked of a shot without `[[character]]` tables.
+    #[error("pipeline state: the shot has no characters: a crowd needs [[character]] tables")]
+    NoCharacters,
+    /// Frames asked of a run that lie outside its shot.
+    #[error("pipeline state: frames {start}..{end} are not within the shot's 0..{frames}")]
+    FramesOutsideShot {
+        /// The first frame asked for.
+        start: usize,
+        /// One past the last.
+        end: usize,
+        /// The shot's frame count.
+        frames: usize,
+    },
+    /// A run asked to start at a frame it cannot start from.
+    #[error(
+        "pipeline state: the run starts at frame {start}, but {}",
+        match .checkpoint {
+            Some(at) => format!("the checkpoint is at frame {at}: resume with --frames {at}.."),
+            None => "no checkpoint is given to start there from (--resume FILE)".to_string(),
+        }
+    )]
+    StartFrame {
+        /// The frame asked to start at.
+        start: usize,
+        /// The checkpoint's frame, when one is given.
+        checkpoint: Option<usize>,
+    },
+    /// A frame asked of a reference run that has none there.
+    #[error("pipeline state: the reference has no frame {frame}")]
+    NoReferenceFrame {
+        /// The frame.
+        frame: usize,
+    },
     /// A crowd whose estimated memory is over what the machine has available, refused before
     /// its pipelines are built ([`crate::crowd::memory`]).
     #[error("{message}")]

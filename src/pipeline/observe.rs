@@ -57,10 +57,7 @@ pub(super) fn observe_sections(
         let level = state.levels.current()[section];
         let block = &state.blocks[level];
         let Some(slot) = block.slot(section) else {
-            return Err(PipelineError::State(format!(
-                "section {section} is not simulated at its level, {}",
-                level.name()
-            )));
+            return Err(PipelineError::SectionNotAt { section, level });
         };
         let nodes = block.nodes(slot);
         let positions = &block.state.node_positions[nodes.clone()];

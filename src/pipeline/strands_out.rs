@@ -28,12 +28,9 @@ impl Pipeline {
             let nodes =
                 skeletons.offsets[chains.start] as usize..skeletons.offsets[chains.end] as usize;
             let block = self.block(level);
-            let slot = block.slot(section).ok_or_else(|| {
-                PipelineError::State(format!(
-                    "section {section} is not in the {} block",
-                    level.name()
-                ))
-            })?;
+            let slot = block
+                .slot(section)
+                .ok_or_else(|| PipelineError::SectionNotAt { section, level })?;
             let from = block.nodes(slot);
             if level == Level::StrandGroup {
                 positions[nodes.clone()].copy_from_slice(&block.state.node_positions[from]);

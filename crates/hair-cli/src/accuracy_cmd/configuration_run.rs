@@ -134,9 +134,9 @@ impl<'s> ConfigurationRun<'s> {
                 visible,
             });
         } else {
-            let reference = reference.get(frame).ok_or_else(|| {
-                PipelineError::State(format!("the reference has no frame {frame}"))
-            })?;
+            let reference = reference
+                .get(frame)
+                .ok_or_else(|| PipelineError::NoReferenceFrame { frame })?;
             let errors = image_error(&reference.image, image);
             self.frames.push(FrameErrors {
                 cost,

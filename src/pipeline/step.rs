@@ -1,0 +1,139 @@
+//! The step stage (DESIGN "One frame", step 3): every level block of every character advanced
+//! one dynamics step with collision, side by side. Blocks share nothing they write (each level
+//! poses its own copy of the collision bodies), so the frame is the same whatever the order or
+//! the thread count. A frame ([`Pipeline::finish_frame`](super::Pipeline::finish_frame)), the
+//! settling fall ([`Pipeline::settle`](super::Pipeline::settle)) and a crowd's frame all step
+//! through [`step_blocks`].
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use hair_core::Level;
+use hair_core::dynamics::Environment;
+
+use super::block::LevelBlock;
+use super::error::Result;
+use super::report::FrameReport;
+use super::work::LevelWork;
+
+/// One block to step: its state, its solvers, the environment it moves in and the time its
+/// state is at before the step [s].
+pub(crate) struct BlockStep<'a> {
+    pub(crate) level: Level,
+    pub(crate) block: &'a mut LevelBlock,
+    pub(crate) work: &'a mut LevelWork,
+    pub(crate) environment: &'a Environment,
+    pub(crate) time: f64,
+}
+
+/// What stepping one block did: its level, the wall-clock time of its dynamics and collision
+/// [s], the segments in contact and the largest stretch the projection left.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct BlockStepped {
+    pub(crate) level: Option<Level>,
+    pub(crate) dynamics: f64,
+    pub(crate) collision: f64,
+    pub(crate) contacts: usize,
+    pub(crate) max_stretch: f32,
+}
+
+impl BlockStepped {
+    /// The frame's dynamics and collision figures with this block's added.
+    pub(crate) fn add_to(&self, report: &mut FrameReport) {
+        report.times.dynamics += self.dynamics;
+        report.times.collision += self.collision;
+        report.contacts += self.contacts;
+        report.max_stretch = report.max_stretch.max(self.max_stretch);
+        if let Some(level) = self.level {
+            report.level_seconds[level as usize] += self.dynamics + self.collision;
+        }
+    }
+}
+
+/// The blocks of one character, each with its working memory, to be stepped in `environment`
+/// from `time` [s] (an empty block is left out).
+pub(crate) fn character_steps<'a>(
+    blocks: impl Iterator<Item = (Level, &'a mut LevelBlock)>,
+    work: impl Iterator<Item = (Level, &'a mut LevelWork)>,
+    environment: &'a Environment,
+    time: f64,
+) -> impl Iterator<Item = BlockStep<'a>> {
+    blocks
+        .zip(work)
+        .filter(|(_, (_, work))| work.simulation.is_some())
+        .map(move |((level, block), (_, work))| BlockStep {
+            level,
+            block,
+            work,
+            environment,
+            time,
+        })
+}
+
+/// Steps every block of `steps` side by side; returns what each did, in `steps`' order, or the
+/// first error in that order (the same whatever the thread count).
+pub(crate) fn step_blocks(steps: Vec<BlockStep<'_>>) -> Result<Vec<BlockStepped>> {
+    let stepped: Vec<Result<BlockStepped>> = steps.into_par_iter().map(step_block).collect();
+    stepped.into_iter().collect()
+}
+
+/// One block's dynamics step with collision: F_col from the bodies (§5.4), the integrator's
+/// step, the positional guarantee; the integrator alone with collision off.
+fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
+    let BlockStep {
+        level,
+        block,
+        work,
+        environment,
+        time,
+    } = step;
+    let mut stepped = BlockStepped {
+        level: Some(level),
+        ..BlockStepped::default()
+    };
+    let Some(simulation) = work.simulation.as_mut() else {
+        return Ok(stepped);
+    };
+    block.state.time = time;
+    match &mut work.solver {
+        Some(solver) => {
+            let started = Instant::now();
+            let contacts =
+                solver.before_step(&mut work.bodies, simulation, &mut block.state, environment)?;
+            stepped.contacts = contacts.contact_segments;
+            stepped.collision += started.elapsed().as_secs_f64();
+            let started = Instant::now();
+            simulation.step(&mut block.state, environment)?;
+            stepped.dynamics += started.elapsed().as_secs_f64();
+            let started = Instant::now();
+            let projection =
+                solver.after_step(&mut work.bodies, simulation, &mut block.state, environment)?;
+            stepped.max_stretch = projection.max_stretch;
+            stepped.collision += started.elapsed().as_secs_f64();
+        }
+        None => {
+            let started = Instant::now();
+            simulation.step(&mut block.state, environment)?;
+            stepped.dynamics += started.elapsed().as_secs_f64();
+        }
+    }
+    Ok(stepped)
+}
+
+/// Blocks stepped side by side measure, each, the time its own dynamics and collision took;
+/// summed, those exceed the time the step took. Scales the report's dynamics, collision and
+/// per-level times so that dynamics and collision add up to `wall` [s], the time the stepping
+/// took, shared between them (and between the levels) as the blocks' own times share it.
+pub(crate) fn charge_wall_time(report: &mut FrameReport, wall: f64) {
+    let busy = report.times.dynamics + report.times.collision;
+    if !(busy > 0.0 && wall.is_finite()) {
+        return;
+    }
+    let scale = wall / busy;
+    report.times.dynamics *= scale;
+    report.times.collision *= scale;
+    for seconds in &mut report.level_seconds {
+        *seconds *= scale;
+    }
+}
