@@ -56,10 +56,18 @@ impl CrowdModel {
                 },
                 None => {
                     let scene = Arc::new(shot.build_scene_with(&character.groom)?);
+                    // Grooms on one head share its collision body (mesh, tree, pseudonormals).
+                    let body = match built
+                        .iter()
+                        .find(|(_, other)| other.scene.head.mesh == scene.head.mesh)
+                    {
+                        Some((_, other)) => other.body.clone(),
+                        None => CollisionBody::from_mesh(&scene.head.mesh)?,
+                    };
                     let member = CrowdMember {
                         character: character.clone(),
                         deviations: Arc::new(level_deviations(&scene.groom)?),
-                        body: CollisionBody::from_mesh(&scene.head.mesh)?,
+                        body,
                         scene,
                     };
                     built.push((k, member.clone()));

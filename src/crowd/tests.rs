@@ -355,3 +355,18 @@ fn a_crowd_over_the_available_memory_is_refused_before_it_is_built() {
         "{error}"
     );
 }
+
+/// Characters with different grooms on one head share the head's collision body: it is built
+/// once per head, not once per groom.
+#[test]
+fn different_grooms_on_one_head_share_its_collision_body() {
+    let shot = shot(
+        "[[character]]\nposition = [0.0, 0.0, 0.0]\n\
+         [[character]]\nposition = [1.0, 0.0, 0.0]\ngroom = { preset = \"curly\", section_count = 5, \
+         strands_per_group = 3, rest_pose = \"grown\" }\n",
+    );
+    let model = CrowdModel::build(&shot).unwrap();
+    let [first, second] = [&model.members[0], &model.members[1]];
+    assert!(!std::sync::Arc::ptr_eq(&first.scene, &second.scene));
+    assert!(first.body.shares_shape_with(&second.body));
+}
