@@ -1,7 +1,8 @@
 //! The XPBD step ([`xpbd`](crate::dynamics::xpbd), its module docs give the method) for
-//! [`LANES`] chains at once, with attached roots: the same prediction, line-searched Newton steps
-//! of `(M/h² + H)·Δx = −∇Φ`, exact length projection and damping sweep, with every number
-//! widened to one lane per chain in struct-of-arrays form on the stack (nothing is allocated).
+//! [`LANES`](crate::dynamics::lanes::LANES) chains at once, with attached roots: the same
+//! prediction, line-searched Newton steps of `(M/h² + H)·Δx = −∇Φ`, exact length projection and
+//! damping sweep, with every number widened to one lane per chain in struct-of-arrays form on
+//! the stack (nothing is allocated).
 //!
 //! Lanes follow their own control flow under masks: each lane takes the Newton steps, line
 //! search halvings and length iterations the one-chain step would take, and a lane that is done
@@ -20,14 +21,16 @@
 
 use crate::dynamics::head_motion::angular_velocity;
 use crate::dynamics::integrators::LENGTH_STIFFNESS;
-use crate::dynamics::lane_batch::{BatchState, BatchStep, carried_roots};
+use crate::dynamics::lane_batch::{
+    BatchState, BatchStep, carried_roots, check_and_scatter, gather,
+};
 use crate::dynamics::lane_blocks::LaneSystem;
 use crate::dynamics::lane_lengths::{follow_the_leader, project_lengths};
 use crate::dynamics::lane_model::{LaneNode, LaneRoots};
 use crate::dynamics::lane_springs::{LaneFrame, SpringScratch};
 use crate::dynamics::lane_twisted_cg::{LaneTwistScratch, twisted_step as lane_twisted_step};
 use crate::dynamics::lane_xpbd_system::{LaneChainTerms, assemble, objective};
-use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
+use crate::dynamics::lanes::{LaneVec3, Lanes};
 use crate::dynamics::xpbd::{
     LINE_SEARCH_HALVINGS, NEWTON_ITERATIONS, NEWTON_TOLERANCE, ROUNDING, SMALL_STEP, TOO_LONG_MOVE,
 };
@@ -99,7 +102,6 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
     let settings = step.settings;
     let n = constants.len().min(N);
     let constants = &constants[..n];
-    let chains = state.end_chain - state.first_chain;
     let substeps = settings.substeps as usize;
     let h = settings.substep();
     let zero = Lanes::splat(0.0);
@@ -119,15 +121,8 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
         inertia: [zero; N],
         lever: [zero; N],
     };
-    // Gather (lanes past the last chain repeat it); the kicks hold the collision forces at first.
-    for lane in 0..LANES {
-        let node0 = lane.min(chains - 1) * n;
-        for i in 0..n {
-            s.positions[i].set(lane, state.positions[node0 + i]);
-            s.velocities[i].set(lane, state.velocities[node0 + i]);
-            s.kicks[i].set(lane, state.collision[node0 + i]);
-        }
-    }
+    // Gather; the kicks hold the collision forces at first.
+    gather(&state, n, &mut s.positions, &mut s.velocities, &mut s.kicks);
     let gamma = step.air_drag_rate;
     let gravity = step.environment.gravity;
     let inverse_h_squared = 1.0 / (h * h);
@@ -374,37 +369,15 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
         s.positions = s.here;
         root_start = root_end;
     }
-    // Check every lane: finite values, kinetic energy per unit mass, transport defined, solved.
-    let mut kinetic = zero;
-    let mut mass = zero;
-    let mut finite = zero;
-    for i in 0..n {
-        let (p, v) = (s.positions[i], s.velocities[i]);
-        for value in [p.x, p.y, p.z, v.x, v.y, v.z] {
-            finite = finite + value.nan_unless_finite();
-        }
-        kinetic = kinetic + constants[i].mass * v.length_squared();
-        mass = mass + constants[i].mass;
-    }
-    let limit = settings.max_speed * settings.max_speed;
-    let mut failed = 0u32;
-    for lane in 0..chains {
-        let energy = kinetic.0[lane] / mass.0[lane].max(f32::MIN_POSITIVE);
-        let ok = finite.0[lane] == 0.0
-            && degenerate.0[lane] == 0.0
-            && unsolved.0[lane] == 0.0
-            && energy <= limit;
-        if !ok {
-            failed |= 1 << lane;
-            continue;
-        }
-        let node0 = lane * n;
-        for i in 0..n {
-            state.new_positions[node0 + i] = s.positions[i].get(lane);
-            state.new_velocities[node0 + i] = s.velocities[i].get(lane);
-        }
-    }
-    failed
+    // Check every lane (transport defined, solved) and write the ones that pass.
+    check_and_scatter(
+        state,
+        constants,
+        &s.positions,
+        &s.velocities,
+        settings.max_speed,
+        &[degenerate, unsolved],
+    )
 }
 
 /// The spring damping sweep of [`xpbd`](crate::dynamics::xpbd) (`damp_bending`) for every lane:
@@ -425,7 +398,6 @@ fn damp_bending<const N: usize>(
     let one = Lanes::splat(1.0);
     let two = Lanes::splat(2.0);
     let four = Lanes::splat(4.0);
-    let tiny = Lanes::splat(1e-12);
     let zero = Lanes::splat(0.0);
     let spin = LaneVec3 {
         x: Lanes::splat(root_spin.x),
@@ -444,16 +416,9 @@ fn damp_bending<const N: usize>(
     let mut parent_inverse_length = zero;
     for i in 1..n {
         let c = &constants[i];
-        let segment = positions[i] - positions[i - 1];
-        let raw_length = segment.length_squared().sqrt();
-        let il = one / raw_length.max(tiny);
-        let tangent = frame.tangent;
-        let d = LaneVec3::select(raw_length.greater(tiny), segment.scale(il), tangent);
-        let r = frame.normal.scale(c.rest_local.x)
-            + frame.binormal.scale(c.rest_local.y)
-            + tangent.scale(c.rest_local.z);
-        let one_plus_cos = one + tangent.dot(d);
-        *degenerate = *degenerate + Lanes::splat(1e-4).greater(one_plus_cos);
+        let segment = frame.segment(positions[i - 1], positions[i], c.rest_local);
+        let (d, r, il) = (segment.direction, segment.rest, segment.inverse_length);
+        segment.mark_degenerate(degenerate);
         let q = |u: LaneVec3| (u - d.scale(d.dot(u))).scale(il);
         let (w_node, w_parent) = (c.inverse_mass, weight(i - 1));
         let il2 = il * il;
@@ -488,14 +453,7 @@ fn damp_bending<const N: usize>(
             velocities[i - 1] += q_mu.scale(w_parent);
         }
         // Transport the frame to d (as `lane_springs::joint`).
-        let inverse_one_plus_cos = one / one_plus_cos.max(Lanes::splat(1e-6));
-        let sum = tangent + d;
-        let normal = frame.normal - sum.scale(sum.dot(frame.normal) * inverse_one_plus_cos);
-        frame = LaneFrame {
-            binormal: d.cross(normal),
-            normal,
-            tangent: d,
-        };
+        frame = frame.transported(&segment);
         parent_direction = d;
         parent_inverse_length = il;
     }
