@@ -21,6 +21,83 @@ pub(crate) struct LaneFrame {
     pub tangent: LaneVec3,
 }
 
+/// One segment of every lane seen from its parent frame: what the lane steps' walks along a
+/// chain (the springs, the XPBD objective and damping sweep) share.
+#[derive(Clone, Copy)]
+pub(crate) struct LaneSegment {
+    /// The current length [m] (before clamping at 1e-12 for its inverse).
+    pub length: Lanes,
+    /// `1/max(l, 1e-12)` [1/m].
+    pub inverse_length: Lanes,
+    /// The unit direction `d`, or the parent tangent where the segment has no length.
+    pub direction: LaneVec3,
+    /// The rest direction `r` in the parent frame.
+    pub rest: LaneVec3,
+    /// `1 + t·d`: below 1e-4 the segment is turned back on its parent and the transport
+    /// undefined.
+    pub one_plus_cos: Lanes,
+    /// `1/max(1 + t·d, 1e-6)`, shared by the twist binormal and the transport.
+    pub inverse_one_plus_cos: Lanes,
+}
+
+impl LaneFrame {
+    /// The segment from `start` to `end` [m] of every lane, its rest direction `rest_local` in
+    /// this (parent) frame.
+    #[inline(always)]
+    pub(crate) fn segment(
+        &self,
+        start: LaneVec3,
+        end: LaneVec3,
+        rest_local: LaneVec3,
+    ) -> LaneSegment {
+        let one = Lanes::splat(1.0);
+        let tiny = Lanes::splat(1e-12);
+        let segment = end - start;
+        let length = segment.length_squared().sqrt();
+        let valid = length.greater(tiny);
+        let inverse_length = one / length.max(tiny);
+        let tangent = self.tangent;
+        let direction = LaneVec3::select(valid, segment.scale(inverse_length), tangent);
+        let rest = self.normal.scale(rest_local.x)
+            + self.binormal.scale(rest_local.y)
+            + tangent.scale(rest_local.z);
+        let one_plus_cos = one + tangent.dot(direction);
+        let inverse_one_plus_cos = one / one_plus_cos.max(Lanes::splat(1e-6));
+        LaneSegment {
+            length,
+            inverse_length,
+            direction,
+            rest,
+            one_plus_cos,
+            inverse_one_plus_cos,
+        }
+    }
+
+    /// This frame transported to `segment`'s direction: the rotation taking `t` to `d`, as two
+    /// reflections (see `forces::transport`; the term `2(t·n)·d` is 0 for an orthonormal frame),
+    /// the normal not re-orthonormalised.
+    #[inline(always)]
+    pub(crate) fn transported(&self, segment: &LaneSegment) -> LaneFrame {
+        let direction = segment.direction;
+        let sum = self.tangent + direction;
+        let normal = self.normal - sum.scale(sum.dot(self.normal) * segment.inverse_one_plus_cos);
+        LaneFrame {
+            binormal: direction.cross(normal),
+            normal,
+            tangent: direction,
+        }
+    }
+}
+
+impl LaneSegment {
+    /// Marks in `degenerate` the lanes where the segment is turned back on its parent (the
+    /// transport undefined: the lane is redone by the one-chain step).
+    #[inline(always)]
+    pub(crate) fn mark_degenerate(&self, degenerate: &mut Lanes) {
+        *degenerate = *degenerate + Lanes::splat(1e-4).greater(self.one_plus_cos);
+    }
+}
+
 /// Per-node scratch of the spring pass for `N` ≥ the node count.
 pub(crate) struct SpringScratch<const N: usize> {
     /// Spring forces [N], then (in the position-based step) the shape target's displacements [m].
@@ -79,23 +156,13 @@ pub(crate) fn joint<const N: usize>(
     energy: &mut Lanes,
     degenerate: &mut Lanes,
 ) -> JointTerms {
-    let one = Lanes::splat(1.0);
-    let tiny = Lanes::splat(1e-12);
-    let segment = positions[i] - positions[i - 1];
-    let raw_length = segment.length_squared().sqrt();
-    let valid = raw_length.greater(tiny);
-    let inverse_length = one / raw_length.max(tiny);
+    let seg = frame.segment(positions[i - 1], positions[i], rest_local);
+    let (direction, rest, inverse_length) = (seg.direction, seg.rest, seg.inverse_length);
     let tangent = frame.tangent;
-    let direction = LaneVec3::select(valid, segment.scale(inverse_length), tangent);
-    let rest = frame.normal.scale(rest_local.x)
-        + frame.binormal.scale(rest_local.y)
-        + tangent.scale(rest_local.z);
     // 1 + t·d, shared by the twist binormal and the transport; below 1e-4 the segment is turned
     // back on its parent and the transport undefined (the lane is redone by the one-chain step).
-    let one_plus_cos = one + tangent.dot(direction);
-    *degenerate = *degenerate + Lanes::splat(1e-4).greater(one_plus_cos);
-    let inverse_one_plus_cos = one / one_plus_cos.max(Lanes::splat(1e-6));
-    let half_binormal = tangent.cross(direction).scale(inverse_one_plus_cos);
+    seg.mark_degenerate(degenerate);
+    let half_binormal = tangent.cross(direction).scale(seg.inverse_one_plus_cos);
     // Bend angle α = ∠(d, r) and α/sin α.
     let axis = direction.cross(rest);
     let sin = axis.length_squared().sqrt();
@@ -111,20 +178,13 @@ pub(crate) fn joint<const N: usize>(
     // g = k·(α/sin α)·(d − r); Q·g = (g − d(d·g))/l.
     let g = (direction - rest).scale(scaled);
     let qg = (g - direction.scale(direction.dot(g))).scale(inverse_length);
-    // Transport the frame to d: the rotation taking t to d, as two reflections (see
-    // `forces::transport`; the term 2(t·n)·d is 0 for an orthonormal frame).
-    let sum = tangent + direction;
-    let normal = frame.normal - sum.scale(sum.dot(frame.normal) * inverse_one_plus_cos);
-    *frame = LaneFrame {
-        binormal: direction.cross(normal),
-        normal,
-        tangent: direction,
-    };
+    // Transport the frame to d.
+    *frame = frame.transported(&seg);
     JointTerms {
         qg,
         torque,
         rest,
-        length: raw_length,
+        length: seg.length,
     }
 }
 

@@ -175,8 +175,6 @@ pub(crate) fn objective<const N: usize>(
 ) -> Lanes {
     let zero = Lanes::splat(0.0);
     let half = Lanes::splat(0.5);
-    let one = Lanes::splat(1.0);
-    let tiny = Lanes::splat(1e-12);
     let mut bend = zero;
     let mut stretch_energy = zero;
     let mut inertia_energy = zero;
@@ -186,30 +184,15 @@ pub(crate) fn objective<const N: usize>(
         let lag = terms.predicted[i] - delta[i];
         inertia_energy = inertia_energy + half * terms.inertia[i] * lag.length_squared();
         // As `lane_springs::joint`.
-        let segment = here[i] - here[i - 1];
-        let raw_length = segment.length_squared().sqrt();
-        let valid = raw_length.greater(tiny);
-        let inverse_length = one / raw_length.max(tiny);
-        let tangent = frame.tangent;
-        let direction = LaneVec3::select(valid, segment.scale(inverse_length), tangent);
-        let rest = frame.normal.scale(c.rest_local.x)
-            + frame.binormal.scale(c.rest_local.y)
-            + tangent.scale(c.rest_local.z);
-        let one_plus_cos = one + tangent.dot(direction);
-        let inverse_one_plus_cos = one / one_plus_cos.max(Lanes::splat(1e-6));
+        let segment = frame.segment(here[i - 1], here[i], c.rest_local);
+        let (direction, rest) = (segment.direction, segment.rest);
         let axis = direction.cross(rest);
         let sin = axis.length_squared().sqrt();
         let cos = direction.dot(rest);
         let (angle, _) = Lanes::bend_angle_and_factor(sin, cos);
         bend = bend + half * c.stiffness * angle * angle;
-        let sum = tangent + direction;
-        let normal = frame.normal - sum.scale(sum.dot(frame.normal) * inverse_one_plus_cos);
-        frame = LaneFrame {
-            binormal: direction.cross(normal),
-            normal,
-            tangent: direction,
-        };
-        let stretch = raw_length - c.rest_length;
+        frame = frame.transported(&segment);
+        let stretch = segment.length - c.rest_length;
         stretch_energy = stretch_energy + half * terms.kappa[i] * stretch * stretch;
     }
     bend + stretch_energy + inertia_energy

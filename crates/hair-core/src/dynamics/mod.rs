@@ -42,6 +42,7 @@ mod integrator_kind;
 mod integrators;
 mod lane_batch;
 mod lane_blocks;
+mod lane_lengths;
 mod lane_model;
 mod lane_springs;
 mod lane_twisted_cg;

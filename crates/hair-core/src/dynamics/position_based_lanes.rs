@@ -18,7 +18,9 @@
 
 use crate::dynamics::constraints::LENGTH_TOLERANCE;
 use crate::dynamics::integrators::shape_target_scale;
-use crate::dynamics::lane_batch::{BatchState, BatchStep, carried_roots};
+use crate::dynamics::lane_batch::{
+    BatchState, BatchStep, carried_roots, check_and_scatter, gather,
+};
 use crate::dynamics::lane_model::{LaneNode, LaneRoots};
 use crate::dynamics::lane_springs::{LaneFrame, SpringScratch, spring_forces};
 use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
@@ -134,7 +136,6 @@ fn step_lanes<const N: usize>(
     let settings = step.settings;
     let n = constants.len().min(N);
     let constants = &constants[..n];
-    let chains = state.end_chain - state.first_chain;
     let attached = settings.roots == RootMode::Attached;
     let substeps = settings.substeps as usize;
     let h = settings.substep();
@@ -144,15 +145,8 @@ fn step_lanes<const N: usize>(
         velocities: [LaneVec3::default(); N],
         kicks: [LaneVec3::default(); N],
     };
-    // Gather (lanes past the last chain repeat it); the kicks hold the collision forces at first.
-    for lane in 0..LANES {
-        let node0 = lane.min(chains - 1) * n;
-        for i in 0..n {
-            s.positions[i].set(lane, state.positions[node0 + i]);
-            s.velocities[i].set(lane, state.velocities[node0 + i]);
-            s.kicks[i].set(lane, state.collision[node0 + i]);
-        }
-    }
+    // Gather; the kicks hold the collision forces at first.
+    gather(&state, n, &mut s.positions, &mut s.velocities, &mut s.kicks);
     // External forces held over the step, as a velocity kick: h·(m·g + m·γ·w + F_col)/m, with
     // the wind sampled once per step (not at attached roots, which the head moves).
     let gravity = step.environment.gravity;
@@ -196,35 +190,15 @@ fn step_lanes<const N: usize>(
         }
         root_start = root_end;
     }
-    // Check every lane: finite values, kinetic energy per unit mass, transport defined.
-    let mut kinetic = Lanes::splat(0.0);
-    let mut mass = Lanes::splat(0.0);
-    let mut finite = Lanes::splat(0.0);
-    for i in 0..n {
-        let (p, v) = (s.positions[i], s.velocities[i]);
-        // 0 for finite values, NaN otherwise; NaN survives the sums.
-        for value in [p.x, p.y, p.z, v.x, v.y, v.z] {
-            finite = finite + value.nan_unless_finite();
-        }
-        kinetic = kinetic + constants[i].mass * v.length_squared();
-        mass = mass + constants[i].mass;
-    }
-    let limit = settings.max_speed * settings.max_speed;
-    let mut failed = 0u32;
-    for lane in 0..chains {
-        let energy = kinetic.0[lane] / mass.0[lane].max(f32::MIN_POSITIVE);
-        let ok = finite.0[lane] == 0.0 && degenerate.0[lane] == 0.0 && energy <= limit;
-        if !ok {
-            failed |= 1 << lane;
-            continue;
-        }
-        let node0 = lane * n;
-        for i in 0..n {
-            state.new_positions[node0 + i] = s.positions[i].get(lane);
-            state.new_velocities[node0 + i] = s.velocities[i].get(lane);
-        }
-    }
-    failed
+    // Check every lane (transport defined) and write the ones that pass.
+    check_and_scatter(
+        state,
+        constants,
+        &s.positions,
+        &s.velocities,
+        settings.max_speed,
+        &[degenerate],
+    )
 }
 
 /// One substep of every lane; `root_end` is where attached roots go (the caller sets their

@@ -1,7 +1,8 @@
 //! The XPBD step ([`xpbd`](crate::dynamics::xpbd), its module docs give the method) for
-//! [`LANES`] chains at once, with attached roots: the same prediction, line-searched Newton steps
-//! of `(M/h² + H)·Δx = −∇Φ`, exact length projection and damping sweep, with every number
-//! widened to one lane per chain in struct-of-arrays form on the stack (nothing is allocated).
+//! [`LANES`](crate::dynamics::lanes::LANES) chains at once, with attached roots: the same
+//! prediction, line-searched Newton steps of `(M/h² + H)·Δx = −∇Φ`, exact length projection and
+//! damping sweep, with every number widened to one lane per chain in struct-of-arrays form on
+//! the stack (nothing is allocated).
 //!
 //! Lanes follow their own control flow under masks: each lane takes the Newton steps, line
 //! search halvings and length iterations the one-chain step would take, and a lane that is done
@@ -18,19 +19,20 @@
 // Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
 #![allow(clippy::needless_range_loop)]
 
-use crate::dynamics::constraints::LENGTH_TOLERANCE;
 use crate::dynamics::head_motion::angular_velocity;
 use crate::dynamics::integrators::LENGTH_STIFFNESS;
-use crate::dynamics::lane_batch::{BatchState, BatchStep, carried_roots};
+use crate::dynamics::lane_batch::{
+    BatchState, BatchStep, carried_roots, check_and_scatter, gather,
+};
 use crate::dynamics::lane_blocks::LaneSystem;
+use crate::dynamics::lane_lengths::{follow_the_leader, project_lengths};
 use crate::dynamics::lane_model::{LaneNode, LaneRoots};
 use crate::dynamics::lane_springs::{LaneFrame, SpringScratch};
 use crate::dynamics::lane_twisted_cg::{LaneTwistScratch, twisted_step as lane_twisted_step};
 use crate::dynamics::lane_xpbd_system::{LaneChainTerms, assemble, objective};
-use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
+use crate::dynamics::lanes::{LaneVec3, Lanes};
 use crate::dynamics::xpbd::{
-    LENGTH_ITERATIONS, LINE_SEARCH_HALVINGS, NEWTON_ITERATIONS, NEWTON_TOLERANCE, ROUNDING,
-    SMALL_STEP, TOO_LONG_MOVE,
+    LINE_SEARCH_HALVINGS, NEWTON_ITERATIONS, NEWTON_TOLERANCE, ROUNDING, SMALL_STEP, TOO_LONG_MOVE,
 };
 
 /// The Levenberg-Marquardt terms, relative to the largest diagonal entry, tried in turn where a
@@ -100,7 +102,6 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
     let settings = step.settings;
     let n = constants.len().min(N);
     let constants = &constants[..n];
-    let chains = state.end_chain - state.first_chain;
     let substeps = settings.substeps as usize;
     let h = settings.substep();
     let zero = Lanes::splat(0.0);
@@ -120,15 +121,8 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
         inertia: [zero; N],
         lever: [zero; N],
     };
-    // Gather (lanes past the last chain repeat it); the kicks hold the collision forces at first.
-    for lane in 0..LANES {
-        let node0 = lane.min(chains - 1) * n;
-        for i in 0..n {
-            s.positions[i].set(lane, state.positions[node0 + i]);
-            s.velocities[i].set(lane, state.velocities[node0 + i]);
-            s.kicks[i].set(lane, state.collision[node0 + i]);
-        }
-    }
+    // Gather; the kicks hold the collision forces at first.
+    gather(&state, n, &mut s.positions, &mut s.velocities, &mut s.kicks);
     let gamma = step.air_drag_rate;
     let gravity = step.environment.gravity;
     let inverse_h_squared = 1.0 / (h * h);
@@ -375,153 +369,15 @@ pub(crate) fn step_xpbd_lanes<const N: usize>(
         s.positions = s.here;
         root_start = root_end;
     }
-    // Check every lane: finite values, kinetic energy per unit mass, transport defined, solved.
-    let mut kinetic = zero;
-    let mut mass = zero;
-    let mut finite = zero;
-    for i in 0..n {
-        let (p, v) = (s.positions[i], s.velocities[i]);
-        for value in [p.x, p.y, p.z, v.x, v.y, v.z] {
-            finite = finite + value.nan_unless_finite();
-        }
-        kinetic = kinetic + constants[i].mass * v.length_squared();
-        mass = mass + constants[i].mass;
-    }
-    let limit = settings.max_speed * settings.max_speed;
-    let mut failed = 0u32;
-    for lane in 0..chains {
-        let energy = kinetic.0[lane] / mass.0[lane].max(f32::MIN_POSITIVE);
-        let ok = finite.0[lane] == 0.0
-            && degenerate.0[lane] == 0.0
-            && unsolved.0[lane] == 0.0
-            && energy <= limit;
-        if !ok {
-            failed |= 1 << lane;
-            continue;
-        }
-        let node0 = lane * n;
-        for i in 0..n {
-            state.new_positions[node0 + i] = s.positions[i].get(lane);
-            state.new_velocities[node0 + i] = s.velocities[i].get(lane);
-        }
-    }
-    failed
-}
-
-/// The mass-weighted fast projection onto the segment lengths
-/// ([`project_lengths`](crate::dynamics::constraints::project_lengths)) of every lane, node 0
-/// fixed: [`LENGTH_ITERATIONS`] Newton steps of the tridiagonal system, a lane stopping once all
-/// its segments are within [`LENGTH_TOLERANCE`] (or a pivot vanishes).
-#[inline(always)]
-fn project_lengths<const N: usize>(
-    positions: &mut [LaneVec3; N],
-    constants: &[LaneNode],
-    n: usize,
-) {
-    let zero = Lanes::splat(0.0);
-    let one = Lanes::splat(1.0);
-    let tiny = Lanes::splat(1e-12);
-    let tolerance = Lanes::splat(LENGTH_TOLERANCE);
-    let mut directions = [LaneVec3::default(); N];
-    let mut violations = [zero; N];
-    let mut sweep = [zero; N];
-    let mut todo = one;
-    let weight = |i: usize| {
-        if i == 0 {
-            zero
-        } else {
-            constants[i].inverse_mass
-        }
-    };
-    for _ in 0..LENGTH_ITERATIONS {
-        let mut outside = zero;
-        for i in 1..n {
-            let segment = positions[i] - positions[i - 1];
-            let length = segment.length_squared().sqrt();
-            directions[i] = LaneVec3::select(
-                length.greater(tiny),
-                segment.scale(one / length.max(tiny)),
-                LaneVec3::default(),
-            );
-            let violation = length - constants[i].rest_length;
-            violations[i] = violation;
-            outside = outside.max(
-                violation
-                    .abs()
-                    .greater(tolerance * constants[i].rest_length),
-            );
-        }
-        todo = todo * outside;
-        if !todo.any() {
-            return;
-        }
-        // Thomas algorithm: c'_i in `sweep`, d'_i in `violations`.
-        let mut previous_c = zero;
-        let mut previous_d = zero;
-        let mut previous_off = zero;
-        for i in 1..n {
-            let diagonal = weight(i - 1) + weight(i);
-            let off = if i + 1 < n {
-                -(weight(i) * directions[i].dot(directions[i + 1]))
-            } else {
-                zero
-            };
-            let pivot = diagonal - previous_off * previous_c;
-            // A NaN or vanishing pivot stops the lane (as the one-chain projection returns).
-            todo = todo * pivot.abs().greater(Lanes::splat(1e-30));
-            let inverse = one / pivot;
-            let c = off * inverse;
-            let d = (violations[i] - previous_off * previous_d) * inverse;
-            sweep[i] = c;
-            violations[i] = d;
-            previous_c = c;
-            previous_d = d;
-            previous_off = off;
-        }
-        // Back substitution: λ_i in `violations`.
-        let mut next_lambda = zero;
-        for i in (1..n).rev() {
-            let lambda = violations[i] - sweep[i] * next_lambda;
-            violations[i] = lambda;
-            next_lambda = lambda;
-        }
-        for i in 1..n {
-            let mut delta = directions[i].scale(violations[i]);
-            if i + 1 < n {
-                delta -= directions[i + 1].scale(violations[i + 1]);
-            }
-            let moved = positions[i] - delta.scale(weight(i));
-            positions[i] = LaneVec3::select(todo, moved, positions[i]);
-        }
-    }
-}
-
-/// Follow-the-leader ([`follow_the_leader`](crate::dynamics::follow_the_leader)) of every lane:
-/// segments further than [`LENGTH_TOLERANCE`] from their rest length are set to it.
-#[inline(always)]
-fn follow_the_leader<const N: usize>(
-    positions: &mut [LaneVec3; N],
-    constants: &[LaneNode],
-    n: usize,
-) {
-    let tiny = Lanes::splat(1e-12);
-    let one = Lanes::splat(1.0);
-    let tolerance = Lanes::splat(LENGTH_TOLERANCE);
-    let mut previous_direction = LaneVec3::default();
-    for i in 1..n {
-        let rest = constants[i].rest_length;
-        let segment = positions[i] - positions[i - 1];
-        let length = segment.length_squared().sqrt();
-        let direction = LaneVec3::select(
-            length.greater(tiny),
-            segment.scale(one / length.max(tiny)),
-            previous_direction,
-        );
-        let off = (length - rest).abs().greater(tolerance * rest);
-        positions[i] =
-            LaneVec3::select(off, positions[i - 1] + direction.scale(rest), positions[i]);
-        previous_direction = direction;
-    }
+    // Check every lane (transport defined, solved) and write the ones that pass.
+    check_and_scatter(
+        state,
+        constants,
+        &s.positions,
+        &s.velocities,
+        settings.max_speed,
+        &[degenerate, unsolved],
+    )
 }
 
 /// The spring damping sweep of [`xpbd`](crate::dynamics::xpbd) (`damp_bending`) for every lane:
@@ -542,7 +398,6 @@ fn damp_bending<const N: usize>(
     let one = Lanes::splat(1.0);
     let two = Lanes::splat(2.0);
     let four = Lanes::splat(4.0);
-    let tiny = Lanes::splat(1e-12);
     let zero = Lanes::splat(0.0);
     let spin = LaneVec3 {
         x: Lanes::splat(root_spin.x),
@@ -561,16 +416,9 @@ fn damp_bending<const N: usize>(
     let mut parent_inverse_length = zero;
     for i in 1..n {
         let c = &constants[i];
-        let segment = positions[i] - positions[i - 1];
-        let raw_length = segment.length_squared().sqrt();
-        let il = one / raw_length.max(tiny);
-        let tangent = frame.tangent;
-        let d = LaneVec3::select(raw_length.greater(tiny), segment.scale(il), tangent);
-        let r = frame.normal.scale(c.rest_local.x)
-            + frame.binormal.scale(c.rest_local.y)
-            + tangent.scale(c.rest_local.z);
-        let one_plus_cos = one + tangent.dot(d);
-        *degenerate = *degenerate + Lanes::splat(1e-4).greater(one_plus_cos);
+        let segment = frame.segment(positions[i - 1], positions[i], c.rest_local);
+        let (d, r, il) = (segment.direction, segment.rest, segment.inverse_length);
+        segment.mark_degenerate(degenerate);
         let q = |u: LaneVec3| (u - d.scale(d.dot(u))).scale(il);
         let (w_node, w_parent) = (c.inverse_mass, weight(i - 1));
         let il2 = il * il;
@@ -605,14 +453,7 @@ fn damp_bending<const N: usize>(
             velocities[i - 1] += q_mu.scale(w_parent);
         }
         // Transport the frame to d (as `lane_springs::joint`).
-        let inverse_one_plus_cos = one / one_plus_cos.max(Lanes::splat(1e-6));
-        let sum = tangent + d;
-        let normal = frame.normal - sum.scale(sum.dot(frame.normal) * inverse_one_plus_cos);
-        frame = LaneFrame {
-            binormal: d.cross(normal),
-            normal,
-            tangent: d,
-        };
+        frame = frame.transported(&segment);
         parent_direction = d;
         parent_inverse_length = il;
     }

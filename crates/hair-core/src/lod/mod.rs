@@ -22,6 +22,8 @@ mod cost_model;
 pub mod criteria;
 mod deviation;
 mod greedy;
+mod observation;
+mod section_choice;
 mod selector;
 mod settings;
 mod transfer;
@@ -43,9 +45,9 @@ pub use deviation::{
     level_deviations_at,
 };
 pub use greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
-pub use selector::{
-    LodSelector, Reason, SIGHT_SAMPLES, SectionChoice, SectionObservation, covered_pixels,
-};
+pub use observation::{SIGHT_SAMPLES, SectionObservation};
+pub use section_choice::{Reason, SectionChoice, covered_pixels};
+pub use selector::LodSelector;
 pub use settings::{ErrorModel, LodSettings, OcclusionTest};
 pub use transfer::{SectionStateRef, hand_over};
 #[cfg(test)]
