@@ -95,11 +95,17 @@ pub mod timings;
 
 mod batches;
 mod buffers;
+mod chain_curves;
 mod evaluate;
 mod head;
+mod items;
+mod main_pass;
 mod pipelines;
+mod readback;
+mod scene_inputs;
 mod scopes;
 mod shadow_maps;
+mod shadow_pass;
 mod shadow_pipelines;
 mod uniforms;
 mod warm_up;
