@@ -1,10 +1,11 @@
-//! `hair-formats`: hairlod's groom and body files in and out (the model, [`Curves`] and
-//! [`TriangleMesh`] included, is hair-core's; this crate only reads and writes it): TressFX `.tfx` (4.x and 3.x) and `.tfxmesh`, cyHair `.hair`
-//! (read and written), USD text `.usda` `BasisCurves` (read by the project's parser, and written
-//! with time samples), USD binary `.usdc` `BasisCurves` and USD `Mesh` prims of both encodings
-//! (read through the `openusd` crate; `.usd` is either, by its first bytes), USC-HairSalon
-//! `.data`, OBJ polylines and triangle meshes, and Alembic `.abc` linear `Curves` (read through the
-//! `ogawa-rs` crate, after checking the Ogawa container).
+//! `hair-formats`: hairlod's groom and body files in and out. The model they fill ([`Curves`],
+//! [`TriangleMesh`]) is hair-core's; this crate only reads and writes it: TressFX `.tfx` (4.x
+//! and 3.x) and `.tfxmesh`, cyHair `.hair` (read and written), USD `BasisCurves` and `Mesh`
+//! (text `.usda` read by the project's parser, and curves written with time samples; binary
+//! `.usdc` read through the `openusd` crate; `.usd` is either, by its first bytes), USC-HairSalon
+//! `.data`, OBJ polylines and triangle meshes, and Alembic `.abc` linear `Curves` (read through
+//! the `ogawa-rs` crate, after checking the Ogawa container); OBJ written ([`obj`]) and a scene
+//! exported as OBJ ([`export`]).
 //!
 //! File formats are adapters at the edge: the readers produce plain polylines ([`Curves`]: points
 //! per curve, optional widths and colours) and meshes ([`TriangleMesh`]) in metres, +Y up, after
@@ -42,8 +43,11 @@ mod usd_crate;
 mod usd_layer;
 mod usd_mesh;
 mod usda_lex;
+mod usda_mesh;
 mod usda_parse;
+mod usda_prims;
 mod usda_read;
+mod usda_values;
 mod usda_write;
 mod usdc_check;
 
@@ -167,8 +171,8 @@ pub fn read_curves_file(
 
 /// Reads a body mesh file, choosing the reader by extension: `.tfxmesh` (TressFX collision mesh),
 /// `.obj` (triangulated) or `.usda`, `.usdc`, `.usd` (USD `Mesh` prims, text or binary by the
-/// first bytes, through the `openusd` crate; triangulated). The mesh passes [`TriangleMesh::validate`], has at least one triangle
-/// and has unit vertex normals. Errors name the file.
+/// first bytes; triangulated). The mesh passes [`TriangleMesh::validate`], has at least one
+/// triangle and has unit vertex normals. Errors name the file.
 pub fn read_mesh_file(
     path: impl AsRef<Path>,
     options: &ImportOptions,

@@ -1,6 +1,6 @@
-//! What the USD readers through the `openusd` crate share: the layer's units and up axis
-//! ([`Units`]), and attribute values read, type-checked and counted, with errors that name the
-//! prim or attribute path.
+//! What the USD readers of crate files (through the `openusd` crate) share: the layer's units
+//! and up axis ([`Units`], which text meshes use too), and attribute values read, type-checked
+//! and counted, with errors that name the prim or attribute path.
 
 use glam::Vec3;
 use openusd::sdf::{self, Value};
@@ -49,13 +49,18 @@ impl Units {
                 format!("metersPerUnit = {meters_per_unit} (allowed: a finite number > 0)"),
             ));
         }
-        Ok(Units {
+        Ok(Units::new(up, meters_per_unit))
+    }
+
+    /// The units of a layer with `upAxis` `up` and `metersPerUnit` `meters_per_unit` (checked).
+    pub(crate) fn new(up: UpAxis, meters_per_unit: f64) -> Self {
+        Units {
             meters_per_unit,
             up: ImportAxes {
                 up,
                 ..ImportAxes::default()
             },
-        })
+        }
     }
 
     /// A point in metres, +Y up (scaled in f64: 10 cm is 0.1 m exactly).

@@ -1,11 +1,9 @@
-//! USD `BasisCurves` and `Mesh`, text `.usda` and binary `.usdc`, through the `openusd` crate.
-//!
-//! Read through the crate: `BasisCurves` of binary crate files ([`read_usdc`]), here, and `Mesh`
-//! prims of text and binary files ([`read_usd_mesh`](super::read_usd_mesh), in `usd_mesh.rs`). `BasisCurves` of text files stay with the
-//! project's own parser ([`read_usda`](super::read_usda)), which [`read_usd_curves`] calls for
-//! text: it reads any time code ([`read_usda_at`](super::read_usda_at), interpolating samples),
-//! and its errors name the line of the value at fault, where the crate's text parser names at
-//! best the line of a syntax error and nothing for a bad value; both read the same curves.
+//! USD binary crate files (`.usdc`) through the `openusd` crate: `BasisCurves` here
+//! ([`read_usdc`]), `Mesh` prims in `usd_mesh.rs`. Text layers never reach the crate: one parser
+//! per encoding, and the project's (`usda_parse.rs`) reads every text layer, curves
+//! ([`read_usda`](super::read_usda), which [`read_usd_curves`] calls for text) and meshes alike:
+//! it reads any time code ([`read_usda_at`](super::read_usda_at), interpolating samples), and its
+//! errors name the line of the value at fault. Both encodings read the same curves.
 //!
 //! Every `def` prim of the type, in namespace order, is read and joined; the layer's `upAxis`
 //! and `metersPerUnit` are applied first (USD's fallbacks: `Y` and 0.01, centimetres), then the
@@ -21,11 +19,11 @@
 //! their control points are not on the curve, and reading them as a polyline would change the
 //! groom silently.
 //!
-//! Robustness (curves here and meshes in `usd_mesh.rs`): errors name the file, the prim or attribute path, and the byte offset where the
-//! project's checks know it (the crate reports none). A crate file is checked before the crate
-//! reads it (`usdc_check.rs`: header, table of contents, section sizes, and
-//! every count it would allocate from, against the file's length); a text layer is checked for
-//! bracket nesting (the crate's parser recurses). Every call into the crate runs under
+//! Robustness (curves here and meshes in `usd_mesh.rs`): errors name the file, the prim or
+//! attribute path, and the byte offset where the project's checks know it (the crate reports
+//! none). A crate file is checked before the crate reads it (`usdc_check.rs`: header, table of
+//! contents, section sizes, and every count it would allocate from, against the file's length).
+//! Every call into the crate runs under
 //! `std::panic::catch_unwind`, and a panic (the crate indexes its tables unchecked and has
 //! `todo!()`s for old versions and chunked compression) becomes a [`FormatError`]; the panic's
 //! message still reaches the panic hook (standard error). The reader needs a build that unwinds

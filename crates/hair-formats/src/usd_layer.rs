@@ -1,8 +1,8 @@
-//! One USD layer opened from bytes through the `openusd` crate, read field by field: a text
-//! layer (`#usda`) parsed whole by the crate's parser, a binary crate layer (`PXR-USDC`)
-//! checked by `usdc_check.rs` and then decoded value by value on demand. Any
-//! panic inside the crate becomes an error (`catch_unwind`); the crate's errors name no byte
-//! offset, so neither do these.
+//! One binary USD layer (`PXR-USDC`) opened from bytes through the `openusd` crate, read field by
+//! field: checked by `usdc_check.rs`, then decoded value by value on demand. Any panic inside the
+//! crate becomes an error (`catch_unwind`); the crate's errors name no byte offset, so neither do
+//! these. Text layers (`#usda`) never reach the crate: they go through the project's parser
+//! (`usda_parse.rs`). [`sniff`] tells the two encodings apart.
 //!
 //! Only the layer is read: no composition (references, payloads, sublayers, variants), and no
 //! fallback values but those the readers state.
@@ -12,14 +12,11 @@ use std::io::Cursor;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use glam::Vec3;
-use openusd::sdf::{self, AbstractData, SpecType, Value};
+use openusd::sdf::{self, SpecType, Value};
 use openusd::usdc::CrateFile;
 
 use super::error::{FormatErrorKind, Location};
 use super::usdc_check::{self, MAGIC, Version};
-
-/// Deepest bracket nesting accepted in a text layer (the crate's parser recurses).
-const MAX_TEXT_NESTING: usize = 64;
 
 /// Which encoding a USD file uses, from its first bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,26 +67,18 @@ fn guarded<T>(element: &str, f: impl FnOnce() -> T) -> Result<T, FormatErrorKind
     })
 }
 
-/// A layer's fields.
-pub(crate) enum Layer<'a> {
-    /// A parsed text layer.
-    Text(sdf::Data),
-    /// A binary crate file, with its specs' fieldsets by path.
-    Crate {
-        bytes: &'a [u8],
-        version: Version,
-        file: Box<CrateFile<Cursor<&'a [u8]>>>,
-        specs: HashMap<sdf::Path, usize>,
-    },
+/// A binary crate file's fields, with its specs' fieldsets by path.
+pub(crate) struct Layer<'a> {
+    bytes: &'a [u8],
+    version: Version,
+    file: Box<CrateFile<Cursor<&'a [u8]>>>,
+    specs: HashMap<sdf::Path, usize>,
 }
 
 impl<'a> Layer<'a> {
-    /// Opens the layer of a USD file's bytes (text or binary, by its first bytes).
+    /// Opens the layer of a binary crate file's bytes, after checking them (`usdc_check.rs`).
     pub(crate) fn open(bytes: &'a [u8]) -> Result<Self, FormatErrorKind> {
-        match sniff(bytes)? {
-            Encoding::Text => open_text(bytes),
-            Encoding::Crate => open_crate(bytes),
-        }
+        open_crate(bytes)
     }
 
     /// The value of `field` of the spec at `path`; `None` when not authored.
@@ -99,49 +88,39 @@ impl<'a> Layer<'a> {
         field: &str,
     ) -> Result<Option<Value>, FormatErrorKind> {
         let element = path.as_str();
-        match self {
-            Layer::Text(data) => match data.try_field(path, field) {
-                Ok(value) => Ok(value.map(|v| v.into_owned())),
-                Err(error) => Err(usd_error(element, format!("{field}: {error}"))),
-            },
-            Layer::Crate {
-                bytes,
-                version,
-                file,
-                specs,
-            } => {
-                let Some(&start) = specs.get(path) else {
-                    return Ok(None);
-                };
-                let file = &mut **file;
-                let mut rep = None;
-                for index in file.fieldsets.get(start..).unwrap_or_default() {
-                    let Some(index) = *index else { break };
-                    let Some(f) = file.fields.get(index) else {
-                        break;
-                    };
-                    if file.tokens.get(f.token_index).map(String::as_str) == Some(field) {
-                        rep = Some(f.value_rep);
-                        break;
-                    }
-                }
-                let Some(rep) = rep else { return Ok(None) };
-                let what = format!("{element} {field}");
-                usdc_check::check_value(bytes, *version, rep.0, &what)?;
-                match guarded(&what, || file.value(rep))? {
-                    Ok(value) => Ok(Some(value)),
-                    Err(error) => Err(usd_error(&what, format!("{error:#}"))),
-                }
+        let Layer {
+            bytes,
+            version,
+            file,
+            specs,
+        } = self;
+        let Some(&start) = specs.get(path) else {
+            return Ok(None);
+        };
+        let file = &mut **file;
+        let mut rep = None;
+        for index in file.fieldsets.get(start..).unwrap_or_default() {
+            let Some(index) = *index else { break };
+            let Some(f) = file.fields.get(index) else {
+                break;
+            };
+            if file.tokens.get(f.token_index).map(String::as_str) == Some(field) {
+                rep = Some(f.value_rep);
+                break;
             }
+        }
+        let Some(rep) = rep else { return Ok(None) };
+        let what = format!("{element} {field}");
+        usdc_check::check_value(bytes, *version, rep.0, &what)?;
+        match guarded(&what, || file.value(rep))? {
+            Ok(value) => Ok(Some(value)),
+            Err(error) => Err(usd_error(&what, format!("{error:#}"))),
         }
     }
 
     /// Whether a spec exists at `path`.
     pub(crate) fn has_spec(&self, path: &sdf::Path) -> bool {
-        match self {
-            Layer::Text(data) => data.has_spec(path),
-            Layer::Crate { specs, .. } => specs.contains_key(path),
-        }
+        self.specs.contains_key(path)
     }
 
     /// The prims of the layer in namespace order (parents first, children in authored order),
@@ -234,71 +213,6 @@ impl<'a> Layer<'a> {
     }
 }
 
-fn open_text(bytes: &[u8]) -> Result<Layer<'_>, FormatErrorKind> {
-    let text = super::text::utf8_text(bytes)?;
-    check_nesting(text)?;
-    let mut parser = openusd::usda::parser::Parser::new(text);
-    let specs = guarded("text layer", || parser.parse())?;
-    match specs {
-        Ok(specs) => Ok(Layer::Text(sdf::Data::from_specs(specs))),
-        Err(error) => {
-            let line =
-                guarded("text layer", || parser.last_error_highlight())?.map_or(0, |h| h.line);
-            Err(FormatErrorKind::Syntax {
-                line,
-                message: format!("{error:#}"),
-            })
-        }
-    }
-}
-
-/// Refuses brackets nested deeper than [`MAX_TEXT_NESTING`] (outside strings and comments), so the
-/// crate's recursive parser cannot overflow the stack.
-fn check_nesting(text: &str) -> Result<(), FormatErrorKind> {
-    let (mut depth, mut line) = (0usize, 1usize);
-    let mut chars = text.chars();
-    while let Some(c) = chars.next() {
-        match c {
-            '\n' => line += 1,
-            '#' => {
-                for c in chars.by_ref() {
-                    if c == '\n' {
-                        line += 1;
-                        break;
-                    }
-                }
-            }
-            '"' | '\'' => {
-                let mut escaped = false;
-                for d in chars.by_ref() {
-                    match d {
-                        '\n' => line += 1,
-                        '\\' if !escaped => {
-                            escaped = true;
-                            continue;
-                        }
-                        d if d == c && !escaped => break,
-                        _ => {}
-                    }
-                    escaped = false;
-                }
-            }
-            '(' | '[' | '{' => {
-                depth += 1;
-                if depth > MAX_TEXT_NESTING {
-                    return Err(FormatErrorKind::Syntax {
-                        line,
-                        message: format!("brackets nested deeper than {MAX_TEXT_NESTING} levels"),
-                    });
-                }
-            }
-            ')' | ']' | '}' => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-    }
-    Ok(())
-}
-
 fn open_crate(bytes: &[u8]) -> Result<Layer<'_>, FormatErrorKind> {
     let version = usdc_check::check_structure(bytes)?;
     let element = "crate file";
@@ -319,7 +233,7 @@ fn open_crate(bytes: &[u8]) -> Result<Layer<'_>, FormatErrorKind> {
             specs.insert(path.clone(), spec.fieldset_index);
         }
     }
-    Ok(Layer::Crate {
+    Ok(Layer {
         bytes,
         version,
         file: Box::new(file),

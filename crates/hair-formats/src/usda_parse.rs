@@ -1,15 +1,13 @@
-//! The part of USD's text format (`.usda`) that holds `BasisCurves`: the layer's metadata
-//! (`upAxis`, `metersPerUnit`), prims nested to any depth, and in every `def BasisCurves` prim the
-//! attributes `type`, `basis`, `wrap`, `curveVertexCounts`, `points`, `widths`,
-//! `primvars:widths` and `primvars:displayColor` (with their `:indices` and `interpolation`),
-//! each as a default value and/or `.timeSamples`. Everything else (other prims, relationships,
-//! variant sets, dictionaries, connections) is skipped by its brackets; composition arcs
-//! (references, payloads, sublayers) are not followed and transforms are not applied.
-//!
-//! Values are resolved at a time while parsing, as USD does: time samples win over the default
-//! at a numeric time (held before the first and after the last sample, linear in between, the
-//! sample itself at its time); with no time, the default wins, else the earliest sample. Only the
-//! samples that can matter are kept, so an animation costs the memory of one or two frames.
+//! The parser of USD's text format (`.usda`), the one every text layer goes through: the layer's
+//! metadata (`upAxis`, `metersPerUnit`), prims nested to any depth, and in every prim of the kind
+//! asked for ([`PrimKind`]) the attributes it reads (`usda_prims.rs`): in `def BasisCurves`
+//! `type`, `basis`, `wrap`, `curveVertexCounts`, `points`, `widths`, `primvars:widths` and
+//! `primvars:displayColor` (with their `:indices` and `interpolation`); in `def Mesh` `points`,
+//! `faceVertexCounts`, `faceVertexIndices` and `orientation`; each as a default value and/or
+//! `.timeSamples`, resolved at a time while parsing (`usda_values.rs`). Everything else (other
+//! prims, relationships, variant sets, dictionaries, connections) is skipped by its brackets, on
+//! an explicit stack (no recursion but into prims, at most [`MAX_PRIM_DEPTH`] deep); composition
+//! arcs (references, payloads, sublayers) are not followed and transforms are not applied.
 
 use glam::Vec3;
 
@@ -17,254 +15,31 @@ use super::error::FormatErrorKind;
 use super::options::UpAxis;
 use super::text::shorten;
 use super::usda_lex::{Kind, Lexer, Token, unexpected};
+use super::usda_prims::{Collected, Field, Layer, PrimKind, Slot};
+use super::usda_values::{Array, Attr, Authored, Sample};
 
 /// Deepest prim nesting read (deeper is refused rather than risking the stack).
 const MAX_PRIM_DEPTH: usize = 200;
 
-/// Values of one array attribute with the line of each element.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Array<T> {
-    pub(crate) values: Vec<T>,
-    /// The line of each value (saturated at `u32::MAX`).
-    pub(crate) lines: Vec<u32>,
-}
-
-impl<T> Array<T> {
-    fn new() -> Self {
-        Array {
-            values: Vec::new(),
-            lines: Vec::new(),
-        }
-    }
-
-    fn push(&mut self, value: T, line: usize) {
-        self.values.push(value);
-        self.lines.push(u32::try_from(line).unwrap_or(u32::MAX));
-    }
-
-    pub(crate) fn len(&self) -> usize {
-        self.values.len()
-    }
-
-    /// The line of value `i` (the attribute's when out of range).
-    pub(crate) fn line(&self, i: usize, fallback: usize) -> usize {
-        self.lines.get(i).map_or(fallback, |&l| l as usize)
-    }
-}
-
-/// A value type that time samples interpolate.
-pub(crate) trait Sample: Clone {
-    /// `a` to `b` at `alpha` in `[0, 1]`.
-    fn lerp(a: &Self, b: &Self, alpha: f64) -> Self;
-}
-
-impl Sample for Vec3 {
-    fn lerp(a: &Self, b: &Self, alpha: f64) -> Self {
-        a.lerp(*b, alpha as f32)
-    }
-}
-
-impl Sample for f32 {
-    fn lerp(a: &Self, b: &Self, alpha: f64) -> Self {
-        (f64::from(*a) + (f64::from(*b) - f64::from(*a)) * alpha) as f32
-    }
-}
-
-impl Sample for i64 {
-    /// Integers are held, not interpolated (as in USD).
-    fn lerp(a: &Self, _: &Self, _: f64) -> Self {
-        *a
-    }
-}
-
-impl Sample for String {
-    fn lerp(a: &Self, _: &Self, _: f64) -> Self {
-        a.clone()
-    }
-}
-
-impl<T: Sample> Sample for Array<T> {
-    /// Element by element when the sizes agree, else held (as in USD).
-    fn lerp(a: &Self, b: &Self, alpha: f64) -> Self {
-        if a.len() != b.len() {
-            return a.clone();
-        }
-        Array {
-            values: a
-                .values
-                .iter()
-                .zip(&b.values)
-                .map(|(x, y)| T::lerp(x, y, alpha))
-                .collect(),
-            lines: a.lines.clone(),
-        }
-    }
-}
-
-/// An authored value: `None` when blocked (`= None`).
-type Authored<T> = Option<T>;
-
-/// One attribute as authored: its default and the time samples that matter at the time read.
-#[derive(Debug)]
-pub(crate) struct Attr<T> {
-    /// Line of the first declaration.
-    pub(crate) line: usize,
-    default: Option<Authored<T>>,
-    /// The latest sample at or before the time (the earliest sample when reading with no time).
-    lower: Option<(f64, Authored<T>)>,
-    /// The earliest sample after the time.
-    upper: Option<(f64, Authored<T>)>,
-    /// The `interpolation` metadata and its line.
-    pub(crate) interpolation: Option<(String, usize)>,
-}
-
-impl<T: Sample> Attr<T> {
-    fn new(line: usize) -> Self {
-        Attr {
-            line,
-            default: None,
-            lower: None,
-            upper: None,
-            interpolation: None,
-        }
-    }
-
-    /// Keeps a sample at `t` if it can matter when reading at `time`.
-    fn offer(&mut self, time: Option<f64>, t: f64, value: Authored<T>) {
-        match time {
-            None => {
-                if self.lower.as_ref().is_none_or(|(lt, _)| t < *lt) {
-                    self.lower = Some((t, value));
-                }
-            }
-            Some(time) if t <= time => {
-                if self.lower.as_ref().is_none_or(|(lt, _)| t >= *lt) {
-                    self.lower = Some((t, value));
-                }
-            }
-            Some(_) => {
-                if self.upper.as_ref().is_none_or(|(ut, _)| t < *ut) {
-                    self.upper = Some((t, value));
-                }
-            }
-        }
-    }
-
-    /// The value at `time` (see the module's documentation); `None` when not authored or blocked.
-    pub(crate) fn resolve(self, time: Option<f64>) -> Option<T> {
-        let Some(time) = time else {
-            return match self.default {
-                Some(value) => value,
-                None => self.lower.and_then(|(_, v)| v),
-            };
-        };
-        match (self.lower, self.upper) {
-            (None, None) => self.default.flatten(),
-            (Some((_, value)), None) | (None, Some((_, value))) => value,
-            (Some((lt, lower)), Some((ut, upper))) => match (lower, upper) {
-                (Some(a), Some(b)) => Some(T::lerp(&a, &b, (time - lt) / (ut - lt))),
-                (lower, _) => lower,
-            },
-        }
-    }
-}
-
-/// The attributes of one `def BasisCurves` prim.
-#[derive(Debug)]
-pub(crate) struct CurvesPrim {
-    /// The prim's name (quotes included) and line.
-    pub(crate) name: String,
-    pub(crate) line: usize,
-    pub(crate) curve_type: Option<Attr<String>>,
-    pub(crate) basis: Option<Attr<String>>,
-    pub(crate) wrap: Option<Attr<String>>,
-    pub(crate) counts: Option<Attr<Array<i64>>>,
-    pub(crate) points: Option<Attr<Array<Vec3>>>,
-    pub(crate) widths: Option<Attr<Array<f32>>>,
-    pub(crate) primvar_widths: Option<Attr<Array<f32>>>,
-    pub(crate) width_indices: Option<Attr<Array<i64>>>,
-    pub(crate) colors: Option<Attr<Array<Vec3>>>,
-    pub(crate) color_indices: Option<Attr<Array<i64>>>,
-}
-
-/// What a layer holds: its axes and units and its `BasisCurves` prims, in file order.
-#[derive(Debug)]
-pub(crate) struct Layer {
-    /// `upAxis` and its line (`Y` when not authored).
-    pub(crate) up: UpAxis,
-    /// `metersPerUnit` (0.01 when not authored, as in USD).
-    pub(crate) meters_per_unit: f64,
-    pub(crate) meters_per_unit_line: usize,
-    pub(crate) prims: Vec<CurvesPrim>,
-}
-
-/// The attributes of a `BasisCurves` prim that are read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Field {
-    Type,
-    Basis,
-    Wrap,
-    Counts,
-    Points,
-    Widths,
-    PrimvarWidths,
-    WidthIndices,
-    Colors,
-    ColorIndices,
-}
-
-impl Field {
-    fn from_name(name: &str) -> Option<Field> {
-        Some(match name {
-            "type" => Field::Type,
-            "basis" => Field::Basis,
-            "wrap" => Field::Wrap,
-            "curveVertexCounts" => Field::Counts,
-            "points" => Field::Points,
-            "widths" => Field::Widths,
-            "primvars:widths" => Field::PrimvarWidths,
-            "primvars:widths:indices" => Field::WidthIndices,
-            "primvars:displayColor" => Field::Colors,
-            "primvars:displayColor:indices" => Field::ColorIndices,
-            _ => return None,
-        })
-    }
-
-    /// Whether `type_name` (`[]` included) fits, and the type expected, in words.
-    fn accepts(self, type_name: &str) -> (bool, &'static str) {
-        let vec3 = |t: &str| {
-            t.strip_suffix("[]").is_some_and(|e| {
-                ["3f", "3d", "3h", "float3", "double3", "half3"]
-                    .iter()
-                    .any(|s| e.ends_with(s))
-            })
-        };
-        match self {
-            Field::Type | Field::Basis | Field::Wrap => (type_name == "token", "token"),
-            Field::Counts | Field::WidthIndices | Field::ColorIndices => (
-                matches!(type_name, "int[]" | "int64[]" | "uint[]" | "uint64[]"),
-                "int[]",
-            ),
-            Field::Points => (vec3(type_name), "point3f[]"),
-            Field::Colors => (vec3(type_name), "color3f[]"),
-            Field::Widths | Field::PrimvarWidths => (
-                matches!(type_name, "float[]" | "double[]" | "half[]"),
-                "float[]",
-            ),
-        }
-    }
-}
-
-/// Parses `text` (USD text, UTF-8) into its layer, resolving values at `time`.
-pub(crate) fn parse_layer(text: &str, time: Option<f64>) -> Result<Layer, FormatErrorKind> {
+/// Parses `text` (USD text, UTF-8) into its layer and its prims of `kind`, resolving values at
+/// `time`.
+pub(crate) fn parse_layer(
+    text: &str,
+    time: Option<f64>,
+    kind: PrimKind,
+) -> Result<Layer, FormatErrorKind> {
     let mut parser = Parser {
         lexer: Lexer::new(text),
         time,
+        kind,
+        path: Vec::new(),
+        prims_seen: 0,
         layer: Layer {
             up: UpAxis::Y,
             meters_per_unit: 0.01,
             meters_per_unit_line: 1,
-            prims: Vec::new(),
+            curves: Vec::new(),
+            meshes: Vec::new(),
         },
     };
     if parser.lexer.peek()?.is_some_and(|t| t.is(b'(')) {
@@ -277,12 +52,20 @@ pub(crate) fn parse_layer(text: &str, time: Option<f64>) -> Result<Layer, Format
             _ => return Err(unexpected(&token, "a prim (`def`, `over` or `class`)")),
         }
     }
+    // Namespace order, as USD walks a layer: a parent before its children.
+    parser.layer.meshes.sort_by_key(|mesh| mesh.order);
     Ok(parser.layer)
 }
 
 struct Parser<'a> {
     lexer: Lexer<'a>,
     time: Option<f64>,
+    /// The prims collected.
+    kind: PrimKind,
+    /// The names of the prims the parser is inside, outermost first.
+    path: Vec<String>,
+    /// Prims begun so far (each prim's place in namespace order).
+    prims_seen: usize,
     layer: Layer,
 }
 
@@ -459,20 +242,13 @@ impl<'a> Parser<'a> {
             self.metadata(&[])?;
         }
         self.lexer.expect(b'{', "opening the prim's body")?;
-        let mut curves =
-            (specifier.text == "def" && type_name == Some("BasisCurves")).then(|| CurvesPrim {
-                name: shorten(name.text),
-                line: name.line,
-                curve_type: None,
-                basis: None,
-                wrap: None,
-                counts: None,
-                points: None,
-                widths: None,
-                primvar_widths: None,
-                width_indices: None,
-                colors: None,
-                color_indices: None,
+        self.path.push(unquote(&name).to_owned());
+        let order = self.prims_seen;
+        self.prims_seen += 1;
+        let mut collected = (specifier.text == "def" && type_name == Some(self.kind.type_name()))
+            .then(|| {
+                let path = format!("/{}", self.path.join("/"));
+                Collected::new(self.kind, shorten(name.text), path, name.line, order)
             });
         loop {
             let token = self.lexer.expect_any(&format!(
@@ -494,12 +270,15 @@ impl<'a> Parser<'a> {
                     self.lexer.expect(b'=', "after `reorder …`")?;
                     self.skip_value()?;
                 }
-                (Kind::Ident, _) => self.property(token, curves.as_mut())?,
+                (Kind::Ident, _) => self.property(token, collected.as_mut())?,
                 _ => return Err(unexpected(&token, "a property, a child prim or `}`")),
             }
         }
-        if let Some(curves) = curves {
-            self.layer.prims.push(curves);
+        self.path.pop();
+        match collected {
+            Some(Collected::Curves(curves)) => self.layer.curves.push(*curves),
+            Some(Collected::Mesh(mesh)) => self.layer.meshes.push(*mesh),
+            None => {}
         }
         Ok(())
     }
@@ -508,7 +287,7 @@ impl<'a> Parser<'a> {
     fn property(
         &mut self,
         first: Token<'a>,
-        curves: Option<&mut CurvesPrim>,
+        collected: Option<&mut Collected>,
     ) -> Result<(), FormatErrorKind> {
         let mut token = first;
         while matches!(
@@ -535,49 +314,41 @@ impl<'a> Parser<'a> {
             Some((base, suffix)) => (base, Some(suffix)),
             None => (name.text, None),
         };
-        let field = curves.as_ref().and_then(|_| Field::from_name(base));
-        let Some((field, curves)) = field.zip(curves) else {
-            if self.lexer.eat(b'=')? {
-                self.skip_value()?;
-            }
-            return self.optional_metadata(&[]).map(drop);
+        let field = collected
+            .as_ref()
+            .and_then(|prim| Field::from_name(prim.kind(), base));
+        let Some((field, prim)) = field.zip(collected) else {
+            return self.skip_property();
         };
         let (fits, expected) = field.accepts(&type_name);
         if !fits {
             return Err(FormatErrorKind::Syntax {
                 line: type_token.line,
                 message: format!(
-                    "`{base}` of BasisCurves {} has type `{}`; expected `{expected}`",
-                    curves.name,
+                    "`{base}` of {} {} has type `{}`; expected `{expected}`",
+                    prim.kind().type_name(),
+                    prim.shown(),
                     shorten(&type_name)
                 ),
             });
         }
         let line = name.line;
         let time = self.time;
-        match field {
-            Field::Type => {
-                self.attribute(&mut curves.curve_type, line, suffix, time, Self::token)?
-            }
-            Field::Basis => self.attribute(&mut curves.basis, line, suffix, time, Self::token)?,
-            Field::Wrap => self.attribute(&mut curves.wrap, line, suffix, time, Self::token)?,
-            Field::Counts => self.attribute(&mut curves.counts, line, suffix, time, Self::ints)?,
-            Field::WidthIndices => {
-                self.attribute(&mut curves.width_indices, line, suffix, time, Self::ints)?
-            }
-            Field::ColorIndices => {
-                self.attribute(&mut curves.color_indices, line, suffix, time, Self::ints)?
-            }
-            Field::Points => self.attribute(&mut curves.points, line, suffix, time, Self::vec3s)?,
-            Field::Colors => self.attribute(&mut curves.colors, line, suffix, time, Self::vec3s)?,
-            Field::Widths => {
-                self.attribute(&mut curves.widths, line, suffix, time, Self::floats)?
-            }
-            Field::PrimvarWidths => {
-                self.attribute(&mut curves.primvar_widths, line, suffix, time, Self::floats)?
-            }
+        match prim.slot(field) {
+            Some(Slot::Token(slot)) => self.attribute(slot, line, suffix, time, Self::token),
+            Some(Slot::Ints(slot)) => self.attribute(slot, line, suffix, time, Self::ints),
+            Some(Slot::Floats(slot)) => self.attribute(slot, line, suffix, time, Self::floats),
+            Some(Slot::Vec3s(slot)) => self.attribute(slot, line, suffix, time, Self::vec3s),
+            None => self.skip_property(),
         }
-        Ok(())
+    }
+
+    /// The rest of a property that is not read: its value, if any, and its metadata.
+    fn skip_property(&mut self) -> Result<(), FormatErrorKind> {
+        if self.lexer.eat(b'=')? {
+            self.skip_value()?;
+        }
+        self.optional_metadata(&[]).map(drop)
     }
 
     /// Metadata after a property, if any; returns the `wanted` entries.

@@ -20,7 +20,9 @@ use super::curves::{Curves, CurvesBuilder, Field, vector_text};
 use super::error::{FormatError, FormatErrorKind, Location};
 use super::options::{ImportAxes, ImportOptions};
 use super::read_file;
-use super::usda_parse::{Array, Attr, CurvesPrim, Sample, parse_layer};
+use super::usda_parse::parse_layer;
+use super::usda_prims::{CurvesPrim, PrimKind};
+use super::usda_values::{Array, Attr, Sample};
 
 /// Reads the `BasisCurves` of a USD text file from its bytes, at the default time: each
 /// attribute's default value, or else its earliest time sample. Points and widths are converted
@@ -93,7 +95,7 @@ fn read(
         });
     }
     let text = super::text::utf8_text(bytes)?;
-    let layer = parse_layer(text, time)?;
+    let layer = parse_layer(text, time, PrimKind::Curves)?;
     // Scaled in f64, so that centimetres become the nearest metres (10 cm is 0.1 m exactly).
     let meters_per_unit = layer.meters_per_unit;
     let up = ImportAxes {
@@ -103,7 +105,7 @@ fn read(
     let point = |p: Vec3| up.point((p.as_dvec3() * meters_per_unit).as_vec3());
     let length = |w: f32| (f64::from(w) * meters_per_unit) as f32;
     let prims = layer
-        .prims
+        .curves
         .into_iter()
         .map(|prim| resolve(prim, time))
         .collect::<Result<Vec<_>, _>>()?;

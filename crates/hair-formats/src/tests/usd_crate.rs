@@ -462,7 +462,19 @@ fn broken_meshes_name_the_prim() {
             b"#usda 1.0\ndef Mesh \"m\" {\n  int[] faceVertexCounts = [3\n}\n",
             &Default::default()
         )),
-        "<memory>: line 4: Expected a number, identifier, or string, got Punctuation('}')"
+        "<memory>: line 4: expected `]` or `,` in the array opened at line 3, found `}`"
+    );
+    // Text meshes go through the project's parser: the same messages as a crate file's, with
+    // the line of the value at fault.
+    assert_eq!(
+        message(read_usd_mesh(
+            b"#usda 1.0\ndef Xform \"body\" {\n  def Mesh \"m\" {\n    int[] faceVertexCounts = [3]\n    \
+              int[] faceVertexIndices = [0, 1, 7]\n    point3f[] points = [(0, 0, 0), (1, 0, 0), \
+              (0, 1, 0)]\n  }\n}\n",
+            &Default::default()
+        )),
+        "<memory>: USD /body/m: faceVertexIndices[2] = 7 (face 0) names no point (3 points) (at \
+         line 5)"
     );
     let dir = scratch_dir("usd-crate-errors");
     let path = dir.join("curves.usda");
@@ -481,11 +493,14 @@ fn broken_meshes_name_the_prim() {
 
 #[test]
 fn deep_text_nesting_is_an_error_not_a_stack_overflow() {
+    // The project's parser skips values on an explicit stack: 100,000 brackets are only a file
+    // that ends too soon.
     let mut text = String::from("#usda 1.0\ndef Mesh \"m\" {\n  int[] a = ");
     text.push_str(&"[".repeat(100_000));
     let error = message(read_usd_mesh(text.as_bytes(), &Default::default()));
     assert_eq!(
         error,
-        "<memory>: line 3: brackets nested deeper than 64 levels"
+        "<memory>: line 3: the file ends where `]` closing the bracket of line 3 was expected \
+         (truncated?)"
     );
 }
