@@ -51,7 +51,7 @@ fn evaluate_all_strands(c: &mut Criterion) {
 
 fn import_and_fit(c: &mut Criterion) {
     use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
-    use hairlod::core::formats::{Curves, read_hair_file, write_hair};
+    use hairlod::formats::{Curves, read_hair_file, write_hair};
     let scene = Scene::preset("paper-curly").expect("paper-curly");
     let skeletons = &scene.groom.skeletons;
     let head = RigidTransform::IDENTITY;

@@ -6,7 +6,8 @@
 //!
 //! This crate is the one to depend on. It re-exports the workspace crates:
 //! - [`core`] (`hair-core`): skeletons, hairstyles, NURBS, representations, grooms, the procedural
-//!   head, OBJ export;
+//!   head;
+//! - [`formats`] (`hair-formats`): groom and body files read and written, OBJ export;
 //! - [`collide`] (`hair-collide`): swept-sphere volumes and collision queries;
 //! - [`render`] (`hair-render`): the headless wgpu renderer.
 //!
@@ -35,8 +36,17 @@ pub mod shot;
 
 pub use crowd::{Crowd, CrowdModel, CrowdRenderer};
 pub use hair_collide as collide;
-pub use hair_core as core;
+pub use hair_formats as formats;
 pub use hair_render as render;
+
+/// `hair-core`, the model ([`hair_core`] whole), with the file readers and writers where they
+/// were before they moved to [`formats`] (`hair-formats`): `core::formats`, `core::obj` and
+/// `core::export` are [`formats`], [`formats::obj`] and [`formats::export`].
+pub mod core {
+    pub use hair_core::*;
+    pub use hair_formats as formats;
+    pub use hair_formats::{export, obj};
+}
 pub use pipeline::{Checkpoint, LodMode, Pipeline, PipelineError, PipelineSettings, PipelineState};
 pub use rest_pose::{HangSettings, RestPose, hang_groom};
 pub use scene_file::SceneFile;

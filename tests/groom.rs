@@ -1,11 +1,11 @@
 //! Integration tests of grooms on the procedural head: the paper's counts, control-point counts,
 //! determinism, and OBJ export parsed back by an independent OBJ reader (`tobj`).
 
-use hairlod::core::export::{ExportOptions, export_obj};
 use hairlod::core::representation::drawn::strand_last_point;
 use hairlod::core::representation::geometry::{
     cluster_control_grid, patch_control_grid, strand_polylines,
 };
+use hairlod::formats::export::{ExportOptions, export_obj};
 use hairlod::{Level, RigidTransform, Scene};
 
 #[test]

@@ -5,9 +5,9 @@
 use std::path::PathBuf;
 
 use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
-use hairlod::core::formats::{Curves, read_curves_file, write_hair, write_usda_curves};
-use hairlod::core::obj::{ObjWriter, write_file_atomically};
 use hairlod::core::representation::geometry::strand_polylines;
+use hairlod::formats::obj::{ObjWriter, write_file_atomically};
+use hairlod::formats::{Curves, read_curves_file, write_hair, write_usda_curves};
 use hairlod::{RigidTransform, Scene};
 
 /// A fresh folder under the target's temporary directory.

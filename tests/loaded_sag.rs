@@ -11,7 +11,7 @@ use hairlod::core::dynamics::{
     SimulationSettings, TurnLimit, make_sag_free,
 };
 use hairlod::core::fit::{FitSettings, fit_hierarchy};
-use hairlod::core::formats::{ImportAxes, ImportOptions, read_curves_file};
+use hairlod::formats::{ImportAxes, ImportOptions, read_curves_file};
 use hairlod::{HairStyle, RigidTransform, SkeletonRest};
 
 /// A TressFX sample (`hairlod::core::samples`); panics naming the file when it is missing.

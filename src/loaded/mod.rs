@@ -1,5 +1,5 @@
 //! Grooms and bodies read from files, as a scene file names them (`[groom] file`, `[body] file`):
-//! the curves read in the file's units and axes ([`hair_core::formats`]), the paper's hierarchy
+//! the curves read in the file's units and axes ([`hair_formats`]), the paper's hierarchy
 //! fitted to them ([`hair_core::fit`]), the groom built from the fit
 //! ([`Groom::from_fit`](hair_core::Groom::from_fit)), and the body mesh in the procedural head's
 //! place (drawn, collided with, and hiding hair behind occluder boxes found inside it,
@@ -22,11 +22,9 @@ use hair_core::fit::{
     FitReport, FitSettings, FittedHierarchy, NodeCountScope, SectionCount, Smoothness,
     bind_profiles, fit_hierarchy,
 };
-use hair_core::formats::{
-    Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file,
-};
 use hair_core::groom::ChildStrands;
 use hair_core::{Groom, GroomParams, HairError, Head, HeadParams, Scene, TriangleMesh};
+use hair_formats::{Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file};
 use serde::Serialize;
 
 pub use occluders::{OccluderSettings, occluder_boxes};

@@ -4,8 +4,8 @@
 //! frames).
 
 use glam::Vec3;
+use hair_core::Curves;
 use hair_core::fit::{ErrorStats, FittedHierarchy, resample_into};
-use hair_core::formats::Curves;
 use hair_core::representation::geometry::strand_polylines;
 use hair_core::{Groom, Level, PerLevel, RigidTransform};
 use serde::Serialize;

@@ -12,7 +12,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use hair_core::obj::write_file_atomically;
+use hair_core::atomic_file::write_file_atomically;
 use serde::{Deserialize, Serialize};
 
 use super::error::{PipelineError, Result};

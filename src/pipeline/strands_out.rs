@@ -3,7 +3,7 @@
 //! switch to strand level would (§4.2), so every frame has every strand.
 
 use glam::Vec3;
-use hair_core::formats::Curves;
+use hair_core::Curves;
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::representation::geometry::strand_polylines;
 use hair_core::skeleton::node_frames;

@@ -68,11 +68,11 @@ pub fn write_png_through(path: &Path, draw: impl FnOnce(&Path) -> Result<()>) ->
 }
 
 /// Writes `bytes` to `path` through the one atomic writer
-/// ([`hairlod::core::obj::write_file_atomically`]: a temporary file with the process id, synced,
+/// ([`hairlod::core::atomic_file::write_file_atomically`]: a temporary file with the process id, synced,
 /// renamed, removed on error). Its error names the path.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     use std::io::Write;
-    hairlod::core::obj::write_file_atomically(path, |file| file.write_all(bytes))?;
+    hairlod::core::atomic_file::write_file_atomically(path, |file| file.write_all(bytes))?;
     Ok(())
 }
 

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use hairlod::core::export::{ExportOptions, export_obj};
 use hairlod::core::{GroomCounts, Level};
+use hairlod::formats::export::{ExportOptions, export_obj};
 use hairlod::{HangSettings, hang_groom};
 
 use crate::scene_args::SceneArgs;
@@ -161,7 +161,7 @@ fn print_table(report: &GroomReport) {
 /// `hairlod groom --file F`: reads the curves, fits the hierarchy, prints counts and errors.
 fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
     use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
-    use hairlod::core::formats::{ImportAxes, ImportOptions, UpAxis, read_curves_file};
+    use hairlod::formats::{ImportAxes, ImportOptions, UpAxis, read_curves_file};
     let options = ImportOptions {
         axes: ImportAxes {
             scale_to_metres: args.scale,

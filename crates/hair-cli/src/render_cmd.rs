@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::Args;
-use hairlod::core::formats::UsdCurvesWriter;
+use hairlod::formats::UsdCurvesWriter;
 use hairlod::pipeline::{Checkpoint, DrawStyle, FrameReport, PipelineRenderer, StageTimes};
 use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
@@ -333,7 +333,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 if shot.outputs.hair {
                     let path = output::frame_path(&hair_folder, index, shot.frames as u64)
                         .with_extension("hair");
-                    hairlod::core::formats::write_hair(&path, &curves)
+                    hairlod::formats::write_hair(&path, &curves)
                         .map_err(|error| writing(&path, error))?;
                 }
                 if shot.outputs.usd {

@@ -256,7 +256,7 @@ fn every_frame_writes_every_strand_as_cyhair_and_usd() {
     let mut frames = Vec::new();
     for k in 0..4 {
         let path = out.join("hair").join(format!("frame_{k:05}.hair"));
-        let curves = hairlod::core::formats::read_hair_file(&path, &Default::default())
+        let curves = hairlod::formats::read_hair_file(&path, &Default::default())
             .unwrap_or_else(|error| panic!("{}: {error}", path.display()));
         assert_eq!(curves.curve_count(), strands, "frame {k}");
         // Two points per skeleton segment along the B-spline, root included, up to the strand's
@@ -276,7 +276,7 @@ fn every_frame_writes_every_strand_as_cyhair_and_usd() {
     // The USD file holds the same strands, a time sample per frame (time code = frame).
     let usd = out.join("hair.usda");
     for (k, hair) in frames.iter().enumerate() {
-        let curves = hairlod::core::formats::read_usda_file_at(&usd, k as f64, &Default::default())
+        let curves = hairlod::formats::read_usda_file_at(&usd, k as f64, &Default::default())
             .unwrap_or_else(|error| panic!("{}: {error}", usd.display()));
         assert_eq!(curves.offsets, hair.offsets, "frame {k}");
         assert_eq!(curves.points, hair.points, "frame {k}");

@@ -67,7 +67,7 @@ impl HairError {
 
 impl HairError {
     /// An [`HairError::Io`] for `path`. An `error` whose message names the action and the path
-    /// already (as [`write_file_atomically`](crate::obj::write_file_atomically)'s do: `writing
+    /// already (as [`write_file_atomically`](crate::atomic_file::write_file_atomically)'s do: `writing
     /// PATH: why`) keeps only the why, so that the message says `writing PATH:` once.
     pub fn io(action: &'static str, path: &std::path::Path, error: &std::io::Error) -> Self {
         let path = path.display().to_string();
@@ -140,7 +140,7 @@ mod tests {
         let path = std::env::temp_dir()
             .join(format!("hairlod-no-such-folder-{}", std::process::id()))
             .join("groom.obj");
-        let io = crate::obj::write_file_atomically(&path, |_| Ok(())).unwrap_err();
+        let io = crate::atomic_file::write_file_atomically(&path, |_| Ok(())).unwrap_err();
         let error = HairError::io("writing", &path, &io).to_string();
         let named = format!("writing {}", path.display());
         assert!(error.starts_with(&format!("{named}: ")), "{error}");

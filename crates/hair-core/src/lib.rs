@@ -7,12 +7,12 @@
 //!
 //! Units are metres, seconds and kilograms; right-handed, +Y up, the face looking along +Z.
 
+pub mod atomic_file;
 pub mod camera;
+pub mod curves;
 pub mod dynamics;
 pub mod error;
-pub mod export;
 pub mod fit;
-pub mod formats;
 pub mod frame;
 pub mod groom;
 pub mod head;
@@ -20,7 +20,6 @@ pub mod level;
 pub mod lod;
 pub mod mesh;
 pub mod nurbs;
-pub mod obj;
 pub mod per_level;
 pub mod random;
 pub mod representation;
@@ -31,6 +30,7 @@ pub mod style;
 pub mod transform;
 
 pub use camera::Camera;
+pub use curves::Curves;
 pub use error::{HairError, Result};
 pub use frame::Frame;
 pub use groom::{

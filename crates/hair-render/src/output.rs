@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use hair_core::obj::write_file_atomically;
+use hair_core::atomic_file::write_file_atomically;
 
 use crate::error::{RenderError, Result, invalid};
 
@@ -26,7 +26,7 @@ pub fn frame_path(directory: &Path, index: u64, frame_count: u64) -> PathBuf {
 }
 
 /// Writes `image` as a PNG at `path` atomically, through the project's one atomic writer
-/// ([`hair_core::obj::write_file_atomically`]): the bytes go to a temporary file beside `path`
+/// ([`hair_core::atomic_file::write_file_atomically`]): the bytes go to a temporary file beside `path`
 /// named with the process id, are synced to disk, and the file is renamed over `path`; on any
 /// error the temporary file is removed. A stopped run leaves either the old file or the complete
 /// new one, never a half-written PNG, and two runs writing into one folder never share a

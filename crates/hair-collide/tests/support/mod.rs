@@ -1,7 +1,5 @@
-//! Shared test support: a seeded xorshift generator, random geometry and TressFX readers.
+//! Shared test support: a seeded xorshift generator, and random geometry.
 #![allow(dead_code)]
-
-pub mod tressfx;
 
 use glam::{Quat, Vec3};
 

@@ -13,8 +13,8 @@ use super::partition::{
 use super::report::{ErrorStats, FitReport, LevelErrors};
 use super::resample::resample_into;
 use super::settings::{FitSettings, NodeCountScope};
+use crate::curves::Curves;
 use crate::error::Result;
-use crate::formats::Curves;
 use crate::frame::Frame;
 use crate::level::Level;
 use crate::per_level::PerLevel;

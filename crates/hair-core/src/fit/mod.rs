@@ -1,6 +1,6 @@
-//! The paper's hierarchy fitted to any groom's curves (§3): strands (from any file reader, see
-//! [`crate::formats`]) grouped into sections of 5 strand groups, 3 clusters and 1 patch, each
-//! element with a skeleton that stands for its strands, and every level's error against them.
+//! The paper's hierarchy fitted to any groom's curves (§3): strands ([`Curves`](crate::curves::Curves),
+//! from any file reader of the `hair-formats` crate) grouped into sections of 5 strand groups,
+//! 3 clusters and 1 patch, each element with a skeleton that stands for its strands, and every level's error against them.
 //!
 //! Pure functions, deterministic whatever the thread count:
 //! - [`resample_curve`], [`curve_length`], [`total_turning`], [`node_count_for`]: curves by arc

@@ -9,8 +9,8 @@ use super::kmeans::{FEATURE_COUNT, Feature, balanced_kmeans};
 use super::pca::principal_direction;
 use super::resample::{at_fraction, resample_into};
 use super::settings::{FitSettings, GroupSplit};
+use crate::curves::Curves;
 use crate::error::{HairError, Result};
-use crate::formats::Curves;
 use crate::frame::Frame;
 
 /// Strand groups per section.

@@ -11,8 +11,8 @@ use rayon::prelude::*;
 
 use super::hierarchy::FittedHierarchy;
 use super::resample::resample_into;
+use crate::curves::Curves;
 use crate::error::{HairError, Result};
-use crate::formats::Curves;
 use crate::groom::{Groom, PROFILE_SAMPLES};
 use crate::level::Level;
 use crate::nurbs::NurbsCurve;

@@ -4,9 +4,9 @@
 use glam::Vec3;
 
 use super::{Groom, GroomParams, Section, StrandSet};
+use crate::curves::Curves;
 use crate::error::{HairError, Result};
 use crate::fit::{FittedHierarchy, curve_length};
-use crate::formats::Curves;
 use crate::level::Level;
 use crate::random::SplitMix64;
 

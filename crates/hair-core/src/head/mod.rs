@@ -80,8 +80,8 @@ impl Head {
         })
     }
 
-    /// A body from a mesh (a file's, in the scene's frame [m]: see
-    /// [`formats::read_mesh_file`](crate::formats::read_mesh_file)) with `occluder_boxes`
+    /// A body from a mesh (a file's, in the scene's frame [m]: see hair-formats'
+    /// `read_mesh_file`) with `occluder_boxes`
     /// `(min, max)` [m] that lie inside it (none is allowed: nothing is then hidden by the body).
     /// The mesh is drawn and collided with in place of the procedural head. Fails on a mesh that
     /// fails [`TriangleMesh::validate_surface`], and on a box that is not finite or

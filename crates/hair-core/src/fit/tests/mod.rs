@@ -1,13 +1,12 @@
-//! Tests of the fit: synthetic grooms with known answers (`synthetic.rs`) and the TressFX samples
-//! in `shared/data/tressfx` (`real_data.rs`).
+//! Tests of the fit: synthetic grooms with known answers (`synthetic.rs`). The TressFX samples
+//! are fitted in hair-formats (`src/tests/fit_real_data.rs`), which reads them.
 
-mod real_data;
 mod synthetic;
 
 use glam::Vec3;
 
 use super::FittedHierarchy;
-use crate::formats::Curves;
+use crate::curves::Curves;
 use crate::level::Level;
 
 /// Curves from polylines (no widths, colours or skipped curves).

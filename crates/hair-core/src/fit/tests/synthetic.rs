@@ -3,10 +3,10 @@
 use glam::Vec3;
 
 use super::{assert_well_formed, curves_from};
+use crate::curves::Curves;
 use crate::fit::{
     FitSettings, NodeCountScope, Representative, SectionCount, Smoothness, fit_hierarchy,
 };
-use crate::formats::Curves;
 use crate::level::Level;
 use crate::random::SplitMix64;
 
