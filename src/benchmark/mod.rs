@@ -10,8 +10,13 @@ use hair_core::lod::LodSettings;
 
 mod budget;
 pub mod coverage;
+mod paper;
 
 pub use budget::{BudgetedRun, run_budgeted};
+pub use paper::{
+    AgainstStrands, BudgetedAgainstStrands, PaperOptions, PaperRun, PaperRunError, PaperRuns,
+    run_budgeted_against, run_paper_tables,
+};
 
 use crate::pipeline::{LodMode, PipelineRenderer, PipelineSettings, Result};
 use crate::run::{ModeRun, RunOptions, View, run_shot};

@@ -8,16 +8,15 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use hairlod::Scene;
-use hairlod::accuracy::{
-    geometric_error_of_visible, head_sight, sample_skeletons, strand_skeletons, visible_samples,
+use hairlod::benchmark::{
+    AgainstStrands, BudgetedAgainstStrands, PaperOptions, PaperRun, PaperRuns, paper_figures,
+    run_budgeted_against, run_paper_tables,
 };
-use hairlod::benchmark::{BudgetedRun, paper_figures, paper_modes, run_budgeted};
 use hairlod::core::lod::{BudgetMethod, BudgetSettings, ErrorModel, LodSettings};
-use hairlod::metrics::{luma, ssim};
-use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
-use hairlod::popping::{ExcessPopping, Popping, PoppingMeter, excess_popping};
+use hairlod::pipeline::PipelineRenderer;
+use hairlod::popping::{ExcessPopping, Popping};
 use hairlod::render::RendererOptions;
-use hairlod::run::{FrameLoop, ModeRun, RunOptions, View};
+use hairlod::run::ModeRun;
 use hairlod::scene_file::SceneFile;
 use hairlod::shot::Shot;
 use serde::Serialize;
@@ -103,21 +102,13 @@ pub struct PaperArgs {
     pub chart: Option<PathBuf>,
 }
 
-/// What `bench paper` runs beyond the four modes.
+/// What `bench paper` runs beyond the four modes: the library's options and a chart.
 #[derive(Debug, Clone, Default)]
 pub struct PaperExtras {
-    /// Frame budget [ms] for a budgeted LODs run.
-    pub budget_ms: Option<f64>,
-    /// How the budget is met, one budgeted run each (empty: the greedy method).
-    pub budget_methods: Vec<BudgetMethod>,
+    /// Overrides of the LODs and the frame-budget runs.
+    pub options: PaperOptions,
     /// Model-size chart path.
     pub chart: Option<PathBuf>,
-    /// Error model of the LODs (`None`: the shot's).
-    pub error_model: Option<ErrorModel>,
-    /// Blend duration of the LODs [s] (`None`: the shot's).
-    pub blend_time: Option<f32>,
-    /// Look ahead of the LODs' choice, a fraction of the blend time (`None`: the shot's).
-    pub blend_lead: Option<f32>,
 }
 
 #[derive(Serialize)]
@@ -137,38 +128,10 @@ struct PaperReport<'a> {
     popping_lod_stage: hairlod::popping::PoppingComparison,
     pixel_tolerance: f32,
     error_model: ErrorModel,
-    mean_ssim_against_strands: SsimAgainstStrands,
-    mean_pixel_error_against_strands: MeanPixelError,
+    mean_ssim_against_strands: AgainstStrands,
+    mean_pixel_error_against_strands: AgainstStrands,
     paper_seconds_per_frame: Option<[[f64; 4]; 3]>,
-    budgeted: Vec<Budgeted>,
-}
-
-/// The frame-budget run and the error it paid.
-#[derive(Serialize)]
-struct Budgeted {
-    #[serde(flatten)]
-    run: BudgetedRun,
-    /// Mean SSIM of its frames against the Strands frames.
-    mean_ssim_against_strands: f64,
-}
-
-#[derive(Serialize, Clone, Copy)]
-struct SsimAgainstStrands {
-    lods: f64,
-    /// The LODs switching instantly (`blend_time` 0, the paper's transitions).
-    lods_instant_switching: f64,
-    clusters: f64,
-    patches: f64,
-}
-
-/// Mean pixel error of each mode's hair samples against the Strands run's, frame by frame.
-#[derive(Serialize, Clone, Copy)]
-struct MeanPixelError {
-    lods: f64,
-    /// The LODs switching instantly (`blend_time` 0, the paper's transitions).
-    lods_instant_switching: f64,
-    clusters: f64,
-    patches: f64,
+    budgeted: Vec<BudgetedAgainstStrands>,
 }
 
 /// Runs `hairlod bench`.
@@ -199,12 +162,11 @@ fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
         return crate::crowd_cmd::bench(&shot, args.budget_ms, args.json.as_deref());
     }
     let extras = PaperExtras {
-        budget_ms: args.budget_ms,
-        budget_methods: Vec::new(),
+        options: PaperOptions {
+            budget_ms: args.budget_ms,
+            ..PaperOptions::default()
+        },
         chart: args.chart.clone(),
-        error_model: None,
-        blend_time: None,
-        blend_lead: None,
     };
     let pixel_tolerance = shot.lod_settings().pixel_tolerance;
     let report = paper_tables(&shot, pixel_tolerance, &extras)?;
@@ -217,12 +179,14 @@ fn run_scene(path: &std::path::Path, args: &BenchArgs) -> Result<()> {
 fn run_paper(args: &PaperArgs) -> Result<()> {
     let shot = args.shot.shot()?;
     let extras = PaperExtras {
-        budget_ms: args.budget_ms,
-        budget_methods: args.budget_method.clone(),
+        options: PaperOptions {
+            budget_ms: args.budget_ms,
+            budget_methods: args.budget_method.clone(),
+            error_model: Some(args.error_model),
+            blend_time: args.blend_time,
+            blend_lead: args.blend_lead,
+        },
         chart: args.chart.clone(),
-        error_model: Some(args.error_model),
-        blend_time: args.blend_time,
-        blend_lead: args.blend_lead,
     };
     let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
     if let Some(path) = &args.json {
@@ -241,152 +205,31 @@ pub fn paper_tables(
 ) -> Result<serde_json::Value> {
     let scene = shot.build_scene()?;
     let options = RendererOptions::from_env()?;
-    let lod = LodSettings {
-        pixel_tolerance,
-        error_model: extras
-            .error_model
-            .unwrap_or(shot.lod_settings().error_model),
-        blend_time: extras.blend_time.unwrap_or(shot.lod_settings().blend_time),
-        blend_lead: extras.blend_lead.unwrap_or(shot.lod_settings().blend_lead),
-        ..shot.lod_settings()
-    };
-    lod.validate()?;
-    let budget = match extras.budget_ms {
-        Some(ms) => {
-            // Hold a lowering of the tolerance for the blend time: its cost shows only after it.
-            let frame_time = shot.settings.dynamics.time_step;
-            let settings = BudgetSettings {
-                hold_frames: (lod.blend_time / frame_time).round() as usize,
-                ..BudgetSettings::new(ms / 1e3)
-            };
-            settings.validate()?;
-            Some(settings)
-        }
-        None => shot.budget,
-    };
+    let lod = extras.options.lod(shot, pixel_tolerance)?;
+    let budgets = extras.options.budgets(shot, &lod)?;
     let mut renderer = PipelineRenderer::new(&options, &scene)?;
     renderer.set_style(shot.outputs.style());
     // The modes share this renderer: none pays for compiling the pipelines.
     renderer.warm_up(&scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();
     println!("rendering on {adapter}");
-    let mut modes = Vec::new();
-    let instant = LodMode::Auto(hairlod::core::lod::LodSettings {
-        blend_time: 0.0,
-        ..lod
-    });
-    let runs: Vec<(LodMode, &str)> = paper_modes(lod)
-        .into_iter()
-        .map(|mode| (mode, mode.column_name()))
-        .chain([(instant, "LODs, instant switching")])
-        .collect();
-    // Luma of the LODs and Strands frames, for SSIM against Strands (the finest level).
-    let mut lod_frames = Vec::new();
-    let mut strand_frames = Vec::new();
-    let mut instant_frames = Vec::new();
-    let mut instant_switched = Vec::new();
-    // Per run (LODs, Strands, Clusters, Patches, LODs with instant switching).
-    let mut ssim_sums = [0.0f64; 5];
-    // Hair samples per frame (the strand-group skeletons each mode stands for, 8 per skeleton)
-    // for the pixel error against Strands, with which of the Strands samples the viewer sees.
-    let (width, height) = (shot.width, shot.height);
-    let mut lod_samples = Vec::new();
-    let mut strand_samples: Vec<(Vec<glam::Vec3>, Vec<bool>)> = Vec::new();
-    let mut pixel_sums = [0.0f64; 5];
-    // The five runs are interleaved frame by frame (each makes frame k before any makes k + 1),
-    // so that every mode sees the same machine load: on a shared machine, runs one after another
-    // can differ by 10–20 % for load alone. The runs share the scene and the renderer; each
-    // frame's work is its own (bit for bit what the run alone makes, `tests/frame_loop.rs`).
-    let mut loops = Vec::with_capacity(runs.len());
-    for (mode, label) in &runs {
-        let settings = PipelineSettings {
-            lod: *mode,
-            ..shot.settings
-        };
-        let options = RunOptions::whole(shot, settings);
-        loops.push(
-            FrameLoop::start(shot, &scene, options, Some(&mut renderer))
-                .with_context(|| format!("the {label} run failed to start"))?,
-        );
-    }
-    let mut meters: Vec<PoppingMeter> = runs.iter().map(|_| PoppingMeter::default()).collect();
-    let views = [View::Shaded];
     let bar = progress_bar(
-        shot.frames * runs.len(),
+        shot.frames * PaperRun::ALL.len(),
         "LODs, Strands, Clusters, Patches, LODs instant, frame by frame",
     );
-    for frame in 0..shot.frames {
-        for (index, frame_loop) in loops.iter_mut().enumerate() {
-            let label = runs[index].1;
-            let output = frame_loop
-                .step(Some((&mut renderer, &views)))
-                .with_context(|| format!("the {label} run failed at frame {frame}"))?
-                .with_context(|| format!("the {label} run ended before frame {frame}"))?;
-            let report = output.report;
-            // Every run's hair samples against the Strands run's (the pixel error).
-            {
-                let groom = &output.pipeline.scene().groom;
-                let samples = sample_skeletons(groom, &strand_skeletons(output.pipeline)?, 8);
-                let error = |(reference, visible): &(Vec<glam::Vec3>, Vec<bool>),
-                             samples: &[glam::Vec3]| {
-                    geometric_error_of_visible(
-                        output.camera,
-                        width,
-                        height,
-                        reference,
-                        samples,
-                        visible,
-                    )
-                    .mean_pixels
-                };
-                match index {
-                    0 => lod_samples.push(samples),
-                    1 => {
-                        let sight = head_sight(output.pipeline)?;
-                        let visible = visible_samples(output.camera, &sight, &samples);
-                        let reference = (samples, visible);
-                        pixel_sums[0] += error(&reference, &lod_samples[frame]);
-                        strand_samples.push(reference);
-                    }
-                    _ => pixel_sums[index] += error(&strand_samples[frame], &samples),
-                }
-            }
-            if let Some(image) = output.images.first() {
-                meters[index].add(image, report.level_changes > 0);
-                match index {
-                    0 => lod_frames.push(luma(image)),
-                    1 => {
-                        let gray = luma(image);
-                        ssim_sums[0] += ssim(&lod_frames[frame], &gray);
-                        strand_frames.push(gray);
-                    }
-                    2 | 3 => ssim_sums[index] += ssim(&strand_frames[frame], &luma(image)),
-                    _ => {
-                        let gray = luma(image);
-                        ssim_sums[index] += ssim(&strand_frames[frame], &gray);
-                        instant_frames.push(gray);
-                        instant_switched.push(report.level_changes > 0);
-                    }
-                }
-            }
-            bar.inc(1);
-        }
-    }
+    let runs = run_paper_tables(shot, &scene, lod, &mut renderer, |_, _| bar.inc(1))?;
     bar.finish();
-    let popping_blended = meters[0].popping();
-    let popping_instant = meters[4].popping();
-    let mut instant_run = None;
-    for (index, frame_loop) in loops.into_iter().enumerate() {
-        let run = frame_loop.finish().run;
-        if index < 4 {
-            modes.push(run);
-        } else {
-            instant_run = Some(ModeRun {
-                mode: "LODs, instant switching".to_string(),
-                ..run
-            });
-        }
-    }
+    let PaperRuns {
+        modes,
+        instant: instant_run,
+        mean_ssim,
+        mean_pixels,
+        popping_blended,
+        popping_instant,
+        excess_blended,
+        excess_instant,
+        strand_frames,
+    } = runs;
     let paper = shot.paper_table.and_then(paper_figures);
     let title = match shot.paper_table {
         Some(1) => "Table 1: camera zooming out from the head",
@@ -394,13 +237,6 @@ pub fn paper_tables(
         _ => "The scene in each mode",
     };
     let speedups = print_table(title, &modes, paper.as_ref(), shot);
-    let blended_switched: Vec<bool> = modes[0]
-        .frames
-        .iter()
-        .map(|f| f.level_changes > 0)
-        .collect();
-    let excess_blended = excess_popping(&lod_frames, &strand_frames, &blended_switched);
-    let excess_instant = excess_popping(&instant_frames, &strand_frames, &instant_switched);
     println!(
         "popping beyond the camera's motion (mean |Δluma| between frames, LODs minus Strands): \
          blended {:.5} at {} switch frames ({:.5} elsewhere), instant {:.5} at {} ({:.5} elsewhere)",
@@ -429,25 +265,11 @@ pub fn paper_tables(
         blended.peak_lod_change,
         instant.peak_lod_change
     );
-    let frames = shot.frames as f64;
-    let mean_ssim = SsimAgainstStrands {
-        lods: ssim_sums[0] / frames,
-        lods_instant_switching: ssim_sums[4] / frames,
-        clusters: ssim_sums[2] / frames,
-        patches: ssim_sums[3] / frames,
-    };
     println!(
         "mean SSIM against Strands, frame by frame: LODs {:.4}, Clusters {:.4}, Patches {:.4} \
          (LOD pixel tolerance {pixel_tolerance} px)",
         mean_ssim.lods, mean_ssim.clusters, mean_ssim.patches
     );
-    let mean_pixels = MeanPixelError {
-        lods: pixel_sums[0] / frames,
-        lods_instant_switching: pixel_sums[4] / frames,
-        clusters: pixel_sums[2] / frames,
-        patches: pixel_sums[3] / frames,
-    };
-    let instant_run = instant_run.expect("the instant-switching run is the fifth");
     print_where_lods_sit(
         &modes,
         &instant_run,
@@ -469,23 +291,15 @@ pub fn paper_tables(
         popping_instant.steady
     );
     let mut budgeted = Vec::new();
-    if let Some(budget) = budget {
-        let methods = if extras.budget_methods.is_empty() {
-            vec![budget.method]
-        } else {
-            extras.budget_methods.clone()
-        };
-        for method in methods {
-            let budget = BudgetSettings { method, ..budget };
-            budgeted.push(budgeted_run(
-                shot,
-                &scene,
-                lod,
-                budget,
-                &mut renderer,
-                &strand_frames,
-            )?);
-        }
+    for budget in budgets {
+        budgeted.push(budgeted_run(
+            shot,
+            &scene,
+            lod,
+            budget,
+            &mut renderer,
+            &strand_frames,
+        )?);
     }
     if let Some(path) = &extras.chart {
         model_size_chart(path, shot, &modes)?;
@@ -520,30 +334,27 @@ fn budgeted_run(
     budget: BudgetSettings,
     renderer: &mut PipelineRenderer,
     strand_frames: &[image::GrayImage],
-) -> Result<Budgeted> {
+) -> Result<BudgetedAgainstStrands> {
     let bar = progress_bar(
         shot.frames,
         &format!("LODs, frame budget ({})", budget.method),
     );
-    let mut ssim_sum = 0.0;
-    let run = run_budgeted(
+    let budgeted = run_budgeted_against(
         shot,
         scene,
         lod,
         budget,
         renderer,
-        |report, image, tolerance| {
-            if let Some(strands) = strand_frames.get(report.frame) {
-                ssim_sum += ssim(strands, &luma(image));
-            }
+        strand_frames,
+        |tolerance| {
             bar.set_message(format!("τ {tolerance:.2} px"));
             bar.inc(1);
         },
     )
     .context("the frame-budget run failed")?;
     bar.finish();
-    let mean_ssim = ssim_sum / shot.frames.max(1) as f64;
-    let b = &run.budget;
+    let mean_ssim = budgeted.mean_ssim_against_strands;
+    let b = &budgeted.run.budget;
     println!(
         "frame budget {:.1} ms ({}): met in {} of {} frames ({:.0} %), mean cost {:.1} ms, mean \
          tolerance {:.2} px (largest {:.2}), mean SSIM against Strands {:.4}",
@@ -557,10 +368,7 @@ fn budgeted_run(
         b.max_tolerance,
         mean_ssim
     );
-    Ok(Budgeted {
-        run,
-        mean_ssim_against_strands: mean_ssim,
-    })
+    Ok(budgeted)
 }
 
 /// Charts the simulated nodes and drawn segments per frame of the LODs and Strands runs with the
@@ -612,8 +420,8 @@ fn model_size_chart(path: &std::path::Path, shot: &Shot, modes: &[ModeRun]) -> R
 fn print_where_lods_sit(
     modes: &[ModeRun],
     instant: &ModeRun,
-    ssim: &SsimAgainstStrands,
-    pixels: &MeanPixelError,
+    ssim: &AgainstStrands,
+    pixels: &AgainstStrands,
     error_model: ErrorModel,
 ) {
     let strands_mean = modes[1].mean.total();

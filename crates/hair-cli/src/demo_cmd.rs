@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use hairlod::benchmark::{paper_shot, resized};
+use hairlod::benchmark::{PaperOptions, paper_shot, resized};
 use hairlod::core::lod::{ErrorModel, LodSettings};
 use hairlod::pipeline::{LodMode, PipelineRenderer, PipelineSettings};
 use hairlod::render::RendererOptions;
@@ -110,12 +110,11 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     );
     if !args.no_bench {
         let extras = PaperExtras {
-            budget_ms: None,
-            budget_methods: Vec::new(),
+            options: PaperOptions {
+                error_model: Some(ErrorModel::Deviation),
+                ..PaperOptions::default()
+            },
             chart: Some(args.out.join("model_size.png")),
-            error_model: Some(ErrorModel::Deviation),
-            blend_time: None,
-            blend_lead: None,
         };
         let report = paper_tables(&shot, args.pixel_tolerance, &extras)?;
         write_json(&args.out.join("bench.json"), &report)?;
