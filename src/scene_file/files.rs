@@ -5,7 +5,7 @@
 
 use hair_core::fit::SectionCount;
 
-use super::resolve::{count, one_of, positive, within};
+use super::checks::{count, one_of, positive, within};
 use super::{SceneFile, SceneFileError};
 use crate::loaded::{BodyFile, FileAxes, GroomFile};
 

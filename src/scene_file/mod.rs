@@ -20,13 +20,15 @@
 //! ```
 
 mod bounds;
+mod checks;
 mod files;
 #[cfg(test)]
 mod fuzz;
 mod resolve;
 
 pub use bounds::{MAX_CAMERA_DISTANCE, MAX_HEAD_COORDINATE, MIN_CAMERA_DISTANCE};
-pub use resolve::{DEFAULT_FILE_MATERIAL, parse_size};
+pub use checks::parse_size;
+pub use resolve::DEFAULT_FILE_MATERIAL;
 
 use std::path::{Path, PathBuf};
 
