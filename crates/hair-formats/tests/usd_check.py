@@ -55,8 +55,10 @@ def vec_bits(points):
 
 def cargo_step(test, directory):
     env = dict(os.environ, HAIRLOD_USD_CHECK_DIR=directory)
-    command = ["cargo", "test", "-q", "-p", "hair-formats", "--lib", f"tests::usda::{test}",
-               "--", "--ignored", "--exact", "--nocapture"]
+    # `--workspace` as `.ci/run`'s `cargo test --workspace` builds it: `-p hair-formats` alone
+    # unifies features differently and recompiles the crate and its dependencies (5 min on CI).
+    command = ["cargo", "test", "-q", "--workspace", "--lib", "--", f"tests::usda::{test}",
+               "--ignored", "--exact", "--nocapture"]
     result = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True)
     if result.returncode != 0:
         sys.exit(f"FAIL: cargo step {test}:\n{result.stdout}\n{result.stderr}")
