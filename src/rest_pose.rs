@@ -44,47 +44,24 @@ use hair_core::dynamics::{
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::skeleton::measure_chain;
 use hair_core::{Groom, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::pipeline::{LodMode, Pipeline, PipelineError, PipelineSettings, Result};
 
-/// The shape a groom is drawn in at rest and starts every run from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum RestPose {
-    /// Hanging on the body under gravity, and an equilibrium there ([`hang_groom`]).
-    #[default]
-    Hanging,
-    /// The shape the groom was grown in, its springs at rest: not an equilibrium under gravity
-    /// (the hair falls at first; a run settles it before its first frame).
-    Grown,
-    /// The shape a groom file gives, kept, and made an equilibrium there ([`hang_groom`] with
-    /// [`HangSettings::fall`] off): only a level whose springs cannot hold it alone sinks onto
-    /// the body. For grooms read from files (a generated groom's grown shape is no hairstyle).
-    Loaded,
-}
-
-impl RestPose {
-    /// The names used in scene files and on the command line.
-    pub const NAMES: [&'static str; 3] = ["hanging", "grown", "loaded"];
-
-    /// The name of this pose.
-    pub fn name(self) -> &'static str {
-        match self {
-            RestPose::Hanging => "hanging",
-            RestPose::Grown => "grown",
-            RestPose::Loaded => "loaded",
-        }
-    }
-
-    /// The pose named `name` (one of [`RestPose::NAMES`]).
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "hanging" => Some(RestPose::Hanging),
-            "grown" => Some(RestPose::Grown),
-            "loaded" => Some(RestPose::Loaded),
-            _ => None,
-        }
+hair_core::named_enum! {
+    /// The shape a groom is drawn in at rest and starts every run from.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum RestPose {
+        /// Hanging on the body under gravity, and an equilibrium there ([`hang_groom`]).
+        #[default]
+        Hanging = "hanging",
+        /// The shape the groom was grown in, its springs at rest: not an equilibrium under
+        /// gravity (the hair falls at first; a run settles it before its first frame).
+        Grown = "grown",
+        /// The shape a groom file gives, kept, and made an equilibrium there ([`hang_groom`] with
+        /// [`HangSettings::fall`] off): only a level whose springs cannot hold it alone sinks onto
+        /// the body. For grooms read from files (a generated groom's grown shape is no hairstyle).
+        Loaded = "loaded",
     }
 }
 

@@ -126,15 +126,15 @@ pub struct Outputs {
     pub hair: bool,
     /// Every strand of the run as one USD BasisCurves prim with a time sample per frame.
     pub usd: bool,
-    /// Hair shaded with Marschner's lobes instead of Kajiya-Kay's
+    /// The hair's reflectance model, with its default parameters
     /// ([`DrawStyle::hair_shading`](crate::pipeline::DrawStyle::hair_shading)).
-    pub marschner: bool,
-    /// Strand lines cover their fibre's width's share of a pixel instead of the whole pixel
+    pub shading: hair_render::ShadingModel,
+    /// How much of a pixel a strand line covers
     /// ([`DrawStyle::line_coverage`](crate::pipeline::DrawStyle::line_coverage)).
-    pub line_coverage_by_width: bool,
-    /// Cluster tubes tessellated instead of drawn as view-facing stand-ins
+    pub line_coverage: hair_render::LineCoverage,
+    /// How cluster tubes are drawn
     /// ([`DrawStyle::cluster_geometry`](crate::pipeline::DrawStyle::cluster_geometry)).
-    pub cluster_tubes: bool,
+    pub cluster_geometry: hair_render::ClusterGeometry,
 }
 
 impl Outputs {
@@ -142,21 +142,9 @@ impl Outputs {
     /// geometry asked for, lines shaded at their curve points.
     pub fn style(&self) -> crate::pipeline::DrawStyle {
         crate::pipeline::DrawStyle {
-            hair_shading: if self.marschner {
-                hair_render::HairShading::Marschner(hair_render::Marschner::default())
-            } else {
-                hair_render::HairShading::KajiyaKay
-            },
-            line_coverage: if self.line_coverage_by_width {
-                hair_render::LineCoverage::Width
-            } else {
-                hair_render::LineCoverage::Pixel
-            },
-            cluster_geometry: if self.cluster_tubes {
-                hair_render::ClusterGeometry::Tube
-            } else {
-                hair_render::ClusterGeometry::Impostor
-            },
+            hair_shading: self.shading.into(),
+            line_coverage: self.line_coverage,
+            cluster_geometry: self.cluster_geometry,
             ..crate::pipeline::DrawStyle::default()
         }
     }

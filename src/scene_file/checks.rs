@@ -1,5 +1,5 @@
 //! The checks every scene-file value goes through: a number within its range, a count, a finite
-//! vector, one of a list of names, an image size; each error names the field and the allowed range.
+//! vector, an image size; each error names the field and the allowed range.
 
 use glam::Vec3;
 
@@ -47,18 +47,6 @@ pub(super) fn vector(field: &str, value: [f32; 3]) -> Result<Vec3> {
     } else {
         Err(SceneFileError::new(format!(
             "{field} = {value:?}: expected three finite numbers"
-        )))
-    }
-}
-
-/// One of `names`, or an error listing them.
-pub(super) fn one_of<'a>(field: &str, value: &'a str, names: &[&str]) -> Result<&'a str> {
-    if names.contains(&value) {
-        Ok(value)
-    } else {
-        Err(SceneFileError::new(format!(
-            "{field} = {value:?}: expected one of {}",
-            names.join(", ")
         )))
     }
 }

@@ -5,7 +5,10 @@
 
 use hair_core::fit::SectionCount;
 
-use super::checks::{count, one_of, positive, within};
+use hair_formats::UpAxis;
+
+use super::checks::{count, positive, within};
+use super::choices::BodyKind;
 use super::{SceneFile, SceneFileError};
 use crate::loaded::{BodyFile, FileAxes, GroomFile};
 
@@ -23,15 +26,13 @@ const GENERATED_ONLY: [&str; 4] = [
 fn axes(
     table: &str,
     scale: Option<f32>,
-    up: Option<&str>,
+    up: Option<UpAxis>,
     mirror: Option<bool>,
 ) -> Result<FileAxes> {
     let scale_to_metres = positive(&format!("{table}.scale"), scale.unwrap_or(1.0))?;
-    let up = up.unwrap_or("y");
-    one_of(&format!("{table}.up_axis"), up, &["y", "z"])?;
     Ok(FileAxes {
         scale_to_metres,
-        z_up: up == "z",
+        z_up: up == Some(UpAxis::Z),
         mirror_x: mirror.unwrap_or(false),
     })
 }
@@ -107,7 +108,7 @@ impl SceneFile {
             .map(|name| self.existing_file("groom.file", name))
             .collect::<Result<Vec<_>>>()?;
         let mut groom = GroomFile::new(paths);
-        groom.axes = axes("groom", table.scale, table.up_axis.as_deref(), table.mirror)?;
+        groom.axes = axes("groom", table.scale, table.up_axis, table.mirror)?;
         groom.sections = match (table.section_count, table.strands_per_section) {
             (Some(_), Some(_)) => {
                 return Err(SceneFileError::new(
@@ -150,14 +151,13 @@ impl SceneFile {
     /// `[body] file` and its settings, or `None` (the procedural head).
     pub(super) fn body_file(&self, groom_file: bool) -> Result<Option<BodyFile>> {
         let table = &self.body;
-        let kind = table.kind.as_deref().unwrap_or(if table.file.is_some() {
-            "mesh"
+        let kind = table.kind.unwrap_or(if table.file.is_some() {
+            BodyKind::Mesh
         } else {
-            "procedural-head"
+            BodyKind::ProceduralHead
         });
-        one_of("body.kind", kind, &["procedural-head", "mesh"])?;
         let Some(file) = &table.file else {
-            if kind == "mesh" {
+            if kind == BodyKind::Mesh {
                 return Err(SceneFileError::new(
                     "body.kind = \"mesh\": needs body.file, the mesh to read",
                 ));
@@ -169,9 +169,9 @@ impl SceneFile {
             }
             return Ok(None);
         };
-        if kind != "mesh" {
+        if kind != BodyKind::Mesh {
             return Err(SceneFileError::new(format!(
-                "body.kind = {kind:?}: body.file = {file:?} is a mesh; leave body.kind out or \
+                "body.kind = \"{kind}\": body.file = {file:?} is a mesh; leave body.kind out or \
                  set it to \"mesh\""
             )));
         }
@@ -182,7 +182,7 @@ impl SceneFile {
             )));
         }
         let path = self.existing_file("body.file", file)?;
-        let axes = axes("body", table.scale, table.up_axis.as_deref(), table.mirror)?;
+        let axes = axes("body", table.scale, table.up_axis, table.mirror)?;
         Ok(Some(BodyFile { path, axes }))
     }
 }

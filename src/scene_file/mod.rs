@@ -21,6 +21,7 @@
 
 mod bounds;
 mod checks;
+mod choices;
 mod files;
 #[cfg(test)]
 mod fuzz;
@@ -28,11 +29,19 @@ mod resolve;
 
 pub use bounds::{MAX_CAMERA_DISTANCE, MAX_HEAD_COORDINATE, MIN_CAMERA_DISTANCE};
 pub use checks::parse_size;
+pub use choices::{BodyKind, CameraPathKind, LodModeKind, MotionKind};
 pub use resolve::DEFAULT_FILE_MATERIAL;
 
 use std::path::{Path, PathBuf};
 
+use hair_core::GroomPreset;
+use hair_core::dynamics::IntegratorKind;
+use hair_core::lod::{BudgetMethod, ErrorModel, OcclusionTest};
+use hair_formats::UpAxis;
+use hair_render::{ClusterGeometry, LineCoverage, ShadingModel};
 use serde::Deserialize;
+
+use crate::rest_pose::RestPose;
 
 /// A scene file that cannot be read or used: the file, and what is wrong (naming the field path
 /// and the allowed range for a bad value).
@@ -129,7 +138,7 @@ pub struct CharacterTable {
 #[serde(deny_unknown_fields)]
 pub struct GroomTable {
     /// Preset: `paper-curly` (default), `straight`, `wavy` or `curly`.
-    pub preset: Option<String>,
+    pub preset: Option<GroomPreset>,
     /// A groom file (`.tfx`, `.hair`, `.data`, `.obj` polylines, `.usda`, `.usdc`, `.usd`,
     /// `.abc`; the extension picks
     /// the reader), relative to the scene file's folder, or a list of them (the parts of one
@@ -141,7 +150,7 @@ pub struct GroomTable {
     /// With `file`: metres per file unit, > 0 (default 1; 0.01 for centimetres).
     pub scale: Option<f32>,
     /// With `file`: the file's up axis, `y` (default) or `z` (turned to +Y up).
-    pub up_axis: Option<String>,
+    pub up_axis: Option<UpAxis>,
     /// With `file`: negate x (a file from a left-handed tool), default false.
     pub mirror: Option<bool>,
     /// With `file`: about this many strands per fitted section, 1..=100000 (default 50; give
@@ -186,7 +195,7 @@ pub struct GroomTable {
     /// body and made an equilibrium there, see [`hang_groom`](crate::rest_pose::hang_groom)),
     /// `grown` (the generated or loaded shape with its springs at rest, which falls at first) or
     /// `loaded` (the default with `file`: the file's shape kept and made an equilibrium).
-    pub rest_pose: Option<String>,
+    pub rest_pose: Option<RestPose>,
 }
 
 /// One file path or a list of them, as a scene file gives `groom.file`.
@@ -214,7 +223,7 @@ impl FileList {
 #[serde(deny_unknown_fields)]
 pub struct BodyTable {
     /// `procedural-head` (the default without `file`) or `mesh` (the default with `file`).
-    pub kind: Option<String>,
+    pub kind: Option<BodyKind>,
     /// A body mesh file (`.tfxmesh`, `.obj`, or a USD `Mesh` in `.usda`, `.usdc` or `.usd`), relative to the scene file's folder, drawn and
     /// collided with in place of the procedural head. Needs `groom.file` (the presets grow on
     /// the procedural head).
@@ -222,7 +231,7 @@ pub struct BodyTable {
     /// With `file`: metres per file unit, > 0 (default 1).
     pub scale: Option<f32>,
     /// With `file`: the file's up axis, `y` (default) or `z`.
-    pub up_axis: Option<String>,
+    pub up_axis: Option<UpAxis>,
     /// With `file`: negate x, default false.
     pub mirror: Option<bool>,
 }
@@ -233,7 +242,7 @@ pub struct BodyTable {
 pub struct MotionTable {
     /// `still` (default), `shake` (about the vertical axis), `nod` (about the ear-to-ear axis) or
     /// `keyframes`.
-    pub kind: Option<String>,
+    pub kind: Option<MotionKind>,
     /// Shake or nod amplitude [degrees], 0..=90 (default 14).
     pub amplitude_degrees: Option<f32>,
     /// Shake or nod peak angular speed [rad/s], > 0 (default 1.2).
@@ -281,7 +290,7 @@ pub struct WindTable {
 #[serde(deny_unknown_fields)]
 pub struct CameraTable {
     /// `orbit` (default), `zoom-out`, `fixed` or `keyframes`.
-    pub path: Option<String>,
+    pub path: Option<CameraPathKind>,
     /// The point looked at [m], default the head's centre `[0, 0, 0]`; each coordinate in
     /// `-10000..=10000` ([`MAX_CAMERA_DISTANCE`]).
     pub target: Option<[f32; 3]>,
@@ -321,17 +330,17 @@ pub struct CameraKeyframeEntry {
 #[serde(deny_unknown_fields)]
 pub struct LodTable {
     /// `auto` (default), `strands`, `clusters` or `patches`.
-    pub mode: Option<String>,
+    pub mode: Option<LodModeKind>,
     /// Screen-space error tolerance [pixels], > 0 (default 2; larger means coarser levels).
     pub pixel_tolerance: Option<f32>,
     /// How a coarse level's error is estimated: `deviation` (default: each section's measured
     /// deviation from its strands, scaled by its depth) or `chord` (the paper's rule, §7.4).
-    pub error_model: Option<String>,
+    pub error_model: Option<ErrorModel>,
     /// Frame budget [ms], > 0: the levels are chosen so that a frame costs at most this.
     pub budget_ms: Option<f64>,
     /// How the budget is met: `greedy` (default: the levels that minimise the total estimated
     /// error within it) or `tolerance` (the pixel tolerance steered to meet it).
-    pub budget_method: Option<String>,
+    pub budget_method: Option<BudgetMethod>,
     /// Blend time of a level transition [s], ≥ 0 (default 0.25).
     pub blend_time: Option<f32>,
     /// How far ahead the level choice looks, as a fraction of the blend time, 0..=1 (default
@@ -343,7 +352,7 @@ pub struct LodTable {
     /// How a section is found hidden behind the head: `section` (default: all of it, samples of
     /// its skeletons widened by half its width) or `ends` (the paper's test: the root and tip of
     /// its centre skeleton, §7.1).
-    pub occlusion_test: Option<String>,
+    pub occlusion_test: Option<OcclusionTest>,
     /// Strand thinning: strands drawn per pixel of a strand group's screen width, ≥ 0 (default
     /// 0: every strand). 4 covers a group's pixels as all its strands do.
     pub strands_per_pixel: Option<f32>,
@@ -354,7 +363,7 @@ pub struct LodTable {
 #[serde(deny_unknown_fields)]
 pub struct DynamicsTable {
     /// `xpbd` (default), `linear-implicit`, `semi-implicit-euler` or `position-based`.
-    pub integrator: Option<String>,
+    pub integrator: Option<IntegratorKind>,
     /// Substeps per frame, 1..=10000 (default: the integrator's recommended substeps per 1/60 s,
     /// scaled to the frame time).
     pub substeps: Option<u32>,
@@ -398,13 +407,13 @@ pub struct OutputTable {
     /// the output folder.
     pub json: Option<String>,
     /// The hair's reflectance model: `"kajiya-kay"` (the default) or `"marschner"`.
-    pub shading: Option<String>,
+    pub shading: Option<ShadingModel>,
     /// How much of a pixel a strand line covers: `"pixel"` (the default) or `"width"` (its
     /// fibre's width's share).
-    pub line_coverage: Option<String>,
+    pub line_coverage: Option<LineCoverage>,
     /// How cluster tubes are drawn: `"impostor"` (the default: the tube's view-facing silhouette,
     /// shaded as the tube) or `"tube"` (tessellated around).
-    pub clusters: Option<String>,
+    pub clusters: Option<ClusterGeometry>,
 }
 
 /// `[bench]`.
@@ -440,8 +449,7 @@ impl SceneFile {
     /// [`SceneFile::parse`] with relative file paths resolved against `base_dir` (`None`: the
     /// working directory).
     pub fn parse_in(text: &str, base_dir: Option<&Path>) -> Result<SceneFile, SceneFileError> {
-        let mut file: SceneFile =
-            toml::from_str(text).map_err(|error| SceneFileError::new(error.to_string()))?;
+        let mut file = deserialize(text)?;
         file.base_dir = base_dir.map(Path::to_path_buf);
         file.resolve()?;
         Ok(file)
@@ -459,4 +467,31 @@ impl SceneFile {
     pub fn json_output(&self) -> Option<&str> {
         self.output.json.as_deref()
     }
+}
+
+/// `text` deserialized as a scene file; an error names the field path (`lod.mode`), what is
+/// wrong with its value (a name that is none of the allowed ones lists them), and the line.
+fn deserialize(text: &str) -> Result<SceneFile, SceneFileError> {
+    let document = toml::de::Deserializer::parse(text)
+        .map_err(|error| SceneFileError::new(error.to_string()))?;
+    serde_path_to_error::deserialize(document).map_err(|error| {
+        let path = error.path().to_string();
+        let inner = error.into_inner();
+        let line = inner
+            .span()
+            .map(|span| format!(" (line {})", text[..span.start].matches('\n').count() + 1))
+            .unwrap_or_default();
+        let message = inner.message();
+        // A bad value reads `field = "value": expected …`, as every other check's error does.
+        let joint = if message.starts_with('"') {
+            " = "
+        } else {
+            ": "
+        };
+        SceneFileError::new(if path == "." {
+            format!("{message}{line}")
+        } else {
+            format!("{path}{joint}{message}{line}")
+        })
+    })
 }

@@ -5,10 +5,11 @@ use glam::{EulerRot, Quat};
 use hair_core::dynamics::{
     Environment, HeadKeyframe, HeadMotion, IntegratorKind, SimulationSettings, WindField,
 };
-use hair_core::lod::{BudgetMethod, BudgetSettings, LodSettings};
-use hair_core::{GroomParams, HeadParams, Level, RigidTransform};
+use hair_core::lod::{BudgetSettings, LodSettings};
+use hair_core::{GroomParams, GroomPreset, HeadParams, RigidTransform};
 
-use super::checks::{count, one_of, parse_size, positive, vector, within};
+use super::checks::{count, parse_size, positive, vector, within};
+use super::choices::{CameraPathKind, MotionKind};
 use super::{SCENE_FILE_VERSION, SceneFile, SceneFileError};
 use crate::pipeline::{LodMode, PipelineSettings};
 use crate::rest_pose::RestPose;
@@ -17,7 +18,7 @@ use crate::shot::{CameraKeyframe, CameraMotion, CameraPath, Outputs, Shot};
 type Result<T> = std::result::Result<T, SceneFileError>;
 
 /// The preset whose material (stiffness) a groom file gets when `groom.preset` is not given.
-pub const DEFAULT_FILE_MATERIAL: &str = "straight";
+pub const DEFAULT_FILE_MATERIAL: GroomPreset = GroomPreset::Straight;
 
 impl SceneFile {
     /// The shot this file describes, defaults filled in; errors name the field path and the
@@ -69,13 +70,7 @@ impl SceneFile {
                     LodMode::Auto(lod) => lod.blend_time,
                     LodMode::Fixed(_) => 0.0,
                 };
-                let method = match self.lod.budget_method.as_deref() {
-                    None => BudgetMethod::default(),
-                    Some(name) => {
-                        one_of("lod.budget_method", name, &["greedy", "tolerance"])?;
-                        name.parse().expect("checked above")
-                    }
-                };
+                let method = self.lod.budget_method.unwrap_or_default();
                 Some(BudgetSettings {
                     hold_frames: (blend * fps).round() as usize,
                     method,
@@ -104,20 +99,9 @@ impl SceneFile {
             contact_sheet: output.contact_sheet.unwrap_or(false),
             hair: output.hair.unwrap_or(false),
             usd: output.usd.unwrap_or(false),
-            marschner: match output.shading.as_deref() {
-                None => false,
-                Some(name) => {
-                    one_of("output.shading", name, &["kajiya-kay", "marschner"])? == "marschner"
-                }
-            },
-            line_coverage_by_width: match output.line_coverage.as_deref() {
-                None => false,
-                Some(name) => one_of("output.line_coverage", name, &["pixel", "width"])? == "width",
-            },
-            cluster_tubes: match output.clusters.as_deref() {
-                None => false,
-                Some(name) => one_of("output.clusters", name, &["impostor", "tube"])? == "tube",
-            },
+            shading: output.shading.unwrap_or_default(),
+            line_coverage: output.line_coverage.unwrap_or_default(),
+            cluster_geometry: output.clusters.unwrap_or_default(),
         };
         if let Some(json) = &output.json
             && json.trim().is_empty()
@@ -212,10 +196,12 @@ impl SceneFile {
     /// `groom.rest_pose`: `hanging` by default, `loaded` by default for a groom file (and only
     /// for one).
     fn rest_pose(&self, groom_file: bool) -> Result<RestPose> {
-        let default = if groom_file { "loaded" } else { "hanging" };
-        let name = self.groom.rest_pose.as_deref().unwrap_or(default);
-        one_of("groom.rest_pose", name, &RestPose::NAMES)?;
-        let pose = RestPose::from_name(name).unwrap_or_default();
+        let default = if groom_file {
+            RestPose::Loaded
+        } else {
+            RestPose::Hanging
+        };
+        let pose = self.groom.rest_pose.unwrap_or(default);
         if pose == RestPose::Loaded && !groom_file {
             return Err(SceneFileError::new(
                 "groom.rest_pose = \"loaded\": needs groom.file (a generated groom's shape is \
@@ -232,15 +218,9 @@ impl SceneFile {
         let default = if groom_file {
             DEFAULT_FILE_MATERIAL
         } else {
-            "paper-curly"
+            GroomPreset::PaperCurly
         };
-        let preset = table.preset.as_deref().unwrap_or(default);
-        let mut params = GroomParams::preset(preset).map_err(|_| {
-            SceneFileError::new(format!(
-                "groom.preset = {preset:?}: expected one of {}",
-                hair_core::PRESET_NAMES.join(", ")
-            ))
-        })?;
+        let mut params = GroomParams::from(table.preset.unwrap_or(default));
         if let Some(v) = table.seed {
             params.seed = v;
         }
@@ -280,8 +260,7 @@ impl SceneFile {
 
     fn head_motion(&self) -> Result<HeadMotion> {
         let table = &self.motion;
-        let kind = table.kind.as_deref().unwrap_or("still");
-        one_of("motion.kind", kind, &["still", "shake", "nod", "keyframes"])?;
+        let kind = table.kind.unwrap_or_default();
         let amplitude = within(
             "motion.amplitude_degrees",
             table.amplitude_degrees.unwrap_or(14.3),
@@ -291,15 +270,15 @@ impl SceneFile {
         )?
         .to_radians();
         let speed = positive("motion.peak_speed", table.peak_speed.unwrap_or(1.2))?;
-        if kind != "keyframes" && !table.keyframes.is_empty() {
+        if kind != MotionKind::Keyframes && !table.keyframes.is_empty() {
             return Err(SceneFileError::new(format!(
-                "motion.keyframes: given, but motion.kind = {kind:?}; set kind = \"keyframes\""
+                "motion.keyframes: given, but motion.kind = \"{kind}\"; set kind = \"keyframes\""
             )));
         }
         Ok(match kind {
-            "shake" => HeadMotion::shake(amplitude, speed),
-            "nod" => HeadMotion::nod(amplitude, speed),
-            "keyframes" => {
+            MotionKind::Shake => HeadMotion::shake(amplitude, speed),
+            MotionKind::Nod => HeadMotion::nod(amplitude, speed),
+            MotionKind::Keyframes => {
                 if table.keyframes.is_empty() {
                     return Err(SceneFileError::new(
                         "motion.keyframes: motion.kind = \"keyframes\" needs at least one keyframe",
@@ -337,7 +316,7 @@ impl SceneFile {
                 }
                 HeadMotion::Keyframed(keys)
             }
-            _ => HeadMotion::default(),
+            MotionKind::Still => HeadMotion::default(),
         })
     }
 
@@ -378,19 +357,14 @@ impl SceneFile {
 
     fn camera_path(&self) -> Result<CameraPath> {
         let table = &self.camera;
-        let path = table.path.as_deref().unwrap_or("orbit");
-        one_of(
-            "camera.path",
-            path,
-            &["orbit", "zoom-out", "fixed", "keyframes"],
-        )?;
+        let path = table.path.unwrap_or_default();
         let distance =
             super::bounds::camera_distance("camera.distance", table.distance.unwrap_or(0.8))?;
         let motion = match path {
-            "orbit" => CameraMotion::Orbit,
-            "zoom-out" => CameraMotion::ZoomOut,
-            "fixed" => CameraMotion::Fixed,
-            _ => {
+            CameraPathKind::Orbit => CameraMotion::Orbit,
+            CameraPathKind::ZoomOut => CameraMotion::ZoomOut,
+            CameraPathKind::Fixed => CameraMotion::Fixed,
+            CameraPathKind::Keyframes => {
                 if table.keyframes.is_empty() {
                     return Err(SceneFileError::new(
                         "camera.keyframes: camera.path = \"keyframes\" needs at least one keyframe",
@@ -424,9 +398,9 @@ impl SceneFile {
                 CameraMotion::Keyframes(keys)
             }
         };
-        if path != "keyframes" && !table.keyframes.is_empty() {
+        if path != CameraPathKind::Keyframes && !table.keyframes.is_empty() {
             return Err(SceneFileError::new(format!(
-                "camera.keyframes: given, but camera.path = {path:?}; set path = \"keyframes\""
+                "camera.keyframes: given, but camera.path = \"{path}\"; set path = \"keyframes\""
             )));
         }
         Ok(CameraPath {
@@ -468,12 +442,7 @@ impl SceneFile {
 
     fn lod_mode(&self, width: u32, height: u32) -> Result<LodMode> {
         let table = &self.lod;
-        let mode = table.mode.as_deref().unwrap_or("auto");
-        one_of(
-            "lod.mode",
-            mode,
-            &["auto", "strands", "clusters", "patches"],
-        )?;
+        let mode = table.mode.unwrap_or_default();
         let mut lod = LodSettings {
             image_width: width,
             image_height: height,
@@ -518,35 +487,23 @@ impl SceneFile {
                 "strands per pixel in 0..=1000",
             )?;
         }
-        if let Some(name) = table.error_model.as_deref() {
-            one_of("lod.error_model", name, &["deviation", "chord"])?;
-            lod.error_model = name.parse().expect("checked above");
+        if let Some(model) = table.error_model {
+            lod.error_model = model;
         }
-        if let Some(name) = table.occlusion_test.as_deref() {
-            one_of("lod.occlusion_test", name, &["section", "ends"])?;
-            lod.occlusion_test = name.parse().expect("checked above");
+        if let Some(test) = table.occlusion_test {
+            lod.occlusion_test = test;
         }
         lod.validate()
             .map_err(|error| SceneFileError::new(format!("[lod]: {error}")))?;
-        Ok(match mode {
-            "auto" => LodMode::Auto(lod),
-            level => LodMode::Fixed(level.parse::<Level>().expect("checked above")),
+        Ok(match mode.level() {
+            None => LodMode::Auto(lod),
+            Some(level) => LodMode::Fixed(level),
         })
     }
 
     fn dynamics_settings(&self, fps: f32) -> Result<SimulationSettings> {
         let table = &self.dynamics;
-        let name = table
-            .integrator
-            .as_deref()
-            .unwrap_or(IntegratorKind::DEFAULT.name());
-        let integrator: IntegratorKind = name.parse().map_err(|_| {
-            let names: Vec<&str> = IntegratorKind::ALL.iter().map(|kind| kind.name()).collect();
-            SceneFileError::new(format!(
-                "dynamics.integrator = {name:?}: expected one of {}",
-                names.join(", ")
-            ))
-        })?;
+        let integrator = table.integrator.unwrap_or(IntegratorKind::DEFAULT);
         // The recommended substeps are per 1/60 s: keep the substep no longer at other rates.
         let recommended = SimulationSettings::recommended(integrator).substeps;
         let default = ((recommended as f32) * 60.0 / fps).ceil().max(1.0) as u32;

@@ -30,8 +30,9 @@ use hairlod::render::RendererOptions;
 use hairlod::shot::Shot;
 
 use crate::charts::{ACCURACY_PANELS, GROUP_COLOURS, ParetoChart, write_png_and_svg};
-use crate::cli_args::Preset;
+use crate::cli_args::choice;
 use crate::report::{progress_bar, thinning_label, write_json};
+use hairlod::core::GroomPreset;
 use sweep::{Group, Point, mark_pareto};
 
 /// The integrator sweep: each integrator at a coarser and a finer step around its recommended
@@ -59,8 +60,8 @@ const TARGET_SSIM: f64 = 0.95;
 #[derive(Debug, Args)]
 pub struct AccuracyArgs {
     /// Groom preset.
-    #[arg(long, value_enum, default_value = "paper-curly")]
-    pub preset: Preset,
+    #[arg(long, default_value = "paper-curly", value_parser = choice::<GroomPreset>())]
+    pub preset: GroomPreset,
     /// Blow the benchmark's gusting wind.
     #[arg(long)]
     pub wind: bool,
@@ -234,7 +235,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     );
     let (width, height) = args.size;
     let mut shot = resized(&paper_shot(args.wind), args.frames, width, height);
-    shot.groom = hairlod::GroomParams::preset(args.preset.name())?;
+    shot.groom = args.preset.into();
     let scene = shot.build_scene()?;
     let configurations = configurations(args, &shot)?;
     let mut renderer = PipelineRenderer::new(&RendererOptions::from_env()?, &scene)?;

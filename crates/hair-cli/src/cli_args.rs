@@ -1,162 +1,21 @@
-//! Typed command-line values shared by the verbs: presets, levels, camera paths, head motions,
-//! backends, image sizes and frame ranges.
+//! Typed command-line values shared by the verbs: the fixed-choice options' value parser
+//! ([`choice`]), backends, image sizes and frame ranges.
 
 use std::ops::Range;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use hairlod::core::GroomPreset;
+use hairlod::core::named::Named;
 use hairlod::render::BackendChoice;
-use hairlod::scene_file::parse_size;
+use hairlod::scene_file::{CameraPathKind, LodModeKind, MotionKind, parse_size};
 
-/// A preset groom.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Preset {
-    /// The paper's benchmark groom: 91 sections, 37,765 curly strands.
-    PaperCurly,
-    /// Straight hair.
-    Straight,
-    /// Wavy hair.
-    Wavy,
-    /// Ringlet curls.
-    Curly,
-}
-
-impl Preset {
-    /// The preset's name in hair-core and scene files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Preset::PaperCurly => "paper-curly",
-            Preset::Straight => "straight",
-            Preset::Wavy => "wavy",
-            Preset::Curly => "curly",
-        }
-    }
-}
-
-/// The hair's reflectance model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ShadingArg {
-    /// Kajiya-Kay: a diffuse term and one specular lobe.
-    KajiyaKay,
-    /// Marschner's R, TT and TRT lobes (the paper's measured shift and width).
-    Marschner,
-}
-
-/// How much of a pixel a strand line covers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum CoverageArg {
-    /// The whole pixel.
-    Pixel,
-    /// Its fibre's width's share of the pixel's samples.
-    Width,
-}
-
-/// How cluster tubes are drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ClustersArg {
-    /// The tube's view-facing silhouette, shaded as the tube.
-    Impostor,
-    /// The tube tessellated around.
-    Tube,
-}
-
-impl ClustersArg {
-    /// The scene file's `output.clusters` value.
-    pub fn name(self) -> &'static str {
-        match self {
-            ClustersArg::Impostor => "impostor",
-            ClustersArg::Tube => "tube",
-        }
-    }
-}
-
-impl ShadingArg {
-    /// The scene file's `output.shading` value.
-    pub fn name(self) -> &'static str {
-        match self {
-            ShadingArg::KajiyaKay => "kajiya-kay",
-            ShadingArg::Marschner => "marschner",
-        }
-    }
-}
-
-impl CoverageArg {
-    /// The scene file's `output.line_coverage` value.
-    pub fn name(self) -> &'static str {
-        match self {
-            CoverageArg::Pixel => "pixel",
-            CoverageArg::Width => "width",
-        }
-    }
-}
-
-/// Level of detail: chosen per section every frame, or one fixed level.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum LevelArg {
-    /// Chosen per section from visibility, screen size and motion (§7).
-    Auto,
-    /// Every section as five strand groups.
-    Strands,
-    /// Every section as three clusters.
-    Clusters,
-    /// Every section as one patch.
-    Patches,
-}
-
-impl LevelArg {
-    /// The scene file's `lod.mode` value.
-    pub fn name(self) -> &'static str {
-        match self {
-            LevelArg::Auto => "auto",
-            LevelArg::Strands => "strands",
-            LevelArg::Clusters => "clusters",
-            LevelArg::Patches => "patches",
-        }
-    }
-}
-
-/// Camera path.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum CameraArg {
-    /// Once around the head.
-    Orbit,
-    /// From the start distance to 4× (or `camera.end_distance`), geometrically.
-    ZoomOut,
-    /// Still.
-    Fixed,
-}
-
-impl CameraArg {
-    /// The scene file's `camera.path` value.
-    pub fn name(self) -> &'static str {
-        match self {
-            CameraArg::Orbit => "orbit",
-            CameraArg::ZoomOut => "zoom-out",
-            CameraArg::Fixed => "fixed",
-        }
-    }
-}
-
-/// Head motion.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum MotionArg {
-    /// The head holds still.
-    Still,
-    /// The head shakes (about the vertical axis).
-    Shake,
-    /// The head nods.
-    Nod,
-}
-
-impl MotionArg {
-    /// The scene file's `motion.kind` value.
-    pub fn name(self) -> &'static str {
-        match self {
-            MotionArg::Still => "still",
-            MotionArg::Shake => "shake",
-            MotionArg::Nod => "nod",
-        }
-    }
+/// A clap value parser of a fixed-choice option (one declared with `hair_core::named_enum!`):
+/// `--help` lists its names, the same as a scene file's, and an unknown one is refused with
+/// them.
+pub fn choice<T: Named + Clone>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(T::names().iter().copied()).try_map(|name| T::from_name(&name))
 }
 
 /// Graphics backend.
@@ -276,19 +135,19 @@ mod tests {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ShotOverrides<'a> {
     /// `groom.preset`.
-    pub preset: Option<Preset>,
+    pub preset: Option<GroomPreset>,
     /// `frames.count`.
     pub frames: Option<usize>,
     /// `lod.mode`.
-    pub level: Option<LevelArg>,
+    pub level: Option<LodModeKind>,
     /// `lod.pixel_tolerance` [pixels].
     pub pixel_tolerance: Option<f32>,
     /// `frames.size`, `WIDTHxHEIGHT`.
     pub size: Option<&'a String>,
     /// `camera.path`.
-    pub camera: Option<CameraArg>,
+    pub camera: Option<CameraPathKind>,
     /// `motion.kind`.
-    pub motion: Option<MotionArg>,
+    pub motion: Option<MotionKind>,
 }
 
 impl ShotOverrides<'_> {
@@ -309,13 +168,13 @@ impl ShotOverrides<'_> {
     /// Writes the given overrides into `file`.
     pub fn apply(&self, file: &mut hairlod::scene_file::SceneFile) {
         if let Some(preset) = self.preset {
-            file.groom.preset = Some(preset.name().to_string());
+            file.groom.preset = Some(preset);
         }
         if let Some(count) = self.frames {
             file.frames.count = Some(count);
         }
         if let Some(level) = self.level {
-            file.lod.mode = Some(level.name().to_string());
+            file.lod.mode = Some(level);
         }
         if let Some(tolerance) = self.pixel_tolerance {
             file.lod.pixel_tolerance = Some(tolerance);
@@ -324,10 +183,10 @@ impl ShotOverrides<'_> {
             file.frames.size = Some(size.clone());
         }
         if let Some(camera) = self.camera {
-            file.camera.path = Some(camera.name().to_string());
+            file.camera.path = Some(camera);
         }
         if let Some(motion) = self.motion {
-            file.motion.kind = Some(motion.name().to_string());
+            file.motion.kind = Some(motion);
         }
     }
 }

@@ -6,9 +6,11 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::core::{GroomCounts, Level};
+use hairlod::formats::UpAxis;
 use hairlod::formats::export::{ExportOptions, export_obj};
-use hairlod::{HangSettings, hang_groom};
+use hairlod::{HangSettings, RestPose, hang_groom};
 
+use crate::cli_args::choice;
 use crate::scene_args::SceneArgs;
 use serde::Serialize;
 
@@ -31,9 +33,9 @@ pub struct GroomArgs {
     #[arg(long, default_value_t = 4)]
     samples_per_segment: usize,
     /// The rest shape the export shows: hanging (fallen onto the head and at rest there, as runs
-    /// start) or grown (the generated shape).
-    #[arg(long, value_enum, default_value = "hanging")]
-    rest_pose: RestPoseArg,
+    /// start) or grown (the generated shape); loaded is for groom files.
+    #[arg(long, default_value = "hanging", value_parser = choice::<RestPose>())]
+    rest_pose: RestPose,
     /// A groom file to fit the paper's hierarchy to instead of a preset (.tfx, .hair, .data,
     /// .obj, .usda, .usdc, .usd, .abc): prints the fitted counts and each level's fit error, and how
     /// far the strands a scene would draw lie from the file at rest. To run a groom
@@ -44,29 +46,11 @@ pub struct GroomArgs {
     #[arg(long, value_name = "M", default_value_t = 1.0)]
     scale: f32,
     /// With --file: the file's up axis.
-    #[arg(long, value_enum, default_value = "y")]
-    up: UpArg,
+    #[arg(long, default_value = "y", value_parser = choice::<UpAxis>())]
+    up: UpAxis,
     /// With --file: sections to fit [default: one per 50 strands].
     #[arg(long, value_name = "N")]
     fit_sections: Option<usize>,
-}
-
-/// `--up`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum UpArg {
-    /// Y up (Maya, Houdini, TressFX).
-    Y,
-    /// Z up (Blender); turned to Y up.
-    Z,
-}
-
-/// `--rest-pose`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum RestPoseArg {
-    /// Fallen onto the head and made an equilibrium there (`hairlod::hang_groom`).
-    Hanging,
-    /// The generated shape, springs at rest.
-    Grown,
 }
 
 #[derive(Serialize)]
@@ -84,6 +68,12 @@ pub fn run(args: &GroomArgs) -> Result<()> {
     if let Some(file) = &args.file {
         return fit_file(args, file);
     }
+    if args.rest_pose == RestPose::Loaded {
+        anyhow::bail!(
+            "--rest-pose loaded: a preset groom has no loaded shape (use hanging or grown, or \
+             give --file)"
+        );
+    }
     let level: Level = args.level.parse()?;
     let mut scene = args.scene.build()?;
     let counts = scene.groom.counts();
@@ -100,7 +90,7 @@ pub fn run(args: &GroomArgs) -> Result<()> {
         print_table(&report);
     }
     if let Some(path) = &args.export {
-        if args.rest_pose == RestPoseArg::Hanging {
+        if args.rest_pose == RestPose::Hanging {
             let hang = hang_groom(&mut scene, &HangSettings::default())
                 .context("could not hang the groom")?;
             eprintln!(
@@ -161,14 +151,11 @@ fn print_table(report: &GroomReport) {
 /// `hairlod groom --file F`: reads the curves, fits the hierarchy, prints counts and errors.
 fn fit_file(args: &GroomArgs, file: &std::path::Path) -> Result<()> {
     use hairlod::core::fit::{FitSettings, SectionCount, fit_hierarchy};
-    use hairlod::formats::{ImportAxes, ImportOptions, UpAxis, read_curves_file};
+    use hairlod::formats::{ImportAxes, ImportOptions, read_curves_file};
     let options = ImportOptions {
         axes: ImportAxes {
             scale_to_metres: args.scale,
-            up: match args.up {
-                UpArg::Y => UpAxis::Y,
-                UpArg::Z => UpAxis::Z,
-            },
+            up: args.up,
             ..ImportAxes::default()
         },
         ..ImportOptions::default()
@@ -251,7 +238,7 @@ fn drawn_rest_errors(
     let mut groom_file = GroomFile::new(vec![file.to_path_buf()]);
     groom_file.axes = FileAxes {
         scale_to_metres: args.scale,
-        z_up: args.up == UpArg::Z,
+        z_up: args.up == UpAxis::Z,
         mirror_x: false,
     };
     if let Some(sections) = args.fit_sections {

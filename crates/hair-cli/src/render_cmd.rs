@@ -20,10 +20,11 @@ use hairlod::scene_file::SceneFile;
 use hairlod::shot::Shot;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::cli_args::{
-    BackendArg, CameraArg, ClustersArg, CoverageArg, FramesArg, LevelArg, MotionArg, Preset,
-    ShadingArg, ShotOverrides,
-};
+use hairlod::core::GroomPreset;
+use hairlod::render::{ClusterGeometry, LineCoverage, ShadingModel};
+use hairlod::scene_file::{CameraPathKind, LodModeKind, MotionKind};
+
+use crate::cli_args::{BackendArg, FramesArg, ShotOverrides, choice};
 use crate::destinations::{writable_file, writable_folder};
 
 /// Arguments of `hairlod render`.
@@ -42,11 +43,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N|A..B", value_parser = FramesArg::parse)]
     frames: Option<FramesArg>,
     /// Preset groom [scene: groom.preset; default paper-curly].
-    #[arg(long, value_enum)]
-    preset: Option<Preset>,
+    #[arg(long, value_parser = choice::<GroomPreset>())]
+    preset: Option<GroomPreset>,
     /// Level of detail [scene: lod.mode; default auto].
-    #[arg(long, value_enum)]
-    level: Option<LevelArg>,
+    #[arg(long, value_parser = choice::<LodModeKind>())]
+    level: Option<LodModeKind>,
     /// Screen-space error tolerance of automatic levels [pixels] [scene: lod.pixel_tolerance].
     #[arg(long, value_name = "PX")]
     pixel_tolerance: Option<f32>,
@@ -60,11 +61,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
     /// Camera path [scene: camera.path; default orbit].
-    #[arg(long, value_enum)]
-    camera: Option<CameraArg>,
+    #[arg(long, value_parser = choice::<CameraPathKind>())]
+    camera: Option<CameraPathKind>,
     /// Head motion [scene: motion.kind; default still].
-    #[arg(long, value_enum)]
-    motion: Option<MotionArg>,
+    #[arg(long, value_parser = choice::<MotionKind>())]
+    motion: Option<MotionKind>,
     /// Also write contact_sheet.png with every frame scaled down.
     #[arg(long)]
     contact_sheet: bool,
@@ -84,18 +85,18 @@ pub struct RenderArgs {
     per_fragment_lines: bool,
     /// The hair's reflectance model (see docs/render.md, "Shading") [scene: output.shading;
     /// default kajiya-kay].
-    #[arg(long, value_enum)]
-    shading: Option<ShadingArg>,
+    #[arg(long, value_parser = choice::<ShadingModel>())]
+    shading: Option<ShadingModel>,
     /// How much of a pixel a strand drawn as a 1-pixel line covers: the whole pixel, or its
     /// fibre's projected width's share (sub-pixel coverage, see docs/render.md) [scene:
     /// output.line_coverage; default pixel].
-    #[arg(long, value_enum)]
-    line_coverage: Option<CoverageArg>,
+    #[arg(long, value_parser = choice::<LineCoverage>())]
+    line_coverage: Option<LineCoverage>,
     /// How cluster tubes are drawn: their view-facing silhouette shaded as the tube (a fraction
     /// of the triangles), or tessellated around (see docs/render.md) [scene: output.clusters;
     /// default impostor].
-    #[arg(long, value_enum)]
-    clusters: Option<ClustersArg>,
+    #[arg(long, value_parser = choice::<ClusterGeometry>())]
+    clusters: Option<ClusterGeometry>,
     /// Graphics backend [default: $HAIRLOD_BACKEND, else auto].
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
@@ -155,13 +156,13 @@ impl RenderArgs {
             file.output.usd = Some(true);
         }
         if let Some(shading) = self.shading {
-            file.output.shading = Some(shading.name().to_string());
+            file.output.shading = Some(shading);
         }
         if let Some(coverage) = self.line_coverage {
-            file.output.line_coverage = Some(coverage.name().to_string());
+            file.output.line_coverage = Some(coverage);
         }
         if let Some(clusters) = self.clusters {
-            file.output.clusters = Some(clusters.name().to_string());
+            file.output.clusters = Some(clusters);
         }
         // Flags are checked like the file's own values.
         file.resolve()
@@ -211,7 +212,7 @@ fn check_destinations(args: &RenderArgs, shot: &Shot, json: Option<&Path>) -> Re
 
 /// What the banner calls the groom: the file (or files) it was read from, or its preset
 /// (`preset`, the scene's `groom.preset`; `paper-curly` when none is given).
-fn groom_name(shot: &hairlod::Shot, preset: Option<&str>) -> String {
+fn groom_name(shot: &hairlod::Shot, preset: Option<GroomPreset>) -> String {
     match &shot.groom_file {
         Some(groom) => {
             let paths: Vec<String> = groom
@@ -221,7 +222,7 @@ fn groom_name(shot: &hairlod::Shot, preset: Option<&str>) -> String {
                 .collect();
             format!("the groom file {}", paths.join(" + "))
         }
-        None => format!("`{}`", preset.unwrap_or("paper-curly")),
+        None => format!("`{}`", preset.unwrap_or_default()),
     }
 }
 
@@ -292,7 +293,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         frames.start,
         frames.end,
         shot.frames,
-        groom_name(&shot, file.groom.preset.as_deref()),
+        groom_name(&shot, file.groom.preset),
         counts.sections,
         counts.strands,
         shot.width,

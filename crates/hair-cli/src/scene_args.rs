@@ -5,14 +5,15 @@ use clap::Args;
 use hairlod::core::head::HeadParams;
 use hairlod::core::{GroomParams, Scene};
 
-use crate::cli_args::Preset;
+use crate::cli_args::choice;
+use hairlod::core::GroomPreset;
 
 /// A preset groom and overrides of its parameters (shared by the verbs that build a scene).
 #[derive(Debug, Clone, Args)]
 pub struct SceneArgs {
     /// Preset groom.
-    #[arg(long, value_enum, default_value = "paper-curly")]
-    pub preset: Preset,
+    #[arg(long, default_value = "paper-curly", value_parser = choice::<GroomPreset>())]
+    pub preset: GroomPreset,
     /// Override: number of sections (each 1 patch = 3 clusters = 5 strand groups).
     #[arg(long, value_name = "N")]
     pub sections: Option<usize>,
@@ -39,7 +40,7 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// The groom parameters: the preset with the overrides applied (not yet validated).
     pub fn groom_params(&self) -> Result<GroomParams> {
-        let mut params = GroomParams::preset(self.preset.name())?;
+        let mut params = GroomParams::from(self.preset);
         if let Some(sections) = self.sections {
             params.section_count = sections;
         }

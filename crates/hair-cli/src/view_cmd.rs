@@ -12,7 +12,10 @@ use hairlod::render::DeviceOptions;
 use hairlod::scene_file::SceneFile;
 use winit::event_loop::EventLoop;
 
-use crate::cli_args::{BackendArg, CameraArg, LevelArg, MotionArg, Preset, ShotOverrides};
+use hairlod::core::GroomPreset;
+use hairlod::scene_file::{CameraPathKind, LodModeKind, MotionKind};
+
+use crate::cli_args::{BackendArg, ShotOverrides, choice};
 use crate::viewer::app::{self, ViewOptions};
 use crate::viewer::script::Script;
 use crate::viewer::session::Session;
@@ -42,11 +45,11 @@ pub struct ViewArgs {
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
     /// Preset groom [scene: groom.preset; default paper-curly].
-    #[arg(long, value_enum)]
-    preset: Option<Preset>,
+    #[arg(long, value_parser = choice::<GroomPreset>())]
+    preset: Option<GroomPreset>,
     /// Level of detail at the start [scene: lod.mode; default auto].
-    #[arg(long, value_enum)]
-    level: Option<LevelArg>,
+    #[arg(long, value_parser = choice::<LodModeKind>())]
+    level: Option<LodModeKind>,
     /// Screen-space error tolerance of automatic levels [pixels] [scene: lod.pixel_tolerance].
     #[arg(long, value_name = "PX")]
     pixel_tolerance: Option<f32>,
@@ -54,11 +57,11 @@ pub struct ViewArgs {
     #[arg(long)]
     color_code: bool,
     /// Camera path followed until the mouse moves the camera [scene: camera.path].
-    #[arg(long, value_enum)]
-    camera: Option<CameraArg>,
+    #[arg(long, value_parser = choice::<CameraPathKind>())]
+    camera: Option<CameraPathKind>,
     /// Head motion [scene: motion.kind; default still].
-    #[arg(long, value_enum)]
-    motion: Option<MotionArg>,
+    #[arg(long, value_parser = choice::<MotionKind>())]
+    motion: Option<MotionKind>,
     /// Graphics backend [default: $HAIRLOD_BACKEND, else auto].
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
@@ -140,7 +143,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let counts = scene.groom.counts();
     eprintln!(
         "viewing `{}` ({} sections, {} strands) at {}x{}, {}",
-        file.groom.preset.as_deref().unwrap_or("paper-curly"),
+        file.groom.preset.unwrap_or_default(),
         counts.sections,
         counts.strands,
         shot.width,

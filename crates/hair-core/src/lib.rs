@@ -19,6 +19,7 @@ pub mod head;
 pub mod level;
 pub mod lod;
 pub mod mesh;
+pub mod named;
 pub mod nurbs;
 pub mod per_level;
 pub mod random;
@@ -34,11 +35,13 @@ pub use curves::Curves;
 pub use error::{HairError, Result};
 pub use frame::Frame;
 pub use groom::{
-    Groom, GroomCounts, GroomParams, NO_PROFILE, PRESET_NAMES, PROFILE_SAMPLES, Section, StrandSet,
+    Groom, GroomCounts, GroomParams, GroomPreset, NO_PROFILE, PRESET_NAMES, PROFILE_SAMPLES,
+    Section, StrandSet,
 };
 pub use head::{Head, HeadParams, ScalpRoot};
 pub use level::Level;
 pub use mesh::TriangleMesh;
+pub use named::{Named, UnknownName};
 pub use per_level::PerLevel;
 pub use scene::Scene;
 pub use skeleton::SkeletonRest;

@@ -5,14 +5,16 @@ use glam::Vec3;
 
 use super::error::FormatErrorKind;
 
-/// Which axis points up in the file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum UpAxis {
-    /// +Y up (Maya, Houdini, TressFX): kept as is.
-    #[default]
-    Y,
-    /// +Z up (Blender, 3ds Max): rotated to +Y up by −90° about X, `(x, y, z) → (x, z, −y)`.
-    Z,
+hair_core::named_enum! {
+    /// Which axis points up in the file.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum UpAxis {
+        /// +Y up (Maya, Houdini, TressFX): kept as is.
+        #[default]
+        Y = "y",
+        /// +Z up (Blender, 3ds Max): rotated to +Y up by −90° about X, `(x, y, z) → (x, z, −y)`.
+        Z = "z",
+    }
 }
 
 /// The change from a file's axes and units to the scene's (metres, +Y up, right-handed), applied

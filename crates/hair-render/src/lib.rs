@@ -126,7 +126,8 @@ pub use renderer::{Renderer, RendererOptions};
 pub use settings::StrandThinning;
 pub use settings::{
     ClusterGeometry, DirectionalLight, FrameSettings, HairMaterial, HairShading, IMPOSTOR_BANDS,
-    LevelColors, LineCoverage, LineShading, ShadingMode, StrandStyle, SurfaceTexture, Tessellation,
+    LevelColors, LineCoverage, LineShading, ShadingMode, ShadingModel, StrandStyle, SurfaceTexture,
+    Tessellation,
 };
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;

@@ -55,23 +55,25 @@ pub enum SurfaceTexture {
     Stripes,
 }
 
-/// How cluster tubes (§3.4) are drawn.
-///
-/// Seen from outside, a tube is its silhouette: a band `2ρ` wide along its axis, whose normal
-/// turns from one edge through the eye to the other. [`ClusterGeometry::Impostor`] draws that band
-/// (one strip, in the plane touching the tube's near side) and rebuilds the tube's normal per
-/// fragment, so it covers the pixels of the tube's front half with a fraction of its triangles:
-/// a CPU rasterizer spends a large share of a cluster frame per triangle (`docs/render.md`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ClusterGeometry {
-    /// The tube's view-facing silhouette, one strip across, shaded with the tube's normal and
-    /// texture (the default). Where a tube points at the eye its stand-in narrows (a tube seen
-    /// end-on shows its ring; the band folds along the axis's short projection).
-    #[default]
-    Impostor,
-    /// The tube tessellated around within [`Tessellation::max_chord_error_pixels`] of its ring,
-    /// back faces culled.
-    Tube,
+hair_core::named_enum! {
+    /// How cluster tubes (§3.4) are drawn.
+    ///
+    /// Seen from outside, a tube is its silhouette: a band `2ρ` wide along its axis, whose normal
+    /// turns from one edge through the eye to the other. [`ClusterGeometry::Impostor`] draws that band
+    /// (one strip, in the plane touching the tube's near side) and rebuilds the tube's normal per
+    /// fragment, so it covers the pixels of the tube's front half with a fraction of its triangles:
+    /// a CPU rasterizer spends a large share of a cluster frame per triangle (`docs/render.md`).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum ClusterGeometry {
+        /// The tube's view-facing silhouette, one strip across, shaded with the tube's normal and
+        /// texture (the default). Where a tube points at the eye its stand-in narrows (a tube seen
+        /// end-on shows its ring; the band folds along the axis's short projection).
+        #[default]
+        Impostor = "impostor",
+        /// The tube tessellated around within [`Tessellation::max_chord_error_pixels`] of its ring,
+        /// back faces culled.
+        Tube = "tube",
+    }
 }
 
 /// Strips across an impostor cluster ([`ClusterGeometry::Impostor`]): one, edge to edge.
@@ -248,6 +250,39 @@ impl Default for DirectionalLight {
     }
 }
 
+hair_core::named_enum! {
+    /// The reflectance model by name ([`HairShading::from`] gives it with its default
+    /// parameters): scene files' `output.shading` and the command line's `--shading`.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum ShadingModel {
+        /// Kajiya-Kay: a diffuse term and one specular lobe ([`HairShading::KajiyaKay`]).
+        #[default]
+        KajiyaKay = "kajiya-kay",
+        /// Marschner's R, TT and TRT lobes with the paper's measured shift and width
+        /// ([`HairShading::Marschner`] with [`Marschner::default`]).
+        Marschner = "marschner",
+    }
+}
+
+impl From<ShadingModel> for HairShading {
+    fn from(model: ShadingModel) -> Self {
+        match model {
+            ShadingModel::KajiyaKay => HairShading::KajiyaKay,
+            ShadingModel::Marschner => HairShading::Marschner(Marschner::default()),
+        }
+    }
+}
+
+impl HairShading {
+    /// The model's name ([`ShadingModel`]), its parameters aside.
+    pub fn model(&self) -> ShadingModel {
+        match self {
+            HairShading::KajiyaKay => ShadingModel::KajiyaKay,
+            HairShading::Marschner(_) => ShadingModel::Marschner,
+        }
+    }
+}
+
 /// The reflectance model of strands, clusters and patches.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum HairShading {
@@ -262,19 +297,21 @@ pub enum HairShading {
     Marschner(Marschner),
 }
 
-/// How much of a pixel a strand drawn as a 1-pixel line covers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum LineCoverage {
-    /// The whole pixel: a sub-pixel strand is drawn as if a pixel wide.
-    #[default]
-    Pixel,
-    /// Its projected width's share `w·f/z` of each pixel (the ribbon width of
-    /// [`StrandStyle::Ribbons`]), as that share of the pixel's MSAA samples, picked by a hash of
-    /// the strand and the pixel so that overlapping strands cover different samples and add up
-    /// (stochastic transparency, order-independent). Single-sampled, and on the GL backend
-    /// (whose shader writer cannot set the sample mask in wgpu 30), the whole fragment is kept
-    /// with that probability instead: the same mean, more noise.
-    Width,
+hair_core::named_enum! {
+    /// How much of a pixel a strand drawn as a 1-pixel line covers.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum LineCoverage {
+        /// The whole pixel: a sub-pixel strand is drawn as if a pixel wide.
+        #[default]
+        Pixel = "pixel",
+        /// Its projected width's share `w·f/z` of each pixel (the ribbon width of
+        /// [`StrandStyle::Ribbons`]), as that share of the pixel's MSAA samples, picked by a hash of
+        /// the strand and the pixel so that overlapping strands cover different samples and add up
+        /// (stochastic transparency, order-independent). Single-sampled, and on the GL backend
+        /// (whose shader writer cannot set the sample mask in wgpu 30), the whole fragment is kept
+        /// with that probability instead: the same mean, more noise.
+        Width = "width",
+    }
 }
 
 /// Hair colour range and shading coefficients.

@@ -135,6 +135,66 @@ fn bad_values_name_the_field_and_the_range() {
 }
 
 #[test]
+fn every_fixed_choice_field_takes_its_enum_names_and_lists_them_when_wrong() {
+    use crate::scene_file::{BodyKind, CameraPathKind, LodModeKind, MotionKind};
+    use hair_core::lod::{BudgetMethod, ErrorModel, OcclusionTest};
+    use hair_render::{ClusterGeometry, LineCoverage, ShadingModel};
+    // (table, key, the enum's names): each field deserializes straight into its enum.
+    let fields: [(&str, &str, &[&str]); 15] = [
+        ("groom", "preset", &hair_core::GroomPreset::NAMES),
+        ("groom", "up_axis", &hair_formats::UpAxis::NAMES),
+        ("groom", "rest_pose", &RestPose::NAMES),
+        ("body", "kind", &BodyKind::NAMES),
+        ("body", "up_axis", &hair_formats::UpAxis::NAMES),
+        ("motion", "kind", &MotionKind::NAMES),
+        ("camera", "path", &CameraPathKind::NAMES),
+        ("lod", "mode", &LodModeKind::NAMES),
+        ("lod", "error_model", &ErrorModel::NAMES),
+        ("lod", "budget_method", &BudgetMethod::NAMES),
+        ("lod", "occlusion_test", &OcclusionTest::NAMES),
+        ("dynamics", "integrator", &IntegratorKind::NAMES),
+        ("output", "shading", &ShadingModel::NAMES),
+        ("output", "line_coverage", &LineCoverage::NAMES),
+        ("output", "clusters", &ClusterGeometry::NAMES),
+    ];
+    for (table, key, names) in fields {
+        for name in names {
+            let file: SceneFile = toml::from_str(&format!("[{table}]\n{key} = \"{name}\""))
+                .unwrap_or_else(|error| panic!("{table}.{key} = {name:?}: {error}"));
+            assert_ne!(
+                file,
+                SceneFile::default(),
+                "{table}.{key} = {name:?} was dropped"
+            );
+        }
+        // The whole message: the field path, the value, every allowed name, the line.
+        let error = error_of(&format!("[{table}]\n{key} = \"bogus\""));
+        assert_eq!(
+            error,
+            format!(
+                "{table}.{key} = \"bogus\": expected one of {} (line 2)",
+                names.join(", ")
+            )
+        );
+    }
+    // Within a crowd's character, the path says which one.
+    let error =
+        error_of("[[character]]\nposition = [0.0, 0.0, 0.0]\n[character.groom]\npreset = \"afro\"");
+    assert!(
+        error.starts_with("character[0].groom.preset = \"afro\""),
+        "{error}"
+    );
+    // Not a string at all, and a key that is none of the table's, also name the field.
+    let error = error_of("[lod]\nmode = 3");
+    assert!(error.starts_with("lod.mode: "), "{error}");
+    let error = error_of("[lod]\nmodes = \"auto\"");
+    assert!(
+        error.starts_with("lod.modes: unknown field `modes`"),
+        "{error}"
+    );
+}
+
+#[test]
 fn the_output_table_sets_the_draw_style() {
     use hair_render::{ClusterGeometry, HairShading, LineCoverage};
     let plain = SceneFile::parse("").unwrap().resolve().unwrap();

@@ -81,7 +81,6 @@ pub use forces::{
     rest_local_direction, transport, walk_joints,
 };
 pub use head_motion::{HeadKeyframe, HeadMotion, NECK_PIVOT, angular_velocity};
-pub use integrator_kind::UnknownIntegrator;
 pub use model::DynamicsModel;
 pub use params::{
     DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind, RootMode,

@@ -16,7 +16,7 @@ use std::ops::Range;
 use serde::{Deserialize, Serialize};
 
 pub use fitted::ChildStrands;
-pub use params::{GroomParams, PRESET_NAMES};
+pub use params::{GroomParams, GroomPreset, PRESET_NAMES};
 pub use section::Section;
 pub use strands::{NO_PROFILE, PROFILE_SAMPLES, StrandSet, check_profiles};
 

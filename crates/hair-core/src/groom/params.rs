@@ -36,8 +36,36 @@ pub struct GroomParams {
     pub seed: u64,
 }
 
-/// The names of the built-in presets.
-pub const PRESET_NAMES: [&str; 4] = ["paper-curly", "straight", "wavy", "curly"];
+crate::named_enum! {
+    /// A built-in groom ([`GroomParams::from`] gives its parameters).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub enum GroomPreset {
+        /// The paper's benchmark groom: 91 sections, 37,765 curly strands
+        /// ([`GroomParams::paper_curly`]).
+        #[default]
+        PaperCurly = "paper-curly",
+        /// Straight hair ([`GroomParams::straight`]).
+        Straight = "straight",
+        /// Wavy hair ([`GroomParams::wavy`]).
+        Wavy = "wavy",
+        /// Ringlet curls ([`GroomParams::curly`]).
+        Curly = "curly",
+    }
+}
+
+/// The names of the built-in presets ([`GroomPreset::NAMES`]).
+pub const PRESET_NAMES: [&str; 4] = GroomPreset::NAMES;
+
+impl From<GroomPreset> for GroomParams {
+    fn from(preset: GroomPreset) -> Self {
+        match preset {
+            GroomPreset::PaperCurly => GroomParams::paper_curly(),
+            GroomPreset::Straight => GroomParams::straight(),
+            GroomPreset::Wavy => GroomParams::wavy(),
+            GroomPreset::Curly => GroomParams::curly(),
+        }
+    }
+}
 
 impl GroomParams {
     /// The paper's benchmark groom (§8.2): 91 curly sections = 91 patches = 273 clusters = 455 strand
@@ -86,12 +114,9 @@ impl GroomParams {
 
     /// The preset called `name` (see [`PRESET_NAMES`]).
     pub fn preset(name: &str) -> Result<Self> {
-        match name {
-            "paper-curly" => Ok(Self::paper_curly()),
-            "straight" => Ok(Self::straight()),
-            "wavy" => Ok(Self::wavy()),
-            "curly" => Ok(Self::curly()),
-            _ => Err(HairError::UnknownName {
+        match name.parse::<GroomPreset>() {
+            Ok(preset) => Ok(preset.into()),
+            Err(_) => Err(HairError::UnknownName {
                 kind: "preset",
                 name: name.to_string(),
                 known: PRESET_NAMES.join(", "),

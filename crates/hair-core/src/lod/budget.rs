@@ -30,44 +30,18 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result, require_positive};
 
-/// How a frame budget is met.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BudgetMethod {
-    /// Levels chosen every frame to minimise the total estimated error within the budget
-    /// ([`LodSelector::select_within_budget`](super::LodSelector::select_within_budget): greedy
-    /// refinement by error saved per unit cost, costs from a [`CostModel`](super::CostModel)
-    /// calibrated as the run goes). The pixel tolerance plays no part.
-    #[default]
-    Greedy,
-    /// The pixel tolerance steered by a [`BudgetController`] (the law below).
-    Tolerance,
-}
-
-impl BudgetMethod {
-    /// The name used in scene files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            BudgetMethod::Greedy => "greedy",
-            BudgetMethod::Tolerance => "tolerance",
-        }
-    }
-}
-
-impl std::fmt::Display for BudgetMethod {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for BudgetMethod {
-    type Err = HairError;
-
-    fn from_str(text: &str) -> Result<Self> {
-        [BudgetMethod::Greedy, BudgetMethod::Tolerance]
-            .into_iter()
-            .find(|method| method.name() == text)
-            .ok_or_else(|| HairError::invalid("frame budget method", text, "greedy or tolerance"))
+crate::named_enum! {
+    /// How a frame budget is met.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum BudgetMethod {
+        /// Levels chosen every frame to minimise the total estimated error within the budget
+        /// ([`LodSelector::select_within_budget`](super::LodSelector::select_within_budget): greedy
+        /// refinement by error saved per unit cost, costs from a [`CostModel`](super::CostModel)
+        /// calibrated as the run goes). The pixel tolerance plays no part.
+        #[default]
+        Greedy = "greedy",
+        /// The pixel tolerance steered by a [`BudgetController`] (the law below).
+        Tolerance = "tolerance",
     }
 }
 

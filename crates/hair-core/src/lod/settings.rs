@@ -4,95 +4,37 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result, require_non_negative, require_positive};
 
-/// How the selector estimates the screen-space error [pixels] a coarse level makes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ErrorModel {
-    /// Error-driven: each section's own measured deviation of its patch and of its clusters from
-    /// its strands ([`LevelDeviation`](super::LevelDeviation), metres, measured at rest when the
-    /// selector is built) times the pixels a metre covers at the section's depth,
-    /// `e_px = e · f / z` (`f` the focal length in pixels, `z` the depth of the section's bound
-    /// centre).
-    #[default]
-    Deviation,
-    /// The paper's rule (§7.4): one error per level from the section's width, `w/6` for a patch
-    /// and `w/10` for clusters, scaled by the section's projected chord, `e_px = e · ℓ / L`.
-    Chord,
-}
-
-impl ErrorModel {
-    /// Both models, the default first.
-    pub const ALL: [ErrorModel; 2] = [ErrorModel::Deviation, ErrorModel::Chord];
-
-    /// The name used in scene files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ErrorModel::Deviation => "deviation",
-            ErrorModel::Chord => "chord",
-        }
+crate::named_enum! {
+    /// How the selector estimates the screen-space error [pixels] a coarse level makes.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum ErrorModel {
+        /// Error-driven: each section's own measured deviation of its patch and of its clusters from
+        /// its strands ([`LevelDeviation`](super::LevelDeviation), metres, measured at rest when the
+        /// selector is built) times the pixels a metre covers at the section's depth,
+        /// `e_px = e · f / z` (`f` the focal length in pixels, `z` the depth of the section's bound
+        /// centre).
+        #[default]
+        Deviation = "deviation",
+        /// The paper's rule (§7.4): one error per level from the section's width, `w/6` for a patch
+        /// and `w/10` for clusters, scaled by the section's projected chord, `e_px = e · ℓ / L`.
+        Chord = "chord",
     }
 }
 
-impl std::fmt::Display for ErrorModel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for ErrorModel {
-    type Err = HairError;
-
-    fn from_str(text: &str) -> Result<Self> {
-        ErrorModel::ALL
-            .into_iter()
-            .find(|model| model.name() == text)
-            .ok_or_else(|| HairError::invalid("LOD error model", text, "deviation or chord"))
-    }
-}
-
-/// How the occlusion test (§7.1) decides that a section is hidden behind the head.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum OcclusionTest {
-    /// The whole section: sight lines to samples of its centre skeleton's nodes (root to tip)
-    /// and of its outermost skeletons', each widened by half the section's width across the line
-    /// of sight, must all be blocked
-    /// ([`is_section_occluded`](super::criteria::is_section_occluded)).
-    #[default]
-    Section,
-    /// The paper's test: the root and the tip of the centre skeleton
-    /// ([`is_occluded`](super::criteria::is_occluded)). It hides sections that show between or
-    /// beside their ends (wavy and curly hair, sections beside the head's silhouette).
-    Ends,
-}
-
-impl OcclusionTest {
-    /// Both tests, the default first.
-    pub const ALL: [OcclusionTest; 2] = [OcclusionTest::Section, OcclusionTest::Ends];
-
-    /// The name used in scene files.
-    pub fn name(self) -> &'static str {
-        match self {
-            OcclusionTest::Section => "section",
-            OcclusionTest::Ends => "ends",
-        }
-    }
-}
-
-impl std::fmt::Display for OcclusionTest {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for OcclusionTest {
-    type Err = HairError;
-
-    fn from_str(text: &str) -> Result<Self> {
-        OcclusionTest::ALL
-            .into_iter()
-            .find(|test| test.name() == text)
-            .ok_or_else(|| HairError::invalid("occlusion test", text, "section or ends"))
+crate::named_enum! {
+    /// How the occlusion test (§7.1) decides that a section is hidden behind the head.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum OcclusionTest {
+        /// The whole section: sight lines to samples of its centre skeleton's nodes (root to tip)
+        /// and of its outermost skeletons', each widened by half the section's width across the line
+        /// of sight, must all be blocked
+        /// ([`is_section_occluded`](super::criteria::is_section_occluded)).
+        #[default]
+        Section = "section",
+        /// The paper's test: the root and the tip of the centre skeleton
+        /// ([`is_occluded`](super::criteria::is_occluded)). It hides sections that show between or
+        /// beside their ends (wavy and curly hair, sections beside the head's silhouette).
+        Ends = "ends",
     }
 }
 
