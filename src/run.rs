@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use crate::pipeline::{
     Checkpoint, FrameReport, Pipeline, PipelineError, PipelineRenderer, PipelineSettings, Result,
-    StageTimes,
+    RunMode, StageTimes,
 };
 use crate::shot::Shot;
 
@@ -121,8 +121,8 @@ pub trait Runnable {
         view: View,
     ) -> Result<(image::RgbaImage, f64)>;
 
-    /// The mode's column name (`LODs`, `Strands`, `Clusters`, `Patches`).
-    fn mode_name(&self) -> &'static str;
+    /// The run's mode (`LODs`, `Strands`, `Clusters`, `Patches`).
+    fn run_mode(&self) -> RunMode;
 }
 
 impl Runnable for Pipeline {
@@ -164,8 +164,8 @@ impl Runnable for Pipeline {
         }
     }
 
-    fn mode_name(&self) -> &'static str {
-        self.settings().lod.column_name()
+    fn run_mode(&self) -> RunMode {
+        self.settings().lod.run_mode()
     }
 }
 
@@ -398,7 +398,7 @@ impl<'s, R: Runnable> FrameLoop<'s, R> {
     /// The frames made so far, summarised, with the pipeline (or crowd) as it stands.
     pub fn finish(self) -> RunResult<R> {
         RunResult {
-            run: ModeRun::new(self.target.mode_name(), self.reports),
+            run: ModeRun::new(self.target.run_mode(), self.reports),
             budget: self.controller.map(|c| c.report()),
             tolerances: self.tolerances,
             pipeline: self.target,
@@ -409,8 +409,8 @@ impl<'s, R: Runnable> FrameLoop<'s, R> {
 /// One mode's run: every frame's report and the mean time per frame of each stage.
 #[derive(Debug, Clone, Serialize)]
 pub struct ModeRun {
-    /// `LODs`, `Strands`, `Clusters` or `Patches`.
-    pub mode: String,
+    /// `LODs`, `Strands`, `Clusters` or `Patches` (or a study's variant of automatic levels).
+    pub mode: RunMode,
     /// Every frame's report.
     pub frames: Vec<FrameReport>,
     /// Mean time per frame of each stage [s].
@@ -421,7 +421,7 @@ pub struct ModeRun {
 
 impl ModeRun {
     /// Summarises `frames` of mode `mode`.
-    pub fn new(mode: &str, frames: Vec<FrameReport>) -> Self {
+    pub fn new(mode: RunMode, frames: Vec<FrameReport>) -> Self {
         let mut mean = StageTimes::default();
         for frame in &frames {
             mean.add(&frame.times);
@@ -435,7 +435,7 @@ impl ModeRun {
         totals.sort_by(f64::total_cmp);
         let median_total = totals.get(totals.len() / 2).copied().unwrap_or(0.0);
         ModeRun {
-            mode: mode.to_string(),
+            mode,
             frames,
             mean,
             median_total,
@@ -484,11 +484,11 @@ mod tests {
 
     #[test]
     fn stretch_beyond_the_warning_names_the_mode_and_frame() {
-        let calm = ModeRun::new("LODs", vec![frame(0, 1e-5), frame(1, 0.01)]);
+        let calm = ModeRun::new(RunMode::Lods, vec![frame(0, 1e-5), frame(1, 0.01)]);
         assert_eq!(calm.worst_stretch(), (0.01, 1));
         assert!(calm.stretch_warning().is_none());
         let torn = ModeRun::new(
-            "Strands",
+            RunMode::Strands,
             vec![frame(0, 0.01), frame(1, 0.22), frame(2, 0.1)],
         );
         let warning = torn.stretch_warning().expect("22 % is past the warning");

@@ -50,7 +50,7 @@ pub fn run_budgeted(
         Ok(())
     })?;
     let mut run = result.run;
-    run.mode = "LODs, frame budget".to_string();
+    run.mode = crate::pipeline::RunMode::LodsFrameBudget;
     Ok(BudgetedRun {
         run,
         budget: result

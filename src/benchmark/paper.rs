@@ -49,9 +49,14 @@ impl PaperRun {
     /// The run's name in tables and reports (`LODs`, `Strands`, `Clusters`, `Patches`, `LODs,
     /// instant switching`).
     pub fn label(self) -> &'static str {
+        self.run_mode().name()
+    }
+
+    /// The run's mode in its reports.
+    pub fn run_mode(self) -> crate::pipeline::RunMode {
         match self {
-            PaperRun::LodsInstantSwitching => "LODs, instant switching",
-            run => run.mode(LodSettings::default()).column_name(),
+            PaperRun::LodsInstantSwitching => crate::pipeline::RunMode::LodsInstantSwitching,
+            run => run.mode(LodSettings::default()).run_mode(),
         }
     }
 
@@ -309,7 +314,7 @@ pub fn run_paper_tables(
         match run {
             PaperRun::LodsInstantSwitching => {
                 instant = Some(ModeRun {
-                    mode: run.label().to_string(),
+                    mode: run.run_mode(),
                     ..made
                 });
             }

@@ -193,8 +193,8 @@ impl Runnable for Crowd {
         }
     }
 
-    fn mode_name(&self) -> &'static str {
-        self.settings().lod.column_name()
+    fn run_mode(&self) -> crate::pipeline::RunMode {
+        self.settings().lod.run_mode()
     }
 }
 

@@ -17,15 +17,40 @@ pub enum LodMode {
     Fixed(Level),
 }
 
+hair_core::named_enum! {
+    /// What a run's levels were, by the paper's column names (reports, tables and charts):
+    /// [`ModeRun::mode`](crate::run::ModeRun::mode).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+    pub enum RunMode {
+        /// Automatic levels.
+        Lods = "LODs",
+        /// Every section as strand groups.
+        Strands = "Strands",
+        /// Every section as clusters.
+        Clusters = "Clusters",
+        /// Every section as a patch.
+        Patches = "Patches",
+        /// Automatic levels switched at once, without blends (the paper's popping study).
+        LodsInstantSwitching = "LODs, instant switching",
+        /// Automatic levels within a frame budget.
+        LodsFrameBudget = "LODs, frame budget",
+    }
+}
+
 impl LodMode {
+    /// The run's mode: `LODs`, `Strands`, `Clusters` or `Patches` (the paper's columns).
+    pub fn run_mode(&self) -> RunMode {
+        match self {
+            LodMode::Auto(_) => RunMode::Lods,
+            LodMode::Fixed(Level::StrandGroup) => RunMode::Strands,
+            LodMode::Fixed(Level::Cluster) => RunMode::Clusters,
+            LodMode::Fixed(Level::Patch) => RunMode::Patches,
+        }
+    }
+
     /// The name used in reports: `LODs`, `Strands`, `Clusters` or `Patches` (the paper's columns).
     pub fn column_name(&self) -> &'static str {
-        match self {
-            LodMode::Auto(_) => "LODs",
-            LodMode::Fixed(Level::StrandGroup) => "Strands",
-            LodMode::Fixed(Level::Cluster) => "Clusters",
-            LodMode::Fixed(Level::Patch) => "Patches",
-        }
+        self.run_mode().name()
     }
 }
 

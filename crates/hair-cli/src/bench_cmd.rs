@@ -386,7 +386,7 @@ fn model_size_chart(path: &std::path::Path, shot: &Shot, modes: &[ModeRun]) -> R
         .iter()
         .take(2)
         .map(|run| ModelSeries {
-            label: run.mode.clone(),
+            label: run.mode.to_string(),
             nodes: run
                 .frames
                 .iter()
