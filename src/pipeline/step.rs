@@ -29,9 +29,9 @@ pub(crate) struct BlockStep<'a> {
 
 /// What stepping one block did: its level, the wall-clock time of its dynamics and collision
 /// [s], the segments in contact and the largest stretch the projection left.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct BlockStepped {
-    pub(crate) level: Option<Level>,
+    pub(crate) level: Level,
     pub(crate) dynamics: f64,
     pub(crate) collision: f64,
     pub(crate) contacts: usize,
@@ -45,9 +45,7 @@ impl BlockStepped {
         report.times.collision += self.collision;
         report.contacts += self.contacts;
         report.max_stretch = report.max_stretch.max(self.max_stretch);
-        if let Some(level) = self.level {
-            report.level_seconds[level as usize] += self.dynamics + self.collision;
-        }
+        report.level_seconds[self.level as usize] += self.dynamics + self.collision;
     }
 }
 
@@ -89,8 +87,11 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
         time,
     } = step;
     let mut stepped = BlockStepped {
-        level: Some(level),
-        ..BlockStepped::default()
+        level,
+        dynamics: 0.0,
+        collision: 0.0,
+        contacts: 0,
+        max_stretch: 0.0,
     };
     let Some(simulation) = work.simulation.as_mut() else {
         return Ok(stepped);

@@ -83,6 +83,7 @@ pub mod error;
 pub mod groom;
 pub mod inputs;
 pub mod marschner;
+mod material;
 pub mod output;
 pub mod renderer;
 pub mod settings;
@@ -122,12 +123,12 @@ pub use device::{
 pub use error::{RenderError, Result};
 pub use inputs::{SkeletonFrame, StrandSet};
 pub use marschner::Marschner;
+pub use material::{HairMaterial, HairShading, ShadingModel};
 pub use renderer::{Renderer, RendererOptions};
 pub use settings::StrandThinning;
 pub use settings::{
-    ClusterGeometry, DirectionalLight, FrameSettings, HairMaterial, HairShading, IMPOSTOR_BANDS,
-    LevelColors, LineCoverage, LineShading, ShadingMode, ShadingModel, StrandStyle, SurfaceTexture,
-    Tessellation,
+    ClusterGeometry, DirectionalLight, FrameSettings, IMPOSTOR_BANDS, LevelColors, LineCoverage,
+    LineShading, ShadingMode, StrandStyle, SurfaceTexture, Tessellation,
 };
 pub use shadows::SelfShadowing;
 pub use strand_shapes::StrandShapes;

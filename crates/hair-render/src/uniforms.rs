@@ -2,9 +2,9 @@
 
 use glam::Vec3;
 
+use crate::material::HairShading;
 use crate::settings::{
-    ClusterGeometry, FrameSettings, HairShading, LineCoverage, ShadingMode, StrandStyle,
-    SurfaceTexture,
+    ClusterGeometry, FrameSettings, LineCoverage, ShadingMode, StrandStyle, SurfaceTexture,
 };
 use crate::shadows::SelfShadowing;
 

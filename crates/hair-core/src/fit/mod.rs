@@ -23,6 +23,7 @@ mod profiles;
 mod report;
 mod resample;
 mod settings;
+mod structure;
 
 #[cfg(test)]
 mod tests;
@@ -35,3 +36,4 @@ pub use resample::{curve_length, node_count_for, resample_curve, resample_into, 
 pub use settings::{
     FitSettings, GroupSplit, NodeCountScope, Representative, SectionCount, Smoothness,
 };
+pub use structure::StructureError;

@@ -100,6 +100,18 @@ fn evenly_spread_strands_make_balanced_ordered_groups() {
     };
     let fit = fit_hierarchy(&curves, &settings).unwrap();
     assert_well_formed(&fit, 53);
+    // The check fails where the structure breaks: a curve listed in the wrong group, a node
+    // that is not finite, a curve count the fit does not hold.
+    let mut moved = fit.clone();
+    let group = moved.strand_groups[0];
+    moved.strand_groups[0] = (group + 1) % 5;
+    let error = moved.check_structure(53).unwrap_err().to_string();
+    assert!(error.contains("curve 0 is in group"), "{error}");
+    let mut broken = fit.clone();
+    broken.node_positions[3].x = f32::NAN;
+    let error = broken.check_structure(53).unwrap_err().to_string();
+    assert!(error.contains("node position is not finite"), "{error}");
+    assert!(fit.check_structure(52).is_err());
     let sizes: Vec<usize> = (0..5).map(|g| fit.group_members(g).len()).collect();
     assert!(sizes.iter().all(|&n| n == 10 || n == 11), "{sizes:?}");
     // Runs along X: every strand of group g lies on one side of every strand of group g + 1.
