@@ -218,7 +218,11 @@ pub fn run_shot(
 
 /// Checks that `frames` lie within `shot` and start where the run can start: frame 0, or the
 /// checkpoint's frame.
-fn check_frames(shot: &Shot, frames: &Range<usize>, resume: Option<&Checkpoint>) -> Result<()> {
+pub(crate) fn check_frames(
+    shot: &Shot,
+    frames: &Range<usize>,
+    resume: Option<&Checkpoint>,
+) -> Result<()> {
     if frames.start > frames.end || frames.end > shot.frames {
         return Err(PipelineError::FramesOutsideShot {
             start: frames.start,

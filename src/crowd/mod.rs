@@ -2,11 +2,14 @@
 //! wind, simulated, collided and drawn together, with level selection across all of them under
 //! one tolerance or one frame budget.
 //!
-//! Each character is a [`Pipeline`] of its own (its groom on its own head, the head placed in the
-//! world through its motion, [`HeadMotion::placed`](hair_core::dynamics::HeadMotion::placed)),
-//! so dynamics, collision and hand-over are exactly one character's. What the crowd adds:
-//! - **one budget**: with a frame budget, every character's sections offer their options
-//!   ([`Pipeline::budget_options`]) and one greedy refinement
+//! A crowd is a [`World`](crate::pipeline::World) of many characters (each its groom on its own
+//! head, the head placed in the world through its motion,
+//! [`HeadMotion::placed`](hair_core::dynamics::HeadMotion::placed)) advanced through the same
+//! frame loop as a lone [`Pipeline`](crate::pipeline::Pipeline), so dynamics, collision and
+//! hand-over are exactly one character's, and every character's level blocks step in one
+//! parallel pass. What the crowd adds:
+//! - **one budget**: with a frame budget, every character's sections offer their options and
+//!   one greedy refinement
 //!   ([`refine_within_budget`](hair_core::lod::refine_within_budget)) chooses all their levels,
 //!   so detail goes to whichever character's sections buy the most error per second, near or
 //!   far;
@@ -16,8 +19,8 @@
 //! - **one picture**: [`CrowdRenderer`] draws every character's groom and head in one pass.
 //!
 //! Characters with the same groom parameters share one built groom (one `Arc<Scene>`, in their
-//! pipelines too) and one deviation measurement ([`CrowdModel`]). A crowd whose estimated memory
-//! is over what the machine has available is refused before its pipelines are built
+//! models too) and one deviation measurement ([`CrowdModel`]). A crowd whose estimated memory
+//! is over what the machine has available is refused before its world is built
 //! ([`memory`]).
 //!
 //! ```no_run
@@ -39,10 +42,11 @@ mod render;
 mod run;
 
 pub use frame::Crowd;
-pub use frame::sum_reports;
 pub use model::{CrowdMember, CrowdModel};
 pub use render::{CrowdRenderer, concatenated_geometry};
 pub use run::run_crowd;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_checkpoint;

@@ -17,13 +17,13 @@ pub struct CrowdMember {
     /// What the shot says of it.
     pub character: Character,
     /// Its groom on the procedural head (head space), shared with the characters that wear the
-    /// same groom (and with their pipelines).
+    /// same groom (and with their models).
     pub scene: Arc<Scene>,
     /// Its sections' level deviations [m] ([`level_deviations`]), shared by characters with the
     /// same groom.
     pub deviations: Arc<Vec<LevelDeviation>>,
     /// Its head's collision body, built once per groom: a clone, which shares the mesh, its
-    /// tree and pseudonormals with the other characters' (and their pipelines').
+    /// tree and pseudonormals with the other characters'.
     pub body: CollisionBody,
 }
 

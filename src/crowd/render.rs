@@ -90,11 +90,10 @@ impl CrowdRenderer {
     /// `height` pixels tall.
     fn prepare(&mut self, crowd: &mut Crowd, camera: &Camera, height: u32) -> Result<()> {
         self.active.clear();
-        for pipeline in crowd.pipelines_mut() {
-            pipeline.append_drawn(&mut self.active)?;
-        }
+        crowd.append_drawn(&mut self.active)?;
         let poses: Vec<(RigidTransform, usize)> = crowd
-            .pipelines()
+            .world()
+            .characters()
             .iter()
             .zip(&self.heads)
             .map(|(p, &head)| {

@@ -1,24 +1,34 @@
 //! A crowd shot run in one mode through the frame loop ([`run_frames`]): the crowd built from
-//! its [`CrowdModel`], drawn by a [`CrowdRenderer`], with or without a frame budget.
-
-use hair_core::lod::BudgetSettings;
+//! its [`CrowdModel`] (or resumed from a checkpoint), drawn by a [`CrowdRenderer`], with or
+//! without a frame budget.
 
 use super::frame::Crowd;
 use super::model::CrowdModel;
 use super::render::CrowdRenderer;
-use crate::pipeline::{PipelineSettings, Result};
-use crate::run::{FrameOutput, RunResult, View, run_frames};
+use crate::pipeline::Result;
+use crate::run::{FrameOutput, RunOptions, RunResult, View, check_frames, run_frames};
 
-/// Runs every frame of `model`'s shot with `settings` (and `budget`, at automatic levels),
-/// drawing `views` with `renderer` when given; `on_frame` sees each frame.
+/// Runs `options.frames` of `model`'s shot with `options.settings` (and `options.budget`, at
+/// automatic levels), from the start or from `options.resume` (a crowd checkpoint whose frame is
+/// where the frames start), drawing `views` with `renderer` when given; `on_frame` sees each
+/// frame.
 pub fn run_crowd(
     model: &CrowdModel,
-    settings: PipelineSettings,
-    budget: Option<BudgetSettings>,
+    options: RunOptions,
     renderer: Option<(&mut CrowdRenderer, &[View])>,
     on_frame: impl FnMut(FrameOutput<'_, Crowd>) -> Result<()>,
 ) -> Result<RunResult<Crowd>> {
-    let crowd = Crowd::new(model, settings)?;
+    let RunOptions {
+        settings,
+        frames,
+        resume,
+        budget,
+    } = options;
     let shot = &model.shot;
-    run_frames(shot, crowd, 0..shot.frames, budget, renderer, on_frame)
+    check_frames(shot, &frames, resume.as_ref())?;
+    let crowd = match resume {
+        Some(checkpoint) => Crowd::resume(model, settings, checkpoint)?,
+        None => Crowd::new(model, settings)?,
+    };
+    run_frames(shot, crowd, frames, budget, renderer, on_frame)
 }

@@ -8,7 +8,7 @@ use hair_core::{Camera, Level};
 
 use super::render::concatenated_geometry;
 use super::*;
-use crate::pipeline::{LodMode, Pipeline, PipelineSettings};
+use crate::pipeline::{Character, LodMode, Pipeline, PipelineSettings};
 use crate::scene_file::SceneFile;
 use crate::shot::Shot;
 
@@ -16,7 +16,7 @@ use crate::shot::Shot;
 const GROOM: &str = "[groom]\npreset = \"straight\"\nsection_count = 8\nstrands_per_group = 4\n\
                      rest_pose = \"grown\"\n[dynamics]\nsettle_seconds = 0.0\n";
 
-fn shot(characters: &str) -> Shot {
+pub(super) fn shot(characters: &str) -> Shot {
     SceneFile::parse(&format!("{GROOM}{characters}"))
         .and_then(|file| file.resolve())
         .unwrap()
@@ -49,7 +49,7 @@ fn a_crowd_of_one_is_its_pipeline_bit_for_bit() {
         assert_eq!(summed.simulated_nodes, own.simulated_nodes);
         assert_eq!(summed.drawn_at, own.drawn_at);
     }
-    let pipeline = &crowd.pipelines()[0];
+    let pipeline = &crowd.world().characters()[0];
     for level in Level::ALL {
         assert_eq!(
             pipeline.block(level).state.node_positions,
@@ -73,7 +73,7 @@ fn one_budget_sends_detail_to_the_near_character() {
     assert!(matches!(shot.settings.lod, LodMode::Auto(_)));
     let camera = camera_at(Vec3::new(0.0, 0.05, 0.8), Vec3::new(0.0, 0.0, -1.0));
     let rates = CostRates::default();
-    let mean_rank = |pipeline: &Pipeline| {
+    let mean_rank = |pipeline: &Character| {
         let levels = pipeline.section_levels();
         levels.iter().map(|&l| l as usize as f64).sum::<f64>() / levels.len() as f64
     };
@@ -93,8 +93,8 @@ fn one_budget_sends_detail_to_the_near_character() {
             "{outcome:?} over {budget}"
         );
         let (near, far) = (
-            mean_rank(&crowd.pipelines()[0]),
-            mean_rank(&crowd.pipelines()[1]),
+            mean_rank(&crowd.world().characters()[0]),
+            mean_rank(&crowd.world().characters()[1]),
         );
         assert!(
             near >= far,
@@ -252,7 +252,8 @@ fn characters_stepped_side_by_side_do_not_depend_on_the_thread_count() {
                 crowd.advance(&shot.camera(frame)).unwrap();
             }
             crowd
-                .pipelines()
+                .world()
+                .characters()
                 .iter()
                 .flat_map(|p| Level::ALL.map(|l| p.block(l).state.node_positions.clone()))
                 .collect()
@@ -295,12 +296,10 @@ fn the_characters_share_one_collision_body() {
     let mut crowd = Crowd::new(&model, shot.settings).unwrap();
     crowd.advance(&shot.camera(0)).unwrap();
     crowd.advance(&shot.camera(1)).unwrap();
-    let [first, second] = crowd.pipelines() else {
-        panic!("two characters");
-    };
+    assert_eq!(crowd.world().characters().len(), 2);
     let (a, b) = (
-        first.collision_body().unwrap(),
-        second.collision_body().unwrap(),
+        crowd.collision_body(0).unwrap(),
+        crowd.collision_body(1).unwrap(),
     );
     assert!(a.shares_shape_with(b) && a.shares_shape_with(&model.members[0].body));
     // Each is posed at its own head: the second character stands 1 m to the side.

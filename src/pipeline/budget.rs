@@ -1,8 +1,8 @@
 //! The frame budget (§7's alternative to the pixel tolerance): the levels that minimise the
 //! total estimated error within a budget of seconds per frame. One code path serves a character
-//! alone and a crowd: every section's options are gathered (each character's
-//! [`Pipeline::budget_options`](super::Pipeline::budget_options)), refined together
-//! ([`choose_within_budget`]) and handed back as each character's levels.
+//! alone and a crowd (a world of one or of many, [`super::world_pipeline`]): every character's
+//! sections' options are gathered, refined together ([`choose_within_budget`]) and handed back
+//! as each character's levels.
 
 use hair_core::Level;
 use hair_core::lod::{BudgetOutcome, CostModel, SectionOptions, refine_within_budget};

@@ -1,7 +1,8 @@
-//! Checkpoints: a [`PipelineState`] written to a file with what it belongs to (the format's
-//! version and the scene's fingerprint), so that a long shot can be split into frame ranges run
-//! one after another (`hairlod render SCENE --frames A..B --checkpoint DIR`, then `--resume`).
-//! A resumed run is bit-identical to an uninterrupted one, whatever the thread count.
+//! Checkpoints: a [`PipelineState`] (a crowd's: one per character) written to a file with what
+//! it belongs to (the format's version and the scene's fingerprint), so that a long shot can be
+//! split into frame ranges run one after another (`hairlod render SCENE --frames A..B
+//! --checkpoint DIR`, then `--resume`). A resumed run is bit-identical to an uninterrupted one,
+//! whatever the thread count.
 //!
 //! The file is JSON: floats are written in their shortest round-tripping form, so every bit of
 //! the state comes back. It carries a checksum of its state (FNV-1a, 64 bits, over the state as
@@ -42,31 +43,57 @@ pub struct Checkpoint {
     /// FNV-1a (64 bits, 16 hex digits) of the state as serialized to JSON: a read refuses a
     /// file whose state does not hash to it (edited or damaged).
     pub state_checksum: String,
-    /// The state.
+    /// The state (a crowd's first character's).
     pub state: PipelineState,
+    /// A crowd's other characters' states, in the shot's order (empty, and left out of the
+    /// file, for a lone character: such files are laid out as before crowds checkpointed).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub others: Vec<PipelineState>,
 }
 
-/// The checksum of `state` ([`Checkpoint::state_checksum`]): FNV-1a over its compact JSON, which
-/// is the same for every state that reads back with the same bits (floats are written in their
-/// shortest round-tripping form, fields in declaration order).
-fn state_checksum(state: &PipelineState) -> std::result::Result<String, serde_json::Error> {
+/// The checksum of `state` and `others` ([`Checkpoint::state_checksum`]): FNV-1a over their
+/// compact JSON, one after the other, which is the same for every state that reads back with the
+/// same bits (floats are written in their shortest round-tripping form, fields in declaration
+/// order); a lone character's is its state's alone.
+fn state_checksum(
+    state: &PipelineState,
+    others: &[PipelineState],
+) -> std::result::Result<String, serde_json::Error> {
     let mut hash = Fnv1a::new();
-    hash.write(serde_json::to_string(state)?.as_bytes());
+    for state in std::iter::once(state).chain(others) {
+        hash.write(serde_json::to_string(state)?.as_bytes());
+    }
     Ok(hash.hex())
 }
 
 impl Checkpoint {
     /// A checkpoint of `state` for the run whose fingerprint is `scene_fingerprint`.
     pub fn new(scene_fingerprint: String, state: PipelineState) -> Self {
-        let state_checksum = state_checksum(&state).unwrap_or_default();
+        Checkpoint::of_characters(scene_fingerprint, state, Vec::new())
+    }
+
+    /// A checkpoint of a crowd's characters' states (`first`, then `others` in the shot's order)
+    /// for the run whose fingerprint is `scene_fingerprint`.
+    pub fn of_characters(
+        scene_fingerprint: String,
+        first: PipelineState,
+        others: Vec<PipelineState>,
+    ) -> Self {
+        let state_checksum = state_checksum(&first, &others).unwrap_or_default();
         Checkpoint {
             format: CHECKPOINT_FORMAT.to_string(),
             version: CHECKPOINT_VERSION,
             hairlod_version: env!("CARGO_PKG_VERSION").to_string(),
             scene_fingerprint,
             state_checksum,
-            state,
+            state: first,
+            others,
         }
+    }
+
+    /// Every character's state, in order (one for a lone character).
+    pub fn states(&self) -> impl Iterator<Item = &PipelineState> {
+        std::iter::once(&self.state).chain(&self.others)
     }
 
     /// Writes the checkpoint to `path` atomically, through the project's one atomic writer
@@ -140,7 +167,7 @@ impl Checkpoint {
         }
         let checkpoint: Checkpoint =
             serde_json::from_str(&text).map_err(|e| fail(format!("damaged checkpoint: {e}")))?;
-        let checksum = state_checksum(&checkpoint.state)
+        let checksum = state_checksum(&checkpoint.state, &checkpoint.others)
             .map_err(|e| fail(format!("damaged checkpoint: {e}")))?;
         if checksum != checkpoint.state_checksum {
             return Err(fail(format!(

@@ -81,11 +81,6 @@ pub enum PipelineError {
         /// What needs them (`a frame budget`).
         what: &'static str,
     },
-    /// A frame begun with given levels before its budget options were made.
-    #[error(
-        "pipeline state: the budget options were not made this frame: call budget_options first"
-    )]
-    NoBudgetOptions,
     /// A checkpoint of another model (scene, groom, environment or settings) than the run's.
     #[error(
         "pipeline state: the checkpoint is of another scene (its fingerprint {theirs}, this \
@@ -103,8 +98,8 @@ pub enum PipelineError {
          other way round)"
     )]
     LodModeMismatch,
-    /// A shared collision body built from another mesh than the scene's head
-    /// ([`Pipeline::with_shared`](crate::pipeline::Pipeline::with_shared)).
+    /// A shared collision body built from another mesh than the scene's head (a crowd's
+    /// characters that wear one groom on one head share its body).
     #[error(
         "pipeline state: the shared collision body has {body} triangles, the scene's head \
          {head}: share the body built from this scene's head mesh"

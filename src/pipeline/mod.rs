@@ -1,25 +1,30 @@
-//! The frame pipeline: one [`Pipeline`] holds a character's model (scene, environment,
-//! settings), its state ([`PipelineState`]) and the working memory that steps it, and advances one
-//! frame at a time through stage modules in order (DESIGN "One frame"):
+//! The frame pipeline. A [`World`] holds the characters, each one's model (scene, environment,
+//! material) and state ([`PipelineState`]), and the settings they run with; the world's pipeline
+//! (`world_pipeline`) holds only working memory (each character's solvers, collision stages,
+//! selector and buffers, `character`) and advances every character one frame at a time through
+//! stage modules in order (DESIGN "One frame"):
 //!
 //! 1. control for time t (head pose, wind) and the camera;
 //! 2. observe (`observe`): every section observed on its current level;
-//! 3. select (`select`, `budget`): levels chosen by the pixel tolerance or a frame budget (§7),
-//!    blends and fades started;
+//! 3. select (`select`, `budget`): levels chosen by the pixel tolerance or by one frame budget
+//!    over every character's sections (§7), blends and fades started;
 //! 4. hand over (`hand_over`): blocks rebuilt where a section changed level, state mapped over
 //!    (§4.2), the working memory (`work`) rebuilt around them;
-//! 5. step (`step`): every level block in one parallel pass, F_col from the head's collision
-//!    body in head space (§5.4), one step of the integrator, the positional guarantee; a crowd's
-//!    characters step together in the same pass (`together`), and the settling fall is the same
-//!    step;
+//! 5. step (`step`): every level block of every character in one parallel pass, F_col from the
+//!    head's collision body in head space (§5.4), one step of the integrator, the positional
+//!    guarantee; the settling fall is the same step;
 //! 6. gather (`drawn`): the skeletons to draw, for the renderer ([`Pipeline::gather_drawn`]).
 //!
+//! A [`Pipeline`] is a world of one character with its pipeline; a
+//! [`Crowd`](crate::crowd::Crowd) is a world of many, through the same loop.
 //! Fixed-level modes ([`LodMode::Fixed`]) run through the same code for comparison. Each stage's
 //! wall-clock time is in the frame's [`FrameReport`]. Everything that evolves is a [`PipelineState`],
 //! which a [`Checkpoint`] writes to a file and [`Pipeline::resume`] goes on from, bit for bit.
 
 mod block;
 mod budget;
+mod character;
+mod character_frame;
 mod checkpoint;
 mod draw;
 mod drawn;
@@ -38,8 +43,9 @@ mod state_check;
 mod step;
 mod strands_out;
 mod style;
-mod together;
 mod work;
+mod world;
+mod world_pipeline;
 
 pub use block::LevelBlock;
 pub use budget::FrameBudget;
@@ -53,7 +59,9 @@ pub use settings::{LodMode, PipelineSettings, RunMode};
 pub use state::PipelineState;
 pub use state_check::{MAX_NODE_SPEED, MAX_STATE_FRAMES};
 pub use style::DrawStyle;
+pub use world::{Character, CharacterModel, World};
 
-pub(crate) use budget::{calibrate as calibrate_budget, check_budget, choose_within_budget};
+pub(crate) use character::Shared;
+#[cfg(test)]
 pub(crate) use step::charge_wall_time;
-pub(crate) use together::{settle_together, step_together};
+pub(crate) use world_pipeline::WorldPipeline;

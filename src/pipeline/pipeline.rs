@@ -1,40 +1,38 @@
-//! The frame pipeline (DESIGN "One frame"): control → level selection and transitions → dynamics
-//! with collision → skeletons for the renderer, with the wall-clock time of each stage.
+//! [`Pipeline`]: one character's run, a [`World`] of one advanced by its [`WorldPipeline`], the
+//! same frame loop as a crowd's (DESIGN "One frame"): control → level selection and transitions
+//! → dynamics with collision → skeletons for the renderer, with the wall-clock time of each
+//! stage.
 
 use std::sync::Arc;
 
 use hair_collide::CollisionBody;
 use hair_core::dynamics::{DynamicsModel, DynamicsParams, Environment, Simulation};
-use hair_core::lod::{
-    ErrorModel, LevelDeviation, LodSelector, SectionChoice, SectionObservation, SectionWork,
-};
-use hair_core::{Frame, Level, PerLevel, RigidTransform, Scene};
+use hair_core::lod::{CostModel, LodSelector, SectionChoice};
+use hair_core::{Camera, Level, RigidTransform, Scene};
+use hair_render::ActiveSkeletons;
 
 use super::block::LevelBlock;
 use super::budget::FrameBudget;
+use super::character::Shared;
 use super::checkpoint::Checkpoint;
-use super::error::{PipelineError, Result};
-use super::hand_over::HandOverModel;
-use super::levels::SectionLevels;
-use super::report::{LodChanges, StageTimes};
+use super::error::Result;
+use super::report::{FrameReport, LodChanges};
 use super::settings::{LodMode, PipelineSettings};
 use super::state::PipelineState;
-use super::step::BlockStep;
-use super::work::Workspace;
+use super::world::{Character, CharacterModel, World};
+use super::world_pipeline::WorldPipeline;
 
-mod control;
-mod frame;
-
-/// A hair simulation with levels of detail. It keeps three things apart (like rapier's
-/// `PhysicsPipeline` and MuJoCo's `mjModel`/`mjData`):
+/// A hair simulation with levels of detail: one character in a world of its own. It keeps three
+/// things apart (like rapier's `PhysicsPipeline` and MuJoCo's `mjModel`/`mjData`):
 /// - the model: the [`Scene`] (groom and head), the environment and the settings, fixed for the
-///   run;
+///   run ([`World`], [`CharacterModel`]);
 /// - the state: a [`PipelineState`], everything that evolves (skeletons at each level, levels,
 ///   blends, visibility, the selector's memory, time), which [`Pipeline::state`] returns and
 ///   [`Pipeline::resume`] starts from;
 /// - working memory: each level's solver and collision stage (each posing its own copy of the
 ///   head's collision body, whose mesh and tree are shared), the level selector's constants,
-///   per-frame buffers. Nothing of it is saved: a resumed run rebuilds it from the state.
+///   per-frame buffers, held by the world's pipeline. Nothing of it is saved: a resumed run
+///   rebuilds it from the state.
 ///
 /// ```
 /// use hairlod::pipeline::{Pipeline, PipelineSettings};
@@ -49,49 +47,10 @@ mod frame;
 /// # Ok::<(), hairlod::pipeline::PipelineError>(())
 /// ```
 pub struct Pipeline {
-    /// The scene, shared with the other characters of a crowd that wear the same groom.
-    scene: Arc<Scene>,
-    environment: Environment,
-    settings: PipelineSettings,
-    params: DynamicsParams,
-    state: PipelineState,
-    /// Every level's solvers (each poses its own copy of the collision body).
-    work: Workspace,
-    /// The head's collision body (collision on), posed at the head at the state's time.
-    body: Option<CollisionBody>,
-    selector: Option<LodSelector>,
-    /// The frame budget that minimises error: the budget [s] and the calibrated cost model
-    /// (`None`: levels from the pixel tolerance).
-    budget: Option<FrameBudget>,
-    /// The levels the budget chose this frame (scratch).
-    budget_levels: Vec<Level>,
-    /// What each section simulates and draws at each level (for the cost model).
-    section_work: Vec<SectionWork>,
-    /// Screen area each section covers this frame [pixels] (its bounding disc, for the cost
-    /// model).
-    section_pixels: Vec<f64>,
-    observations: Vec<SectionObservation>,
-    frames_scratch: Vec<Frame>,
-    /// A frame whose levels are chosen but whose dynamics step has not run
-    /// ([`Pipeline::begin_frame`]).
-    pending: Option<PendingFrame>,
-    /// The frame whose budget options were made ([`Pipeline::budget_options`]) and the time it
-    /// took [s], counted into that frame's level-of-detail stage.
-    options_made: Option<(usize, f64)>,
-}
-
-/// What a pipeline is given already built instead of building it ([`Pipeline::with_shared`]).
-#[derive(Default, Clone, Copy)]
-struct Shared<'a> {
-    deviations: Option<&'a [LevelDeviation]>,
-    body: Option<&'a CollisionBody>,
-}
-
-/// What [`Pipeline::begin_frame`] leaves for [`Pipeline::finish_frame`].
-#[derive(Debug, Clone, Copy, Default)]
-struct PendingFrame {
-    changes: LodChanges,
-    times: StageTimes,
+    /// The character: model and state.
+    world: World,
+    /// The working memory that advances it.
+    stages: WorldPipeline,
 }
 
 impl Pipeline {
@@ -99,8 +58,7 @@ impl Pipeline {
     /// at rest at the finest level, strand groups (automatic mode: [`settle`](Self::settle) lets
     /// the hair fall into place at full detail, and the first frame hands each section down to
     /// the level it is given), or at the fixed level.
-    /// The scene may be an `Arc<Scene>` shared with other pipelines (a crowd's characters that
-    /// wear one groom share its model).
+    /// The scene may be an `Arc<Scene>` shared with other pipelines.
     pub fn new(
         scene: impl Into<Arc<Scene>>,
         environment: Environment,
@@ -119,116 +77,13 @@ impl Pipeline {
         settings: PipelineSettings,
         params: DynamicsParams,
     ) -> Result<Self> {
-        Pipeline::build(
-            scene.into(),
+        let model = CharacterModel {
+            scene: scene.into(),
             environment,
-            settings,
             params,
-            Shared::default(),
-        )
-    }
-
-    /// [`Pipeline::new`] with what characters of a crowd that wear one groom on one head build
-    /// once and share: the sections' level deviations [m]
-    /// ([`level_deviations`](hair_core::lod::level_deviations) of this scene's groom, one per
-    /// section) and the head's collision body (a clone of
-    /// `CollisionBody::from_mesh(&scene.head.mesh)`, which shares its mesh and tree; read only
-    /// with collision on). Errors when the body has another triangle count than the scene's head.
-    pub fn with_shared(
-        scene: impl Into<Arc<Scene>>,
-        environment: Environment,
-        settings: PipelineSettings,
-        deviations: &[LevelDeviation],
-        body: &CollisionBody,
-    ) -> Result<Self> {
-        let scene = scene.into();
-        let triangles = scene.head.mesh.triangles.len();
-        if body.triangle_count() != triangles {
-            return Err(PipelineError::SharedBodyMismatch {
-                body: body.triangle_count(),
-                head: triangles,
-            });
-        }
-        let params = DynamicsParams::for_style(&scene.groom.params.style);
-        let shared = Shared {
-            deviations: Some(deviations),
-            body: Some(body),
         };
-        Pipeline::build(scene, environment, settings, params, shared)
-    }
-
-    fn build(
-        scene: Arc<Scene>,
-        environment: Environment,
-        settings: PipelineSettings,
-        params: DynamicsParams,
-        shared: Shared<'_>,
-    ) -> Result<Self> {
-        settings.dynamics.validate()?;
-        params.validate()?;
-        let groom = &scene.groom;
-        let sections = groom.section_count();
-        let occluders = scene.head.occluder_boxes();
-        let (selector, start_level) = match settings.lod {
-            LodMode::Auto(lod) => {
-                let mut selector = match shared.deviations {
-                    Some(deviations) if lod.error_model == ErrorModel::Deviation => {
-                        LodSelector::with_deviations(groom, &occluders, lod, deviations)?
-                    }
-                    _ => LodSelector::new(groom, &occluders, lod)?,
-                };
-                selector.set_frame_time(settings.dynamics.time_step)?;
-                (Some(selector), Level::StrandGroup)
-            }
-            LodMode::Fixed(level) => (None, level),
-        };
-        let body = if settings.collision {
-            Some(match shared.body {
-                Some(body) => body.clone(),
-                None => CollisionBody::from_mesh(&scene.head.mesh)?,
-            })
-        } else {
-            None
-        };
-        let work = Workspace::new(body.as_ref())?;
-        let visible_choice = SectionChoice {
-            level: start_level,
-            visible: true,
-            reason: hair_core::lod::Reason::Fixed,
-        };
-        let state = PipelineState {
-            frame: 0,
-            time: 0.0,
-            levels: SectionLevels::new(sections, start_level),
-            choices: vec![visible_choice; sections],
-            pixel_tolerance: selector.as_ref().map(|s| s.settings().pixel_tolerance),
-            selector_depths: Vec::new(),
-            blocks: PerLevel::from_fn(|level| LevelBlock::empty(level, 0.0)),
-        };
-        let mut pipeline = Pipeline {
-            environment,
-            settings,
-            params,
-            state,
-            work,
-            body,
-            selector,
-            budget: None,
-            budget_levels: Vec::new(),
-            section_work: super::drawn::section_work(&scene.groom),
-            section_pixels: vec![0.0; sections],
-            observations: vec![SectionObservation::default(); sections],
-            frames_scratch: Vec::new(),
-            pending: None,
-            options_made: None,
-            scene,
-        };
-        let head = pipeline.head_pose();
-        pipeline.hand_over(|model, state, work| {
-            super::hand_over::start_at_rest(model, state, work, &head)
-        })?;
-        pipeline.pose_body()?;
-        Ok(pipeline)
+        let (world, stages) = WorldPipeline::build([(model, Shared::default())], settings)?;
+        Ok(Pipeline { world, stages })
     }
 
     /// A pipeline for `scene`, `environment` and `settings` that goes on from `checkpoint`,
@@ -242,43 +97,22 @@ impl Pipeline {
         checkpoint: Checkpoint,
     ) -> Result<Self> {
         let mut pipeline = Pipeline::new(scene, environment, settings)?;
-        let ours = pipeline.fingerprint();
-        if checkpoint.scene_fingerprint != ours {
-            return Err(PipelineError::ForeignCheckpoint {
-                theirs: checkpoint.scene_fingerprint,
-                ours,
-            });
-        }
-        pipeline.restore(checkpoint.state)?;
+        pipeline.stages.restore(&mut pipeline.world, checkpoint)?;
         Ok(pipeline)
     }
 
-    /// The head's collision body (`None` with collision off): shared with the pipelines built
-    /// with a clone of it ([`Pipeline::with_shared`]), posed at this pipeline's head.
+    /// The world: this pipeline's one character, its model and state, and the settings.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    fn character(&self) -> &Character {
+        &self.world.characters[0]
+    }
+
+    /// The head's collision body (`None` with collision off), posed at this pipeline's head.
     pub fn collision_body(&self) -> Option<&CollisionBody> {
-        self.body.as_ref()
-    }
-
-    /// Poses the collision body at the head at the state's time.
-    fn pose_body(&mut self) -> Result<()> {
-        let head = self.head_pose();
-        if let Some(body) = &mut self.body {
-            body.set_pose(head.rotation, head.translation)?;
-        }
-        Ok(())
-    }
-
-    /// Runs a hand-over stage function on the model, the state and the working memory.
-    fn hand_over<T>(
-        &mut self,
-        stage: impl FnOnce(HandOverModel<'_>, &mut PipelineState, &mut Workspace) -> Result<T>,
-    ) -> Result<T> {
-        let model = HandOverModel {
-            groom: &self.scene.groom,
-            params: self.params,
-            settings: &self.settings,
-        };
-        stage(model, &mut self.state, &mut self.work)
+        self.stages.work(0).body.as_ref()
     }
 
     /// The fingerprint of this run's model: the groom (parameters and skeleton rest data:
@@ -286,55 +120,20 @@ impl Pipeline {
     /// settings, hashed (FNV-1a, 64 bits) to 16 hex digits.
     /// A checkpoint resumes only where the fingerprint is the same.
     pub fn fingerprint(&self) -> String {
-        super::fingerprint::model_fingerprint(
-            &self.scene,
-            &self.environment,
-            &self.settings,
-            &self.params,
-        )
+        self.world.fingerprint()
     }
 
     /// Everything of the run that evolves, for a checkpoint ([`Checkpoint::new`] with
     /// [`Pipeline::fingerprint`]); between frames (a frame begun with
     /// [`begin_frame`](Self::begin_frame) and not finished is refused).
     pub fn state(&self) -> Result<PipelineState> {
-        if self.pending.is_some() {
-            return Err(PipelineError::FrameBegun {
-                action: "take the state between frames",
-            });
-        }
-        let mut state = self.state.clone();
-        for (level, block) in state.blocks.iter_mut() {
-            if let Some(solver) = &self.work.levels[level].solver {
-                block.collision_memory = solver.velocity_memory();
-            }
-        }
-        Ok(state)
+        let character = self.character();
+        super::character::saved_state(&character.state, self.stages.work(0))
     }
 
     /// A checkpoint of the run now.
     pub fn checkpoint(&self) -> Result<Checkpoint> {
-        Ok(Checkpoint::new(self.fingerprint(), self.state()?))
-    }
-
-    /// Replaces the state with `state` (checked against the groom and the settings) and
-    /// rebuilds every solver around it.
-    fn restore(&mut self, state: PipelineState) -> Result<()> {
-        state.check(&self.scene.groom, self.settings.dynamics.time_step)?;
-        match (&mut self.selector, state.pixel_tolerance) {
-            (Some(selector), Some(tolerance)) => {
-                selector.set_pixel_tolerance(tolerance)?;
-                selector.restore_choices(&state.choices)?;
-                selector.restore_depths(&state.selector_depths)?;
-            }
-            (None, None) => {}
-            _ => {
-                return Err(PipelineError::LodModeMismatch);
-            }
-        }
-        self.state = state;
-        self.hand_over(|model, state, work| super::hand_over::rebuild_all(model, state, work))?;
-        self.pose_body()
+        self.stages.checkpoint(&self.world)
     }
 
     /// Lets the hair settle from its rest shape under gravity (and the environment at time 0)
@@ -342,102 +141,150 @@ impl Pipeline {
     /// a groom's rest shape is not an equilibrium under gravity, and a run should not start with
     /// hair falling into place (which the motion criterion would rightly read as motion).
     pub fn settle(&mut self, seconds: f32) -> Result<()> {
-        let steps = self.settle_steps(seconds);
-        let still = self.settle_environment();
-        for _ in 0..steps {
-            super::step::step_blocks(self.block_steps(Some(&still), 0.0))?;
-        }
-        self.settled();
+        self.stages.settle(&mut self.world, seconds)
+    }
+
+    /// Advances one frame of `settings.dynamics.time_step` seconds seen by `camera`: chooses
+    /// levels, hands state over where a section changed level, steps every block with collision.
+    /// The same as [`Pipeline::begin_frame`] then [`Pipeline::finish_frame`].
+    pub fn advance(&mut self, camera: &Camera) -> Result<FrameReport> {
+        self.stages.advance(&mut self.world, camera)
+    }
+
+    /// The level-of-detail stage of a frame seen by `camera`: chooses levels (by the pixel
+    /// tolerance or within the frame budget), starts and ends blends and hands state over where
+    /// a section changed level, without stepping the dynamics; returns how many sections changed
+    /// level or visibility. Drawing now ([`Pipeline::gather_drawn`]) shows the frame's levels and
+    /// blend coverages on the skeletons of the frame before, so the image change that the level
+    /// decisions alone make can be measured (the popping measure). A frame already begun is not
+    /// begun again (its changes are returned).
+    pub fn begin_frame(&mut self, camera: &Camera) -> Result<LodChanges> {
+        self.stages.begin_frame(&mut self.world, camera)
+    }
+
+    /// The rest of a frame begun with [`Pipeline::begin_frame`]: one dynamics step with collision
+    /// per block, the clock advanced by `settings.dynamics.time_step`. Without a begun frame it
+    /// steps with the levels as they are (no selection).
+    pub fn finish_frame(&mut self) -> Result<FrameReport> {
+        self.stages.finish_frame(&mut self.world)
+    }
+
+    /// Fills `active` with the skeletons to draw, on the groom's chain numbering: the chains of
+    /// every visible section at its level (and, while it blends, at its previous level too: the
+    /// new level's coverage rises from 0 to 1 over the first half of the blend while the old
+    /// one's falls from 1 to 0 over the whole blend, a dissolve,
+    /// [`SectionLevels::coverage`](super::SectionLevels::coverage); a section coming into view or
+    /// leaving it dissolves in or out over the blend as a whole), with node frames computed from
+    /// the simulated positions; everything else inactive.
+    pub fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
+        active.clear();
+        self.append_drawn(active)
+    }
+
+    /// [`gather_drawn`](Self::gather_drawn) appended after the chains already in `active`.
+    pub fn append_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
+        self.stages.append_drawn(&mut self.world, active)
+    }
+
+    /// Chooses levels within a frame budget of `seconds` [s] from the next frame on, minimising
+    /// the total estimated error (the same choice as a crowd's over all its characters, and as
+    /// [`LodSelector::select_within_budget`]) with costs from `model`, which
+    /// [`observe_frame`](Self::observe_frame) calibrates; `None` goes back to the pixel
+    /// tolerance. Errors at a fixed level (there is nothing to choose) and for a budget that is
+    /// not a positive number of seconds.
+    pub fn set_frame_budget(&mut self, budget: Option<(f64, CostModel)>) -> Result<()> {
+        self.stages.set_frame_budget(&self.world, budget)
+    }
+
+    /// The frame budget [s] and cost model, when levels are chosen within a budget.
+    pub fn frame_budget(&self) -> Option<&FrameBudget> {
+        self.stages.frame_budget()
+    }
+
+    /// Calibrates the frame budget's cost model with a finished frame's `report` (its rendering
+    /// time filled in when the frame was drawn). Does nothing without a budget.
+    pub fn observe_frame(&mut self, report: &FrameReport) {
+        self.stages.observe_frame(report);
+    }
+
+    /// Sets the selector's pixel tolerance [pixels] from the next frame on (a frame-budget
+    /// controller steers it); nothing at a fixed level.
+    pub fn set_pixel_tolerance(&mut self, pixel_tolerance: f32) -> Result<()> {
+        self.stages
+            .set_pixel_tolerance(&mut self.world, pixel_tolerance)
+    }
+
+    /// Switches between automatic levels and a fixed level from the next frame on (an
+    /// interactive viewer's "force a level"). To a fixed level, every section is switched through
+    /// the same hand-over (§4.2) and blend as an automatic change (blending over the current
+    /// selector's blend time) and shown whether in view or not, as a fixed-level run does; back to
+    /// automatic levels, a selector with `lod` settings starts from the levels the sections are at
+    /// and chooses at the next frame. The run's fingerprint follows the settings. Refused while a
+    /// frame is begun and not finished.
+    pub fn set_lod_mode(&mut self, mode: LodMode) -> Result<()> {
+        self.stages.set_lod_mode(&mut self.world, mode)
+    }
+
+    /// Replaces the environment (head motion, wind, gravity) from the next frame on (an
+    /// interactive viewer's wind and head-motion switches). The head's pose jumps to the new
+    /// motion's pose at the current time. The run's fingerprint follows the environment.
+    /// Refused while a frame is begun and not finished.
+    pub fn set_environment(&mut self, environment: Environment) -> Result<()> {
+        self.stages
+            .refuse_while_begun("change the environment between frames")?;
+        self.world.characters[0].model.environment = environment;
         Ok(())
-    }
-
-    /// The settling fall's still environment: the head held at its pose now, the rest as the
-    /// run's ([`settle`](Self::settle)).
-    pub(crate) fn settle_environment(&self) -> Environment {
-        Environment {
-            head: hair_core::dynamics::HeadMotion::Still(self.head_pose()),
-            ..self.environment.clone()
-        }
-    }
-
-    /// Puts the blocks' clocks back on the run's after the settling fall.
-    pub(crate) fn settled(&mut self) {
-        for (_, block) in self.state.blocks.iter_mut() {
-            block.state.time = self.state.time;
-        }
-    }
-
-    /// Every level block with its working memory, to step in `environment` (the run's when
-    /// `None`) from `time` [s] ([`super::step::step_blocks`]).
-    pub(crate) fn block_steps<'a>(
-        &'a mut self,
-        environment: Option<&'a Environment>,
-        time: f64,
-    ) -> Vec<BlockStep<'a>> {
-        let environment = environment.unwrap_or(&self.environment);
-        super::step::character_steps(
-            self.state.blocks.iter_mut(),
-            self.work.levels.iter_mut(),
-            environment,
-            time,
-        )
-        .collect()
-    }
-
-    /// The steps of a settling fall of `seconds` [s].
-    pub(crate) fn settle_steps(&self, seconds: f32) -> usize {
-        (seconds / self.settings.dynamics.time_step).ceil().max(0.0) as usize
     }
 
     /// The scene.
     pub fn scene(&self) -> &Scene {
-        &self.scene
+        &self.character().model.scene
     }
 
     /// The settings.
     pub fn settings(&self) -> &PipelineSettings {
-        &self.settings
+        &self.world.settings
     }
 
     /// The environment (head motion, wind, gravity).
     pub fn environment(&self) -> &Environment {
-        &self.environment
+        &self.character().model.environment
     }
 
     /// The level selector (`None` with a fixed level).
     pub fn selector(&self) -> Option<&LodSelector> {
-        self.selector.as_ref()
+        self.stages.work(0).selector.as_ref()
     }
 
     /// Simulated time [s].
     pub fn time(&self) -> f64 {
-        self.state.time
+        self.character().state.time
     }
 
     /// Frames advanced so far.
     pub fn frame(&self) -> usize {
-        self.state.frame
+        self.character().state.frame
     }
 
     /// The current level of every section.
     pub fn section_levels(&self) -> &[Level] {
-        self.state.levels.current()
+        self.character().section_levels()
     }
 
     /// The last choice of every section (level, visibility, reason).
     pub fn choices(&self) -> &[SectionChoice] {
-        &self.state.choices
+        self.character().choices()
     }
 
     /// The block of `level`: the sections simulated at it and their state.
     pub fn block(&self, level: Level) -> &LevelBlock {
-        &self.state.blocks[level]
+        self.character().block(level)
     }
 
     /// The dynamics model `level`'s block is stepped with (none while the block is empty): its
     /// chains are the block's, in the block's order, and its nodes index the block's state.
     pub fn level_model(&self, level: Level) -> Option<&DynamicsModel> {
-        self.work.levels[level]
+        self.stages.work(0).work.levels[level]
             .simulation
             .as_ref()
             .map(Simulation::model)
@@ -445,6 +292,6 @@ impl Pipeline {
 
     /// The head's pose at the time the skeletons are at (the end of the last frame stepped).
     pub fn head_pose(&self) -> RigidTransform {
-        self.environment.head.transform_at(self.state.time)
+        self.character().head_pose()
     }
 }

@@ -89,9 +89,30 @@ impl FrameReport {
         });
         model.observe(self.level_seconds, self.level_nodes, render);
     }
+
+    /// Adds another character's report of the same frame: counts, work and stage times summed,
+    /// the largest stretch kept (the frame and time stay this report's).
+    pub fn add(&mut self, other: &FrameReport) {
+        for level in 0..3 {
+            self.sections_at[level] += other.sections_at[level];
+            self.drawn_at[level] += other.drawn_at[level];
+            self.pixels_at[level] += other.pixels_at[level];
+            self.level_seconds[level] += other.level_seconds[level];
+            self.level_nodes[level] += other.level_nodes[level];
+        }
+        self.visible_sections += other.visible_sections;
+        self.level_changes += other.level_changes;
+        self.visibility_changes += other.visibility_changes;
+        self.blending_sections += other.blending_sections;
+        self.simulated_nodes += other.simulated_nodes;
+        self.drawn_segments += other.drawn_segments;
+        self.contacts += other.contacts;
+        self.max_stretch = self.max_stretch.max(other.max_stretch);
+        self.times.add(&other.times);
+    }
 }
 
-/// What the level-of-detail stage of a frame changed ([`crate::pipeline::Pipeline::begin_frame`]).
+/// What the level-of-detail stage of a frame changed ([`crate::pipeline::Pipeline::begin_frame`], summed over a crowd's characters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub struct LodChanges {
     /// Sections that changed level.
@@ -104,5 +125,11 @@ impl LodChanges {
     /// Whether any section changed level or visibility.
     pub fn any(&self) -> bool {
         self.levels > 0 || self.visibility > 0
+    }
+
+    /// Adds another character's changes.
+    pub fn add(&mut self, other: LodChanges) {
+        self.levels += other.levels;
+        self.visibility += other.visibility;
     }
 }

@@ -13,9 +13,9 @@ use hairlod::benchmark::paper_modes;
 use hairlod::core::lod::{BudgetMethod, BudgetReport, BudgetSettings};
 use hairlod::crowd::{Crowd, CrowdModel, CrowdRenderer, run_crowd};
 use hairlod::metrics::{luma, luma_difference, ssim};
-use hairlod::pipeline::{DrawStyle, LodMode, PipelineSettings};
+use hairlod::pipeline::{Checkpoint, DrawStyle, LodMode, PipelineSettings};
 use hairlod::render::{RendererOptions, output};
-use hairlod::run::{FrameLoop, ModeRun, View};
+use hairlod::run::{FrameLoop, ModeRun, RunOptions, View};
 use hairlod::shot::Shot;
 use serde::Serialize;
 
@@ -39,15 +39,28 @@ fn build(shot: &Shot) -> Result<CrowdModel> {
     Ok(model)
 }
 
-/// `hairlod render` on a crowd scene: every frame of the shot, in each view asked for, to
-/// `out` (one folder per view when there are several), with a contact sheet and JSON report when
-/// asked.
+/// Where a crowd render's frames come from and where its state goes: the frames to draw, the
+/// checkpoint they resume from and the folder the state at their end is written to.
+pub struct CrowdFrames {
+    /// The frames to draw, within the shot.
+    pub frames: std::ops::Range<usize>,
+    /// The checkpoint the frames resume from (its frame is where they start).
+    pub resume: Option<Checkpoint>,
+    /// Write the state at the end of the frames to DIR/checkpoint_<frame>.json.
+    pub checkpoint: Option<PathBuf>,
+}
+
+/// `hairlod render` on a crowd scene: `frames` of the shot (from the start or from a
+/// checkpoint), in each view asked for, to `out` (one folder per view when there are several),
+/// with a contact sheet and JSON report when asked, and the state at the end as a checkpoint
+/// when asked.
 pub fn render(
     shot: &Shot,
     out: &Path,
     json: Option<PathBuf>,
     options: &RendererOptions,
     style: DrawStyle,
+    frames: CrowdFrames,
 ) -> Result<()> {
     anyhow::ensure!(
         !(shot.outputs.hair || shot.outputs.usd),
@@ -67,32 +80,36 @@ pub fn render(
     let mut renderer = CrowdRenderer::new(options, &model)?;
     renderer.set_style(style);
     eprintln!("adapter: {}", renderer.renderer().adapter_report());
-    let bar = progress_bar(shot.frames, shot.settings.lod.column_name());
+    let bar = progress_bar(frames.frames.len(), shot.settings.lod.column_name());
     let mut thumbnails = Vec::new();
-    let result = run_crowd(
-        &model,
-        shot.settings,
-        shot.budget,
-        Some((&mut renderer, &views)),
-        |frame| {
-            let index = frame.report.frame as u64;
-            for (image, folder) in frame.images.iter().zip(&folders) {
-                let path = output::frame_path(folder, index, shot.frames as u64);
-                output::write_png_atomic(image, &path)?;
-            }
-            if shot.outputs.contact_sheet
-                && let Some(image) = frame.images.first()
-            {
-                let width = 320.min(image.width());
-                let height = (image.height() * width / image.width()).max(1);
-                thumbnails.push(image::imageops::thumbnail(image, width, height));
-            }
-            let [p, c, s] = frame.report.sections_at;
-            bar.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));
-            bar.inc(1);
-            Ok(())
-        },
-    )
+    let CrowdFrames {
+        frames,
+        resume,
+        checkpoint,
+    } = frames;
+    let run = RunOptions {
+        frames: frames.clone(),
+        resume,
+        ..RunOptions::whole(shot, shot.settings)
+    };
+    let result = run_crowd(&model, run, Some((&mut renderer, &views)), |frame| {
+        let index = frame.report.frame as u64;
+        for (image, folder) in frame.images.iter().zip(&folders) {
+            let path = output::frame_path(folder, index, shot.frames as u64);
+            output::write_png_atomic(image, &path)?;
+        }
+        if shot.outputs.contact_sheet
+            && let Some(image) = frame.images.first()
+        {
+            let width = 320.min(image.width());
+            let height = (image.height() * width / image.width()).max(1);
+            thumbnails.push(image::imageops::thumbnail(image, width, height));
+        }
+        let [p, c, s] = frame.report.sections_at;
+        bar.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));
+        bar.inc(1);
+        Ok(())
+    })
     .context("the crowd run stopped")?;
     bar.finish();
     if let Some(first) = thumbnails.first() {
@@ -102,6 +119,16 @@ pub fn render(
         let path = out.join("contact_sheet.png");
         output::write_png_atomic(&sheet, &path)?;
         eprintln!("wrote {}", path.display());
+    }
+    if let Some(dir) = &checkpoint {
+        let path = dir.join(format!("checkpoint_{:05}.json", frames.end));
+        result.pipeline.checkpoint()?.write(&path)?;
+        eprintln!(
+            "wrote {} (resume with --resume {} --frames {}..)",
+            path.display(),
+            path.display(),
+            frames.end
+        );
     }
     if let Some(path) = json {
         write_json(&path, &serde_json::to_value(&result.run)?)?;

@@ -250,21 +250,19 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         device.backend = backend.into();
     }
     if shot.is_crowd() {
-        anyhow::ensure!(
-            frames.start == 0 && args.checkpoint.is_none() && args.resume.is_none(),
-            "crowd scenes render whole shots: give --frames N, not a range, and no \
-             --checkpoint / --resume"
-        );
-        let shot = hairlod::shot::Shot {
-            frames: frames.end,
-            ..shot
+        let style = args.style(&shot);
+        let frames = crate::crowd_cmd::CrowdFrames {
+            frames,
+            resume,
+            checkpoint: args.checkpoint.clone(),
         };
         return crate::crowd_cmd::render(
             &shot,
             &args.out,
             json,
             &RendererOptions { device },
-            args.style(&shot),
+            style,
+            frames,
         );
     }
     let scene = shot.build_scene().context("could not build the groom")?;
