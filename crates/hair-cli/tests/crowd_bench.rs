@@ -1,11 +1,12 @@
 //! `hairlod bench CROWD` end to end, through the binary: the crowd's four modes run interleaved
 //! frame by frame on one renderer (all-strands first, the yardstick of the others), then the two
 //! frame-budget methods side by side; each run makes what it makes alone: the LODs choose, frame
-//! by frame, the levels `hairlod render` chooses for the same crowd.
+//! by frame, the levels `hairlod render` chooses for the same crowd. A crowd render split by a
+//! checkpoint writes the frames of one run straight through.
 
 mod common;
 
-use common::{assert_levels_as_alone, bench_and_render, folder, frame_numbers, levels};
+use common::{assert_levels_as_alone, bench_and_render, folder, frame_numbers, hairlod, levels};
 
 /// Two small heads (12 sections, 10 cm of hair), one shaking, one in wind, the camera moving in
 /// over 4 frames at 15 Hz, 128×80, automatic levels at 2 px.
@@ -55,5 +56,53 @@ fn interleaved_crowd_runs_choose_what_each_run_alone_chooses() {
     assert_eq!(budgets.len(), 2);
     for (report, _) in budgets.iter().map(|b| (&b[0], &b[1])) {
         assert_eq!(report["frames"].as_u64(), Some(4), "{report}");
+    }
+}
+
+/// A crowd render split by a checkpoint (`--frames 0..2 --checkpoint`, then `--resume`) writes
+/// PNGs byte-identical to one run straight through.
+#[test]
+fn a_crowd_render_split_by_a_checkpoint_writes_the_same_frames() {
+    let dir = folder("crowd_resume");
+    let scene = dir.join("crowd.toml");
+    std::fs::write(
+        &scene,
+        SCENE.replace("[output]\njson = \"report.json\"\n", ""),
+    )
+    .unwrap();
+    let scene = scene.to_str().unwrap();
+    let (straight, split, checkpoints) = (
+        dir.join("straight"),
+        dir.join("split"),
+        dir.join("checkpoints"),
+    );
+    hairlod(&["render", scene, "--out", straight.to_str().unwrap()]);
+    let first = hairlod(&[
+        "render",
+        scene,
+        "--out",
+        split.to_str().unwrap(),
+        "--frames",
+        "0..2",
+        "--checkpoint",
+        checkpoints.to_str().unwrap(),
+    ]);
+    let checkpoint = checkpoints.join("checkpoint_00002.json");
+    assert!(checkpoint.exists(), "{first}");
+    hairlod(&[
+        "render",
+        scene,
+        "--out",
+        split.to_str().unwrap(),
+        "--resume",
+        checkpoint.to_str().unwrap(),
+    ]);
+    for k in 0..4 {
+        let name = format!("frame_{k:05}.png");
+        let (a, b) = (
+            std::fs::read(straight.join(&name)).unwrap(),
+            std::fs::read(split.join(&name)).unwrap(),
+        );
+        assert!(a == b, "{name} differs");
     }
 }
