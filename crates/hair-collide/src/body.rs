@@ -7,13 +7,14 @@
 //! head holds that head once. Moving a body only changes its pose: queries bring their points
 //! into the body's frame instead of the body into the world's, and cost nothing when it moves.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use glam::{Quat, Vec3};
 use hair_core::TriangleMesh;
 use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 
+use crate::distance_field::{DEFAULT_CELL, DistanceField};
 use crate::error::{Result, require_pose};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
@@ -34,6 +35,8 @@ pub(crate) struct BodyShape {
     pub bvh: Bvh,
     /// Angle-weighted pseudonormals (body frame) and the edge structure.
     pub pseudonormals: Pseudonormals,
+    /// The distance field (body frame), built on first use.
+    pub field: OnceLock<DistanceField>,
 }
 
 /// A rigid triangle mesh that hair collides with, placed in the world by a pose.
@@ -109,6 +112,7 @@ impl CollisionBody {
             triangles,
             bound,
             bvh,
+            field: OnceLock::new(),
         };
         Ok(Self {
             shape: Arc::new(shape),
@@ -191,6 +195,16 @@ impl CollisionBody {
     /// The underlying parry3d triangle tree in the body's own frame (leaf data = triangle id).
     pub fn bvh(&self) -> &Bvh {
         &self.shape.bvh
+    }
+
+    /// The body's distance field in its own frame ([`DistanceField`], cells of
+    /// [`DEFAULT_CELL`](crate::distance_field::DEFAULT_CELL)): built on the first call (a
+    /// closest-point search per grid vertex near the surface), then shared by every copy of the
+    /// body.
+    pub fn distance_field(&self) -> &DistanceField {
+        self.shape
+            .field
+            .get_or_init(|| DistanceField::of(self, DEFAULT_CELL))
     }
 
     /// Whether `self` and `other` share one mesh, tree and pseudonormals (one is a clone of the

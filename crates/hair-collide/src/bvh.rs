@@ -64,6 +64,8 @@ pub struct HairBvh {
     volumes: Vec<SweptSphere>,
     bvh: Bvh,
     workspace: BvhWorkspace,
+    /// Whether the tree bounds the current volumes (false after [`HairBvh::update_volumes`]).
+    tree_current: bool,
 }
 
 impl std::fmt::Debug for HairBvh {
@@ -159,8 +161,9 @@ impl HairBvh {
             volumes: Vec::new(),
             bvh: Bvh::new(),
             workspace: BvhWorkspace::default(),
+            tree_current: false,
         };
-        hair.update_volumes(node_positions, control_points)?;
+        hair.compute_volumes(node_positions, control_points)?;
         hair.rebuild();
         Ok(hair)
     }
@@ -169,13 +172,35 @@ impl HairBvh {
     /// topology stays, only the AABBs change). Same arguments as [`HairBvh::build`]; errors on
     /// sizes that do not match the layout or non-finite positions, leaving `self` unchanged.
     pub fn refit(&mut self, node_positions: &[Vec3], control_points: &[Vec3]) -> Result<()> {
-        self.update_volumes(node_positions, control_points)?;
+        self.compute_volumes(node_positions, control_points)?;
         for (leaf, volume) in self.volumes.iter().enumerate() {
             let aabb = volume.aabb(aabb_padding(volume));
             self.bvh.insert_or_update_partially(aabb, leaf as u32, 0.0);
         }
         self.bvh.refit(&mut self.workspace);
+        self.tree_current = true;
         Ok(())
+    }
+
+    /// Recomputes every segment volume from new positions and leaves the tree alone: what a
+    /// query through a body's distance field ([`crate::query_body_near`]) reads, for no tree
+    /// work. Until the next [`refit`](Self::refit) the tree no longer bounds the volumes
+    /// ([`tree_is_current`](Self::tree_is_current) is false), and [`crate::query_body`] then
+    /// answers without it. Same arguments and errors as [`refit`](Self::refit).
+    pub fn update_volumes(
+        &mut self,
+        node_positions: &[Vec3],
+        control_points: &[Vec3],
+    ) -> Result<()> {
+        self.compute_volumes(node_positions, control_points)?;
+        self.tree_current = false;
+        Ok(())
+    }
+
+    /// Whether the tree bounds the current volumes (after a build or a refit, not after
+    /// [`update_volumes`](Self::update_volumes)).
+    pub fn tree_is_current(&self) -> bool {
+        self.tree_current
     }
 
     /// Rebuilds the tree top-down from the current volumes (restores tree quality after large
@@ -187,9 +212,10 @@ impl HairBvh {
             .map(|volume| volume.aabb(aabb_padding(volume)))
             .enumerate();
         self.bvh = Bvh::from_iter(BvhBuildStrategy::Binned, leaves);
+        self.tree_current = true;
     }
 
-    fn update_volumes(&mut self, node_positions: &[Vec3], control_points: &[Vec3]) -> Result<()> {
+    fn compute_volumes(&mut self, node_positions: &[Vec3], control_points: &[Vec3]) -> Result<()> {
         let node_count = *self.chain_offsets.last().unwrap_or(&0) as usize;
         require_len("node_positions", node_positions.len(), node_count)?;
         require_len(

@@ -7,6 +7,8 @@
 //! - [`bvh`]: [`HairBvh`], a top-down hierarchy over the segment volumes of many chains,
 //!   refitted from new positions each step.
 //! - [`body`]: [`CollisionBody`], a rigid mesh with its triangle hierarchy.
+//! - [`distance_field`]: [`DistanceField`], certified distance bounds on a grid around a body,
+//!   which let a query skip the hair that is clear of it.
 //! - [`attach`]: [`attach_roots`], roots attached to a body's closest triangle (barycentric).
 //! - [`query`]: [`query_body`] and its brute-force reference [`query_body_brute_force`].
 //! - [`sight`]: [`LineOfSight`], whether a body hides a point from an eye.
@@ -18,6 +20,7 @@ pub mod body;
 pub mod bvh;
 mod clearance;
 pub mod closest;
+pub mod distance_field;
 pub mod error;
 pub mod fit;
 mod gather;
@@ -37,17 +40,18 @@ pub mod volume;
 pub use attach::{AttachmentReport, RootAttachment, attach_roots};
 pub use body::CollisionBody;
 pub use bvh::{ChainVolume, HairBvh, aabb_padding};
+pub use distance_field::DistanceField;
 pub use error::{CollideError, Result};
 pub use geometry::{Rectangle, Triangle};
 pub use hair_hair::{HairHairSettings, add_repulsion_forces};
 pub use layout::{
     ChainShape, CollisionChain, groom_active_chains, groom_chain, groom_level_chains,
 };
-pub use query::{SegmentContacts, query_body, query_body_brute_force};
+pub use query::{SegmentContacts, query_body, query_body_brute_force, query_body_near};
 pub use sight::LineOfSight;
 pub use solver::{
-    CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,
-    ProjectionReport, STRETCH_WARNING, VelocityMemory,
+    BroadPhase, CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport,
+    PENETRATION_TOLERANCE, ProjectionReport, STRETCH_WARNING, VelocityMemory,
 };
 pub use surface::SurfacePoint;
 pub use volume::{Lss, Pss, Rss, SweptSphere};

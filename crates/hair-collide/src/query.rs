@@ -6,8 +6,8 @@ use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::BvhNode;
 
 use crate::body::CollisionBody;
-use crate::bvh::HairBvh;
-use crate::volume::Pss;
+use crate::bvh::{HairBvh, aabb_padding};
+use crate::volume::{Pss, SweptSphere};
 
 /// Contacts of hair segments with body triangles, flat.
 ///
@@ -105,6 +105,10 @@ fn aabb_touches_ball(aabb: &Aabb, ball: &Pss, padding: f32) -> bool {
 /// [`crate::SweptSphere::intersects_triangle`]. The output equals
 /// [`query_body_brute_force`]'s exactly (leaf AABBs are padded, see [`crate::aabb_padding`]).
 pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentContacts) {
+    if !hair.tree_is_current() {
+        // Volumes updated without the tree: each against the body's tree, same exact tests.
+        return query_volumes(hair.volumes(), body, contacts, false);
+    }
     contacts.pairs.clear();
     if hair.segment_count() > 0 && body.triangle_count() > 0 {
         let bound = body.local_bounding_volume();
@@ -119,6 +123,56 @@ pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentCo
         for (segment, triangle) in hair.bvh().leaf_pairs(body.bvh(), check) {
             if volumes[segment as usize].intersects_triangle(&triangles[triangle as usize]) {
                 contacts.pairs.push((segment, triangle));
+            }
+        }
+    }
+    contacts.finish();
+}
+
+/// Hair against body through the body's distance field: every segment volume that the field
+/// clears ([`DistanceField::clears`](crate::DistanceField::clears)) is skipped, and each of the
+/// others gets the exact swept-sphere test against the triangles its padded AABB overlaps in the
+/// body's tree. `volumes` are in the body's own frame, as for [`query_body`], and indexed as the
+/// hierarchy's segments.
+///
+/// The field only ever clears volumes that touch no triangle, so the output equals
+/// [`query_body`]'s and [`query_body_brute_force`]'s exactly; its cost follows the segments
+/// (a few field lookups each) and the segments near the surface, not the pairs of tree nodes.
+pub fn query_body_near(
+    volumes: &[SweptSphere],
+    body: &CollisionBody,
+    contacts: &mut SegmentContacts,
+) {
+    query_volumes(volumes, body, contacts, true);
+}
+
+/// Each volume (culled by the body's ball and, with `use_field`, its distance field) against
+/// the triangles its padded AABB overlaps in the body's tree, with the exact test.
+fn query_volumes(
+    volumes: &[SweptSphere],
+    body: &CollisionBody,
+    contacts: &mut SegmentContacts,
+    use_field: bool,
+) {
+    contacts.pairs.clear();
+    if body.triangle_count() > 0 {
+        let bound = body.local_bounding_volume();
+        let bound_padding =
+            64.0 * f32::EPSILON * (1.0 + bound.center.abs().max_element() + bound.radius);
+        let field = use_field.then(|| body.distance_field());
+        let triangles = body.local_triangles();
+        for (segment, volume) in volumes.iter().enumerate() {
+            let padding = aabb_padding(volume);
+            let aabb = volume.aabb(padding);
+            if !aabb_touches_ball(&aabb, &bound, bound_padding)
+                || field.is_some_and(|field| field.clears(volume, padding))
+            {
+                continue;
+            }
+            for triangle in body.bvh().intersect_aabb(&aabb) {
+                if volume.intersects_triangle(&triangles[triangle as usize]) {
+                    contacts.pairs.push((segment as u32, triangle));
+                }
             }
         }
     }

@@ -22,7 +22,7 @@ use crate::hair_hair::{HairHairSettings, add_repulsion_forces};
 use crate::layout::CollisionChain;
 use crate::other_forces::external_force;
 use crate::projection::{Projection, project_out, restore_length};
-use crate::query::{SegmentContacts, query_body};
+use crate::query::{SegmentContacts, query_body, query_body_near};
 use crate::response::{
     approach_speed, average_normal, friction_force, response_force, rigid_point_velocity,
 };
@@ -48,10 +48,43 @@ pub struct CollisionSettings {
     pub skin: f32,
     /// Hair–hair repulsion between sections (beyond the paper); `None` (the default) is off.
     pub hair_hair: Option<HairHairSettings>,
+    /// How the hair near a body is found (the same contacts either way).
+    pub broad_phase: BroadPhase,
+}
+
+/// How [`CollisionSolver::before_step`] finds the segments that touch a body, and how
+/// [`CollisionSolver::after_step`] finds the nodes to project. Both give the same contacts and
+/// the same projections, bit for bit: they differ in cost only.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BroadPhase {
+    /// The body's [`DistanceField`](crate::DistanceField) clears the segments and nodes that
+    /// are far from it in a few lookups each; only those near the surface get the exact tests,
+    /// against the triangles their bounds overlap. The cost follows the hair near the body. The
+    /// hair's hierarchy is refitted only when hair–hair contact needs it.
+    #[default]
+    DistanceField,
+    /// The paper's hierarchies (§5.3): the hair's swept-sphere tree refitted every step and
+    /// descended together with the body's triangle tree.
+    Hierarchies,
+}
+
+impl BroadPhase {
+    /// Every broad phase, the default first.
+    pub const ALL: [BroadPhase; 2] = [BroadPhase::DistanceField, BroadPhase::Hierarchies];
+
+    /// The name scene files and reports use (`distance-field`, `hierarchies`).
+    pub fn name(self) -> &'static str {
+        match self {
+            BroadPhase::DistanceField => "distance-field",
+            BroadPhase::Hierarchies => "hierarchies",
+        }
+    }
 }
 
 impl Default for CollisionSettings {
-    /// Response on, μ = 0.3, projection on with a 10 µm skin, hair–hair off.
+    /// Response on, μ = 0.3, projection on with a 10 µm skin, hair–hair off, the distance-field
+    /// broad phase.
     fn default() -> Self {
         CollisionSettings {
             response: true,
@@ -59,6 +92,7 @@ impl Default for CollisionSettings {
             project_positions: true,
             skin: 1.0e-5,
             hair_hair: None,
+            broad_phase: BroadPhase::default(),
         }
     }
 }
@@ -321,9 +355,15 @@ impl CollisionSolver {
         self.hair
             .gather(&model.rest, &state.node_positions, &head)?;
         let mut report = ContactReport::default();
+        let near_only = self.settings.broad_phase == BroadPhase::DistanceField
+            && self.settings.hair_hair.is_none();
         let hierarchy = match self.hierarchy.as_mut() {
             Some(hierarchy) if !self.layout_changed => {
-                hierarchy.refit(&self.hair.positions, &self.hair.control_points)?;
+                if near_only {
+                    hierarchy.update_volumes(&self.hair.positions, &self.hair.control_points)?;
+                } else {
+                    hierarchy.refit(&self.hair.positions, &self.hair.control_points)?;
+                }
                 hierarchy
             }
             _ => {
@@ -348,7 +388,11 @@ impl CollisionSolver {
         let respond = self.settings.response || self.settings.friction > 0.0;
         self.node_normals.fill(Vec3::ZERO);
         for body in bodies.iter() {
-            query_body(hierarchy, body, &mut self.contacts);
+            if near_only {
+                query_body_near(hierarchy.volumes(), body, &mut self.contacts);
+            } else {
+                query_body(hierarchy, body, &mut self.contacts);
+            }
             report.contact_segments += self.contacts.segment_count();
             report.contact_pairs += self.contacts.pair_count();
             if !respond {
@@ -467,6 +511,7 @@ impl CollisionSolver {
         let to_head = head.inverse();
         let lengths = &simulation.model().rest.segment_rest_lengths;
         let body_count = bodies.len();
+        let use_field = self.settings.broad_phase == BroadPhase::DistanceField;
         for index in 0..self.hair.chains.len() {
             let gathered = self.hair.chain_offsets[index] as usize
                 ..self.hair.chain_offsets[index + 1] as usize;
@@ -487,6 +532,14 @@ impl CollisionSolver {
                     let cache = &mut self.clearances[node * body_count + b];
                     let local = to_head.transform_point(state.node_positions[m]);
                     if local.distance(cache.local_position) + CLEARANCE_ROUNDING < cache.clearance {
+                        continue;
+                    }
+                    if use_field
+                        && body
+                            .distance_field()
+                            .outside_clearance(local, CLEARANCE_ROUNDING)
+                            .is_some()
+                    {
                         continue;
                     }
                     let outcome = project_out(

@@ -1,12 +1,13 @@
 //! The paper's benchmark groom (paper-curly: 91 sections, 37,765 strands) on the procedural head
 //! (12,096 triangles): the BVH query returns exactly the brute-force contact set at every level
 //! (patches: RSS; clusters: LSS around 8 control points; strand groups: LSS of the group's
-//! radius), at rest and after the head has shaken the hair; the hierarchy is refitted from the
+//! radius), at rest and after the head has shaken the hair, and so does the query through the
+//! head's distance field; the hierarchy is refitted from the
 //! node positions each step and rebuilt only when the layout (a section's level) changes.
 
 use hair_collide::{
     CollisionBody, CollisionSettings, CollisionSolver, SegmentContacts, groom_active_chains,
-    groom_level_chains, query_body, query_body_brute_force,
+    groom_level_chains, query_body, query_body_brute_force, query_body_near,
 };
 use hair_core::dynamics::{
     DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, Simulation,
@@ -24,6 +25,12 @@ fn assert_bvh_equals_brute_force(
     query_body(hair, body, &mut fast);
     query_body_brute_force(hair, body, &mut slow);
     assert_eq!(fast, slow, "{what}: BVH and brute force disagree");
+    let mut near = SegmentContacts::new();
+    query_body_near(hair.volumes(), body, &mut near);
+    assert_eq!(
+        near, slow,
+        "{what}: the distance field and brute force disagree"
+    );
     fast.pair_count()
 }
 

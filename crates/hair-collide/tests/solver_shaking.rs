@@ -7,17 +7,13 @@
 
 mod support;
 
-use hair_collide::{
-    CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, PENETRATION_TOLERANCE,
-    groom_active_chains,
-};
+use hair_collide::{CollisionBody, CollisionSettings, CollisionSolver, PENETRATION_TOLERANCE};
+use hair_core::Scene;
 use hair_core::dynamics::{
     DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, Simulation,
     SimulationSettings,
 };
-use hair_core::skeleton::ChainAngles;
-use hair_core::{Groom, Level, Scene, SkeletonRest};
-use support::ParrySignedDistance;
+use support::{ParrySignedDistance, mixed_levels};
 
 /// Peak angular speed of the shake [rad/s] and its amplitude [rad] (≈ 1.6 Hz).
 const PEAK_SPEED: f32 = 6.0;
@@ -25,31 +21,6 @@ const AMPLITUDE: f32 = 0.6;
 const SECONDS: f32 = 5.0;
 /// The reference check runs every `CHECK_EVERY` steps (it costs more than the solver).
 const CHECK_EVERY: usize = 5;
-
-/// The active chains of the mixed-level groom as their own skeleton model, and their collision
-/// chains renumbered to it.
-fn mixed_levels(groom: &Groom) -> (SkeletonRest, Vec<CollisionChain>) {
-    let levels: Vec<Level> = (0..groom.section_count())
-        .map(|s| Level::ALL[s % 3])
-        .collect();
-    let mut chains = Vec::new();
-    groom_active_chains(groom, &levels, &mut chains).unwrap();
-    let mut rest = SkeletonRest::default();
-    let all = &groom.skeletons;
-    for (index, chain) in chains.iter_mut().enumerate() {
-        let c = chain.chain as usize;
-        let nodes = all.nodes(c);
-        let angles = ChainAngles {
-            segment_lengths: all.segment_rest_lengths[nodes.clone()].to_vec(),
-            polar_angles: all.rest_polar_angles[nodes.clone()].to_vec(),
-            azimuth_angles: all.rest_azimuth_angles[nodes].to_vec(),
-        };
-        rest.push_chain(all.root_positions[c], all.root_frames[c], &angles)
-            .unwrap();
-        chain.chain = index as u32;
-    }
-    (rest, chains)
-}
 
 /// The largest relative length error `|ℓ − ℓ₀| / ℓ₀` over every segment (brute force).
 fn largest_stretch(simulation: &Simulation, positions: &[glam::Vec3]) -> f32 {

@@ -173,3 +173,30 @@ impl ParrySignedDistance {
         }
     }
 }
+
+/// The active chains of the mixed-level groom as their own skeleton model, and their collision
+/// chains renumbered to it.
+pub fn mixed_levels(
+    groom: &hair_core::Groom,
+) -> (hair_core::SkeletonRest, Vec<hair_collide::CollisionChain>) {
+    let levels: Vec<hair_core::Level> = (0..groom.section_count())
+        .map(|s| hair_core::Level::ALL[s % 3])
+        .collect();
+    let mut chains = Vec::new();
+    hair_collide::groom_active_chains(groom, &levels, &mut chains).unwrap();
+    let mut rest = hair_core::SkeletonRest::default();
+    let all = &groom.skeletons;
+    for (index, chain) in chains.iter_mut().enumerate() {
+        let c = chain.chain as usize;
+        let nodes = all.nodes(c);
+        let angles = hair_core::skeleton::ChainAngles {
+            segment_lengths: all.segment_rest_lengths[nodes.clone()].to_vec(),
+            polar_angles: all.rest_polar_angles[nodes.clone()].to_vec(),
+            azimuth_angles: all.rest_azimuth_angles[nodes].to_vec(),
+        };
+        rest.push_chain(all.root_positions[c], all.root_frames[c], &angles)
+            .unwrap();
+        chain.chain = index as u32;
+    }
+    (rest, chains)
+}
