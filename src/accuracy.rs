@@ -34,7 +34,7 @@
 //! ```
 
 use glam::Vec3;
-use hair_collide::{CollisionBody, LineOfSight};
+use hair_collide::{BroadPhase, CollisionBody, LineOfSight};
 use hair_core::dynamics::{IntegratorKind, SimulationSettings};
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::{Camera, Groom, Level};
@@ -59,6 +59,7 @@ pub fn reference_settings() -> PipelineSettings {
             REFERENCE_SUBSTEPS,
         ),
         collision: true,
+        broad_phase: BroadPhase::default(),
     }
 }
 

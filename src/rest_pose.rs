@@ -36,6 +36,7 @@
 use std::time::Instant;
 
 use glam::Vec3;
+use hair_collide::BroadPhase;
 use hair_core::dynamics::{
     DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY, SagFreeReport,
     SimulationSettings, TurnLimit, WindField, kinetic_energy_per_mass, level_skeletons,
@@ -198,6 +199,7 @@ fn level_settings(level: Level, settings: &HangSettings, collision: bool) -> Pip
         lod: LodMode::Fixed(level),
         dynamics: settings.dynamics,
         collision,
+        broad_phase: BroadPhase::default(),
     }
 }
 

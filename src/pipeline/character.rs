@@ -122,7 +122,7 @@ pub(crate) fn build_character(
         blocks: PerLevel::from_fn(|level| LevelBlock::empty(level, 0.0)),
     };
     let mut work = CharacterWork {
-        work: Workspace::new(body.as_ref())?,
+        work: Workspace::new(body.as_ref(), settings.broad_phase)?,
         body,
         selector,
         section_work: super::drawn::section_work(groom),

@@ -1,6 +1,7 @@
 //! What the frame pipeline runs: automatic levels or one fixed level, the dynamics settings,
-//! collision on or off.
+//! collision on or off and how it finds the hair near the head.
 
+use hair_collide::BroadPhase;
 use hair_core::Level;
 use hair_core::dynamics::{IntegratorKind, SimulationSettings};
 use hair_core::lod::LodSettings;
@@ -63,6 +64,10 @@ pub struct PipelineSettings {
     pub dynamics: SimulationSettings,
     /// Hair-head collision (response, friction and the positional guarantee) on.
     pub collision: bool,
+    /// How the collision stage finds the hair near the head: the head's distance field (the
+    /// default) or the paper's hierarchies. The contacts are the same either way; only the cost
+    /// differs.
+    pub broad_phase: BroadPhase,
 }
 
 impl PipelineSettings {
@@ -83,12 +88,14 @@ impl PipelineSettings {
 
 impl Default for PipelineSettings {
     /// Automatic levels with default settings, the default integrator
-    /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on.
+    /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on
+    /// through the distance-field broad phase.
     fn default() -> Self {
         PipelineSettings {
             lod: LodMode::Auto(LodSettings::default()),
             dynamics: SimulationSettings::recommended(IntegratorKind::DEFAULT),
             collision: true,
+            broad_phase: BroadPhase::default(),
         }
     }
 }

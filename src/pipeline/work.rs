@@ -3,7 +3,7 @@
 //! the block's sections change; nothing of it is state (a checkpoint holds none of it).
 
 use hair_collide::{
-    CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, groom_chain,
+    BroadPhase, CollisionBody, CollisionChain, CollisionSettings, CollisionSolver, groom_chain,
 };
 use hair_core::dynamics::{DynamicsModel, DynamicsParams, Simulation};
 use hair_core::{Groom, Level, PerLevel, SkeletonRest};
@@ -20,12 +20,12 @@ pub(crate) struct Workspace {
 
 impl Workspace {
     /// Every level's working memory ([`LevelWork::new`]).
-    pub(crate) fn new(body: Option<&CollisionBody>) -> Result<Workspace> {
+    pub(crate) fn new(body: Option<&CollisionBody>, broad_phase: BroadPhase) -> Result<Workspace> {
         Ok(Workspace {
             levels: PerLevel {
-                patch: LevelWork::new(body)?,
-                cluster: LevelWork::new(body)?,
-                strand_group: LevelWork::new(body)?,
+                patch: LevelWork::new(body, broad_phase)?,
+                cluster: LevelWork::new(body, broad_phase)?,
+                strand_group: LevelWork::new(body, broad_phase)?,
             },
             chains: Vec::new(),
         })
@@ -56,12 +56,17 @@ pub(crate) struct LevelWork {
 
 impl LevelWork {
     /// Working memory with no integrator yet, a collision stage when `body` is given (collision
-    /// on) posing its own copy of it.
-    pub(crate) fn new(body: Option<&CollisionBody>) -> Result<LevelWork> {
+    /// on) posing its own copy of it and finding the hair near it by `broad_phase`.
+    pub(crate) fn new(body: Option<&CollisionBody>, broad_phase: BroadPhase) -> Result<LevelWork> {
         Ok(LevelWork {
             simulation: None,
             solver: body
-                .map(|_| CollisionSolver::new(CollisionSettings::default()))
+                .map(|_| {
+                    CollisionSolver::new(CollisionSettings {
+                        broad_phase,
+                        ..CollisionSettings::default()
+                    })
+                })
                 .transpose()?,
             bodies: body.into_iter().cloned().collect(),
         })

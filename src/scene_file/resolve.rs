@@ -55,6 +55,7 @@ impl SceneFile {
             lod: self.lod_mode(width, height)?,
             dynamics: self.dynamics_settings(fps)?,
             collision: self.dynamics.collision.unwrap_or(true),
+            broad_phase: self.dynamics.collision_broad_phase.unwrap_or_default(),
         };
         let budget = match self.lod.budget_ms {
             None => None,

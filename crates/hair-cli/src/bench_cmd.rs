@@ -120,6 +120,8 @@ struct PaperReport<'a> {
     /// The LODs again with instant switching (the paper's transitions; `blend_time` 0), timed
     /// like the four modes.
     lods_instant_switching: &'a ModeRun,
+    /// How collision found the hair near the head (`distance-field` or `hierarchies`).
+    broad_phase: hairlod::collide::BroadPhase,
     speedup_lods_over_strands: Speedups,
     popping_blended: Popping,
     popping_instant: Popping,
@@ -212,7 +214,8 @@ pub fn paper_tables(
     // The modes share this renderer: none pays for compiling the pipelines.
     renderer.warm_up(&scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();
-    println!("rendering on {adapter}");
+    let broad_phase = shot.settings.broad_phase;
+    println!("rendering on {adapter}; collision broad phase: {broad_phase}");
     let bar = progress_bar(
         shot.frames * PaperRun::ALL.len(),
         "LODs, Strands, Clusters, Patches, LODs instant, frame by frame",
@@ -310,6 +313,7 @@ pub fn paper_tables(
         table: title,
         modes: &modes,
         lods_instant_switching: &instant_run,
+        broad_phase,
         speedup_lods_over_strands: speedups,
         popping_blended,
         popping_instant,

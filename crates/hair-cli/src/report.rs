@@ -5,6 +5,7 @@
 use anyhow::Result;
 use clap::Args;
 use hairlod::benchmark::{paper_shot, resized};
+use hairlod::collide::BroadPhase;
 use hairlod::run::ModeRun;
 use hairlod::shot::Shot;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -22,6 +23,10 @@ pub struct PaperShotArgs {
     /// Image size WIDTHxHEIGHT [pixels].
     #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
     pub size: (u32, u32),
+    /// How collision finds the hair near the head: `distance-field` (the library's default) or
+    /// `hierarchies` (the paper's §5.3). The same contacts either way; only the cost differs.
+    #[arg(long, default_value_t = BroadPhase::default())]
+    pub broad_phase: BroadPhase,
 }
 
 impl PaperShotArgs {
@@ -34,7 +39,9 @@ impl PaperShotArgs {
             self.frames
         );
         let (width, height) = self.size;
-        Ok(resized(&paper_shot(self.wind), self.frames, width, height))
+        let mut shot = resized(&paper_shot(self.wind), self.frames, width, height);
+        shot.settings.broad_phase = self.broad_phase;
+        Ok(shot)
     }
 }
 

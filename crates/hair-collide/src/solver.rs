@@ -52,33 +52,21 @@ pub struct CollisionSettings {
     pub broad_phase: BroadPhase,
 }
 
-/// How [`CollisionSolver::before_step`] finds the segments that touch a body, and how
-/// [`CollisionSolver::after_step`] finds the nodes to project. Both give the same contacts and
-/// the same projections, bit for bit: they differ in cost only.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BroadPhase {
-    /// The body's [`DistanceField`](crate::DistanceField) clears the segments and nodes that
-    /// are far from it in a few lookups each; only those near the surface get the exact tests,
-    /// against the triangles their bounds overlap. The cost follows the hair near the body. The
-    /// hair's hierarchy is refitted only when hair–hair contact needs it.
-    #[default]
-    DistanceField,
-    /// The paper's hierarchies (§5.3): the hair's swept-sphere tree refitted every step and
-    /// descended together with the body's triangle tree.
-    Hierarchies,
-}
-
-impl BroadPhase {
-    /// Every broad phase, the default first.
-    pub const ALL: [BroadPhase; 2] = [BroadPhase::DistanceField, BroadPhase::Hierarchies];
-
-    /// The name scene files and reports use (`distance-field`, `hierarchies`).
-    pub fn name(self) -> &'static str {
-        match self {
-            BroadPhase::DistanceField => "distance-field",
-            BroadPhase::Hierarchies => "hierarchies",
-        }
+hair_core::named_enum! {
+    /// How [`CollisionSolver::before_step`] finds the segments that touch a body, and how
+    /// [`CollisionSolver::after_step`] finds the nodes to project. Both give the same contacts
+    /// and the same projections, bit for bit: they differ in cost only.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub enum BroadPhase {
+        /// The body's [`DistanceField`](crate::DistanceField) clears the segments and nodes that
+        /// are far from it in a few lookups each; only those near the surface get the exact
+        /// tests, against the triangles their bounds overlap. The cost follows the hair near the
+        /// body. The hair's hierarchy is refitted only when hair–hair contact needs it.
+        #[default]
+        DistanceField = "distance-field",
+        /// The paper's hierarchies (§5.3): the hair's swept-sphere tree refitted every step and
+        /// descended together with the body's triangle tree.
+        Hierarchies = "hierarchies",
     }
 }
 

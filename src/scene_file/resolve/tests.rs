@@ -1,6 +1,7 @@
 //! Tests of resolving a scene file into a shot: defaults, ranges and the errors that name a field.
 
 use glam::Vec3;
+use hair_collide::BroadPhase;
 
 use super::*;
 
@@ -16,6 +17,7 @@ fn an_empty_file_is_the_defaults() {
     assert_eq!(shot.groom, GroomParams::preset("paper-curly").unwrap());
     assert!(matches!(shot.settings.lod, LodMode::Auto(_)));
     assert!(shot.settings.collision);
+    assert_eq!(shot.settings.broad_phase, BroadPhase::DistanceField);
     // 60 Hz: the integrator's own recommendation.
     assert_eq!(
         shot.settings.dynamics,
@@ -140,7 +142,7 @@ fn every_fixed_choice_field_takes_its_enum_names_and_lists_them_when_wrong() {
     use hair_core::lod::{BudgetMethod, ErrorModel, OcclusionTest};
     use hair_render::{ClusterGeometry, LineCoverage, ShadingModel};
     // (table, key, the enum's names): each field deserializes straight into its enum.
-    let fields: [(&str, &str, &[&str]); 15] = [
+    let fields: [(&str, &str, &[&str]); 16] = [
         ("groom", "preset", &hair_core::GroomPreset::NAMES),
         ("groom", "up_axis", &hair_formats::UpAxis::NAMES),
         ("groom", "rest_pose", &RestPose::NAMES),
@@ -153,6 +155,7 @@ fn every_fixed_choice_field_takes_its_enum_names_and_lists_them_when_wrong() {
         ("lod", "budget_method", &BudgetMethod::NAMES),
         ("lod", "occlusion_test", &OcclusionTest::NAMES),
         ("dynamics", "integrator", &IntegratorKind::NAMES),
+        ("dynamics", "collision_broad_phase", &BroadPhase::NAMES),
         ("output", "shading", &ShadingModel::NAMES),
         ("output", "line_coverage", &LineCoverage::NAMES),
         ("output", "clusters", &ClusterGeometry::NAMES),
