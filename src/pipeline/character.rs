@@ -4,7 +4,7 @@
 //! working memory from the pipeline). Nothing here is state: a resumed run rebuilds it all from
 //! the state ([`CharacterRun::restore`]).
 
-use hair_collide::CollisionBody;
+use hair_collide::{BroadPhase, CollisionBody};
 use hair_core::dynamics::Environment;
 use hair_core::lod::{
     ErrorModel, LevelDeviation, LodSelector, SectionChoice, SectionObservation, SectionWork,
@@ -107,6 +107,13 @@ pub(crate) fn build_character(
         (true, Some(body)) => Some(body.clone()),
         (true, None) => Some(CollisionBody::from_mesh(&model.scene.head.mesh)?),
     };
+    if settings.broad_phase == BroadPhase::DistanceField
+        && let Some(body) = &body
+    {
+        // Built with the character (once per mesh, shared by its copies), not in the first
+        // frame's collision time.
+        body.distance_field();
+    }
     let visible_choice = SectionChoice {
         level: start_level,
         visible: true,

@@ -64,8 +64,8 @@ pub struct PipelineSettings {
     pub dynamics: SimulationSettings,
     /// Hair-head collision (response, friction and the positional guarantee) on.
     pub collision: bool,
-    /// How the collision stage finds the hair near the head: the head's distance field (the
-    /// default) or the paper's hierarchies. The contacts are the same either way; only the cost
+    /// How the collision stage finds the hair near the head: the paper's hierarchies (the
+    /// default) or the head's distance field. The contacts are the same either way; only the cost
     /// differs.
     pub broad_phase: BroadPhase,
 }
@@ -89,7 +89,7 @@ impl PipelineSettings {
 impl Default for PipelineSettings {
     /// Automatic levels with default settings, the default integrator
     /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on
-    /// through the distance-field broad phase.
+    /// through the paper's hierarchies.
     fn default() -> Self {
         PipelineSettings {
             lod: LodMode::Auto(LodSettings::default()),

@@ -23,8 +23,8 @@ pub struct PaperShotArgs {
     /// Image size WIDTHxHEIGHT [pixels].
     #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
     pub size: (u32, u32),
-    /// How collision finds the hair near the head: `distance-field` (the library's default) or
-    /// `hierarchies` (the paper's §5.3). The same contacts either way; only the cost differs.
+    /// How collision finds the hair near the head: `hierarchies` (the paper's §5.3, the
+    /// library's default) or `distance-field`. The same contacts either way; only the cost differs.
     #[arg(long, default_value_t = BroadPhase::default())]
     pub broad_phase: BroadPhase,
 }
