@@ -28,7 +28,7 @@ use std::collections::VecDeque;
 
 use glam::Vec3;
 
-use crate::body::CollisionBody;
+use crate::geometry::Triangle;
 use crate::volume::SweptSphere;
 
 /// Default cell size \[m\] of a body's field (2 mm: a strand segment near the scalp costs a few
@@ -70,13 +70,15 @@ pub struct DistanceField {
 }
 
 impl DistanceField {
-    /// The field of `body` with cells of at least `cell` \[m\] (larger where the body would
-    /// need more than [`MAX_VERTICES`] vertices). Signed when the body is closed.
-    ///
-    /// Cost: one closest-point search per vertex near the surface, and a linear pass over the
-    /// grid (a 30 cm head at 2 mm: well under a second in a release build).
-    pub fn of(body: &CollisionBody, cell: f32) -> Self {
-        let triangles = body.local_triangles();
+    /// The field of the surface made of `triangles`, whose exact signed distance at a point
+    /// \[m\] `signed_distance` gives (`None` where it cannot), with cells of at least `cell`
+    /// \[m\]; signed when `closed`. [`DistanceField::of`] builds it from a body.
+    pub fn of_surface(
+        triangles: &[Triangle],
+        closed: bool,
+        signed_distance: impl Fn(Vec3) -> Option<f32>,
+        cell: f32,
+    ) -> Self {
         let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
         for triangle in triangles {
             for v in triangle.vertices {
@@ -84,7 +86,7 @@ impl DistanceField {
                 high = high.max(v);
             }
         }
-        let signed = body.is_closed();
+        let signed = closed;
         let extent = (high - low).max(Vec3::ZERO);
         // Cells: at least `cell`, and few enough vertices with the padding of 2 seed reaches.
         let mut h = if cell.is_finite() && cell > 0.0 {
@@ -136,16 +138,11 @@ impl DistanceField {
                     if !candidate[at] {
                         continue;
                     }
-                    let Some(surface) = body.closest_local_surface_point(position(ix, jy, kz))
-                    else {
+                    let Some(distance) = signed_distance(position(ix, jy, kz)) else {
                         continue;
                     };
-                    if surface.signed_distance.abs() <= reach {
-                        values[at] = if signed {
-                            surface.signed_distance
-                        } else {
-                            surface.signed_distance.abs()
-                        };
+                    if distance.abs() <= reach {
+                        values[at] = if signed { distance } else { distance.abs() };
                         is_seed[at] = true;
                         seeds += 1;
                     }
