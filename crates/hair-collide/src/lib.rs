@@ -7,6 +7,7 @@
 //! - [`bvh`]: [`HairBvh`], a top-down hierarchy over the segment volumes of many chains,
 //!   refitted from new positions each step.
 //! - [`body`]: [`CollisionBody`], a rigid mesh with its triangle hierarchy.
+//! - [`broad_phase`]: [`BroadPhase`], how collision finds the hair near a body.
 //! - [`distance_field`]: [`DistanceField`], certified distance bounds on a grid around a body,
 //!   which let a query skip the hair that is clear of it.
 //! - [`attach`]: [`attach_roots`], roots attached to a body's closest triangle (barycentric).
@@ -17,6 +18,7 @@
 
 pub mod attach;
 pub mod body;
+pub mod broad_phase;
 pub mod bvh;
 mod clearance;
 pub mod closest;
@@ -39,6 +41,7 @@ pub mod volume;
 
 pub use attach::{AttachmentReport, RootAttachment, attach_roots};
 pub use body::CollisionBody;
+pub use broad_phase::BroadPhase;
 pub use bvh::{ChainVolume, HairBvh, aabb_padding};
 pub use distance_field::DistanceField;
 pub use error::{CollideError, Result};
@@ -50,8 +53,8 @@ pub use layout::{
 pub use query::{SegmentContacts, query_body, query_body_brute_force, query_body_near};
 pub use sight::LineOfSight;
 pub use solver::{
-    BroadPhase, CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport,
-    PENETRATION_TOLERANCE, ProjectionReport, STRETCH_WARNING, VelocityMemory,
+    CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,
+    ProjectionReport, STRETCH_WARNING, VelocityMemory,
 };
 pub use surface::SurfacePoint;
 pub use volume::{Lss, Pss, Rss, SweptSphere};

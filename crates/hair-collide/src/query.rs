@@ -87,6 +87,11 @@ impl SegmentContacts {
     }
 }
 
+/// Rounding allowance \[m\] of the cull by a body's ball: a few ulps at the ball's scale.
+fn ball_padding(bound: &Pss) -> f32 {
+    64.0 * f32::EPSILON * (1.0 + bound.center.abs().max_element() + bound.radius)
+}
+
 /// Whether an AABB touches a ball grown by a rounding padding (conservative).
 fn aabb_touches_ball(aabb: &Aabb, ball: &Pss, padding: f32) -> bool {
     let closest = ball.center.clamp(aabb.mins, aabb.maxs);
@@ -112,8 +117,7 @@ pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentCo
     contacts.pairs.clear();
     if hair.segment_count() > 0 && body.triangle_count() > 0 {
         let bound = body.local_bounding_volume();
-        let bound_padding =
-            64.0 * f32::EPSILON * (1.0 + bound.center.abs().max_element() + bound.radius);
+        let bound_padding = ball_padding(&bound);
         let check = |hair_node: &BvhNode, body_node: &BvhNode| {
             hair_node.intersects(body_node)
                 && aabb_touches_ball(&hair_node.aabb(), &bound, bound_padding)
@@ -157,8 +161,7 @@ fn query_volumes(
     contacts.pairs.clear();
     if body.triangle_count() > 0 {
         let bound = body.local_bounding_volume();
-        let bound_padding =
-            64.0 * f32::EPSILON * (1.0 + bound.center.abs().max_element() + bound.radius);
+        let bound_padding = ball_padding(&bound);
         let field = use_field.then(|| body.distance_field());
         let triangles = body.local_triangles();
         for (segment, volume) in volumes.iter().enumerate() {

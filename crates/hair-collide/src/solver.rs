@@ -14,6 +14,7 @@ use glam::Vec3;
 use hair_core::dynamics::{Environment, RootMode, Simulation, SimulationState, StepReport};
 
 use crate::body::CollisionBody;
+use crate::broad_phase::BroadPhase;
 use crate::bvh::HairBvh;
 use crate::clearance::{CLEARANCE_ROUNDING, Clearance, carry_clearances};
 use crate::error::{CollideError, Result};
@@ -50,27 +51,6 @@ pub struct CollisionSettings {
     pub hair_hair: Option<HairHairSettings>,
     /// How the hair near a body is found (the same contacts either way).
     pub broad_phase: BroadPhase,
-}
-
-hair_core::named_enum! {
-    /// How [`CollisionSolver::before_step`] finds the segments that touch a body, and how
-    /// [`CollisionSolver::after_step`] finds the nodes to project. Both give the same contacts
-    /// and the same projections, bit for bit: they differ in cost only.
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-    pub enum BroadPhase {
-        /// The paper's hierarchies (§5.3, the default): the hair's swept-sphere tree refitted
-        /// every step and descended together with the body's triangle tree. Measured faster than
-        /// the field on hair that lies on the head (`docs/collision.md`): the exact tests of the
-        /// segments near the surface dominate, and the trees cull the far hair by whole subtrees.
-        #[default]
-        Hierarchies = "hierarchies",
-        /// The body's [`DistanceField`](crate::DistanceField) clears the segments and nodes that
-        /// are far from it in a few lookups each; only those near the surface get the exact
-        /// tests, against the triangles their bounds overlap. The cost follows the hair near the
-        /// body; the hair's hierarchy is refitted only when hair–hair contact needs it. Builds
-        /// the field once per mesh (about 0.3 s for the procedural head in a release build).
-        DistanceField = "distance-field",
-    }
 }
 
 impl Default for CollisionSettings {
