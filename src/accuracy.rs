@@ -40,7 +40,7 @@ use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::{Camera, Groom, Level};
 use serde::{Deserialize, Serialize};
 
-use crate::pipeline::{LodMode, Pipeline, PipelineSettings, Result};
+use crate::pipeline::{DrawnAs, LodMode, Pipeline, PipelineSettings, Result};
 
 pub use crate::metrics::{ImageError, image_error, luma, psnr, ssim};
 
@@ -53,6 +53,7 @@ pub const REFERENCE_SUBSTEPS: u32 = 100;
 pub fn reference_settings() -> PipelineSettings {
     PipelineSettings {
         lod: LodMode::Fixed(Level::StrandGroup),
+        drawn_as: DrawnAs::Level,
         dynamics: SimulationSettings::new(
             IntegratorKind::LinearImplicit,
             1.0 / 60.0,

@@ -47,7 +47,7 @@ use hair_core::skeleton::measure_chain;
 use hair_core::{Groom, Level, PerLevel, RigidTransform, Scene, SkeletonRest};
 use serde::Serialize;
 
-use crate::pipeline::{LodMode, Pipeline, PipelineError, PipelineSettings, Result};
+use crate::pipeline::{DrawnAs, LodMode, Pipeline, PipelineError, PipelineSettings, Result};
 
 hair_core::named_enum! {
     /// The shape a groom is drawn in at rest and starts every run from.
@@ -197,6 +197,7 @@ pub const MAX_ROUNDS: usize = 3;
 fn level_settings(level: Level, settings: &HangSettings, collision: bool) -> PipelineSettings {
     PipelineSettings {
         lod: LodMode::Fixed(level),
+        drawn_as: DrawnAs::default(),
         dynamics: settings.dynamics,
         collision,
         broad_phase: BroadPhase::default(),

@@ -1,12 +1,16 @@
 //! Changing a running pipeline's level mode and environment (the viewer's "force a level" and
 //! its wind and head-motion switches): a forced level reaches every section through the §4.2
 //! hand-over and blend with skeletons kept whole, automatic levels choose again afterwards, and
-//! the run's fingerprint follows the model it runs.
+//! the run's fingerprint follows the model it runs; every level drawn as strands
+//! ([`DrawnAs::Strands`]) reads the simulation without changing it, draws strand groups only,
+//! on the simulated level's centre skeletons exactly, and looks like the strands.
 
 use glam::Vec3;
 use hairlod::core::dynamics::{Environment, HeadMotion, WindField};
 use hairlod::core::lod::LodSettings;
-use hairlod::pipeline::{LodMode, Pipeline, PipelineSettings};
+use hairlod::metrics::{luma, ssim};
+use hairlod::pipeline::{DrawnAs, LodMode, Pipeline, PipelineRenderer, PipelineSettings};
+use hairlod::render::{ActiveSkeletons, RendererOptions, ShadingMode};
 use hairlod::{Camera, Level, Scene};
 
 /// 16 m away, where automatic levels draw no strand group (see tests/pipeline.rs).
@@ -103,4 +107,126 @@ fn a_new_environment_drives_the_next_frames_and_changes_the_fingerprint() {
         mean_x(&windy),
         mean_x(&calm)
     );
+}
+
+/// The chain `chain`'s drawn node positions in `active` (empty when inactive).
+fn drawn_chain(active: &ActiveSkeletons, chain: usize) -> Vec<Vec3> {
+    let frame = active.frame();
+    let (start, end) = (frame.chain_offsets[chain], frame.chain_offsets[chain + 1]);
+    frame.node_positions[start as usize..end as usize].to_vec()
+}
+
+/// A curly pipeline at `level` drawn as `drawn_as`, 12 frames into a 3 m/s wind (so the
+/// skeletons have moved off their rest shape).
+fn windy_pipeline(level: Level, drawn_as: DrawnAs) -> Pipeline {
+    let settings = PipelineSettings {
+        lod: LodMode::Fixed(level),
+        drawn_as,
+        collision: false,
+        ..PipelineSettings::default()
+    };
+    let environment = Environment {
+        wind: WindField::Constant(Vec3::new(3.0, 0.0, 1.0)),
+        ..Environment::default()
+    };
+    let mut pipeline =
+        Pipeline::new(Scene::preset("curly").unwrap(), environment, settings).unwrap();
+    for _ in 0..12 {
+        pipeline.advance(&Camera::default()).unwrap();
+    }
+    pipeline
+}
+
+/// Drawn as strands, a section simulated as clusters or as a patch draws its five strand groups
+/// and nothing else; the centre strand group is the simulated centre skeleton exactly (the
+/// hand-over map copies it), every drawn strand group keeps its rest segment lengths, the
+/// simulation is the one drawn each level as itself (the fingerprints and the states agree bit
+/// for bit), and at the strand-group level the two ways draw the same nodes.
+#[test]
+fn strands_drawn_on_any_level_read_the_simulation_and_keep_its_centre_skeletons() {
+    for level in Level::ALL {
+        let mut as_strands = windy_pipeline(level, DrawnAs::Strands);
+        let mut as_level = windy_pipeline(level, DrawnAs::Level);
+        assert_eq!(
+            as_strands.block(level).state.node_positions,
+            as_level.block(level).state.node_positions,
+            "{level:?}: drawing changed the simulation"
+        );
+        let mut strands = ActiveSkeletons::new();
+        let mut levels = ActiveSkeletons::new();
+        as_strands.gather_drawn(&mut strands).unwrap();
+        as_level.gather_drawn(&mut levels).unwrap();
+        let groom = &as_strands.scene().groom;
+        let skeletons = &groom.skeletons;
+        assert_eq!(strands.chain_count(), skeletons.chain_count());
+        for chain in 0..skeletons.chain_count() {
+            let (_, chain_level, _) = groom.chain_owner(chain);
+            let drawn = drawn_chain(&strands, chain);
+            if chain_level != Level::StrandGroup {
+                assert!(
+                    drawn.is_empty(),
+                    "{level:?}: chain {chain} at {chain_level:?} drawn"
+                );
+                continue;
+            }
+            assert_eq!(drawn.len(), skeletons.chain_node_count(chain));
+            // follow-the-leader gives each segment its rest length to rounding.
+            for (k, rest) in skeletons.segment_rest_lengths[skeletons.nodes(chain)]
+                .iter()
+                .enumerate()
+                .skip(1)
+            {
+                let length = drawn[k].distance(drawn[k - 1]);
+                assert!(
+                    (length - rest).abs() <= 1e-5 * rest.max(1e-3),
+                    "{length} vs {rest}"
+                );
+            }
+        }
+        for section in 0..groom.section_count() {
+            let centre = groom.centre_chain(section, Level::StrandGroup);
+            let simulated = drawn_chain(&levels, groom.centre_chain(section, level));
+            assert_eq!(
+                drawn_chain(&strands, centre),
+                simulated,
+                "{level:?} section {section}"
+            );
+        }
+        if level == Level::StrandGroup {
+            assert_eq!(
+                strands.frame().node_positions,
+                levels.frame().node_positions
+            );
+        }
+    }
+}
+
+/// Drawn as strands, all-clusters and all-patches look like all-strands: on the curly preset in
+/// the wind, 160×90 through the default camera, each is closer by SSIM to the all-strands
+/// image than the same simulation drawn as its own surfaces (textured tubes, a strip). Fails when
+/// `drawn_as` is ignored (the two images are then the same).
+#[test]
+fn strands_drawn_on_clusters_and_patches_look_like_the_strands() {
+    let options = RendererOptions::from_env().unwrap();
+    let camera = Camera::default();
+    let mut reference = windy_pipeline(Level::StrandGroup, DrawnAs::Level);
+    let mut renderer = PipelineRenderer::new(&options, reference.scene()).unwrap();
+    let mut image = |pipeline: &mut Pipeline| {
+        let (image, _) = renderer
+            .render(pipeline, &camera, 160, 90, ShadingMode::Shaded)
+            .unwrap();
+        luma(&image)
+    };
+    let strands = image(&mut reference);
+    for level in [Level::Cluster, Level::Patch] {
+        let on_level = ssim(
+            &image(&mut windy_pipeline(level, DrawnAs::Strands)),
+            &strands,
+        );
+        let as_level = ssim(&image(&mut windy_pipeline(level, DrawnAs::Level)), &strands);
+        eprintln!(
+            "{level:?}: SSIM against strands, drawn as strands {on_level:.4}, as itself {as_level:.4}"
+        );
+        assert!(on_level > as_level, "{level:?}: {on_level} vs {as_level}");
+    }
 }

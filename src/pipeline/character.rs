@@ -9,7 +9,7 @@ use hair_core::dynamics::Environment;
 use hair_core::lod::{
     ErrorModel, LevelDeviation, LodSelector, SectionChoice, SectionObservation, SectionWork,
 };
-use hair_core::{Frame, Level, PerLevel};
+use hair_core::{Level, PerLevel};
 
 use super::block::LevelBlock;
 use super::error::{PipelineError, Result};
@@ -53,7 +53,8 @@ pub(crate) struct CharacterWork {
     /// Screen area each section covers this frame [pixels] (its bounding disc).
     pub(crate) section_pixels: Vec<f64>,
     pub(crate) observations: Vec<SectionObservation>,
-    pub(crate) frames_scratch: Vec<Frame>,
+    /// The gather stage's scratch.
+    pub(crate) draw_scratch: super::drawn::DrawScratch,
     /// A frame whose levels are chosen but whose dynamics step has not run.
     pub(crate) pending: Option<PendingFrame>,
     /// The frame whose budget options were made and the time it took [s], counted into that
@@ -135,7 +136,7 @@ pub(crate) fn build_character(
         section_work: super::drawn::section_work(groom),
         section_pixels: vec![0.0; sections],
         observations: vec![SectionObservation::default(); sections],
-        frames_scratch: Vec::new(),
+        draw_scratch: super::drawn::DrawScratch::default(),
         pending: None,
         options_made: None,
     };

@@ -173,6 +173,7 @@ impl CharacterRun<'_> {
     fn drawn_work(&self) -> ([usize; 3], [f64; 3]) {
         super::drawn::drawn_work(
             &self.state.levels,
+            self.settings.drawn_as,
             &self.work.section_work,
             &self.work.section_pixels,
             self.display_time(),
@@ -183,15 +184,14 @@ impl CharacterRun<'_> {
     /// ([`super::drawn::append_drawn`]).
     pub(crate) fn append_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         let head = self.head_pose();
-        let display_time = self.display_time();
-        super::drawn::append_drawn(
-            &self.model.scene.groom,
-            self.state,
-            &head,
-            display_time,
-            &mut self.work.frames_scratch,
-            active,
-        )
+        let gathered = super::drawn::Gathered {
+            groom: &self.model.scene.groom,
+            state: self.state,
+            head: &head,
+            display_time: self.display_time(),
+            drawn_as: self.settings.drawn_as,
+        };
+        super::drawn::append_drawn(gathered, &mut self.work.draw_scratch, active)
     }
 
     /// Sets the selector's pixel tolerance [pixels] from the next frame on; nothing at a fixed

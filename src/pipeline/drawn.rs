@@ -1,28 +1,79 @@
 //! The gather stage of a frame: what each section draws and where, from the state, never
-//! written. The skeletons to draw ([`append_drawn`]), with each level's dissolve coverage while a
-//! section blends, and what they cost to draw ([`drawn_work`], [`section_work`]).
+//! written. The skeletons to draw ([`append_drawn`]): each level as itself, with each level's
+//! dissolve coverage while a section blends, or every level as strands on strand-group
+//! skeletons rebuilt from the level simulated ([`DrawnAs::Strands`], [`StrandFollow`]); and what
+//! they cost to draw
+//! ([`drawn_work`], [`section_work`]).
 
-use hair_core::lod::SectionWork;
+use glam::Vec3;
+use hair_core::dynamics::follow_the_leader;
+use hair_core::lod::{FollowScratch, SectionWork, StrandFollow};
 use hair_core::skeleton::node_frames;
 use hair_core::{Frame, Groom, Level, RigidTransform};
 use hair_render::ActiveSkeletons;
 
 use super::error::Result;
 use super::levels::SectionLevels;
+use super::settings::DrawnAs;
 use super::state::PipelineState;
 
-/// Appends to `active` the skeletons to draw at `display_time` [s], on `groom`'s chain
-/// numbering after the chains already there: each visible section's chains at its level (and at
-/// its previous level while it blends), with node frames from the simulated positions and the
-/// head at `head`; every other chain inactive. `frames_scratch` is reused.
+/// The gather stage's scratch, reused from frame to frame (no allocation once grown).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct DrawScratch {
+    /// Node frames of one chain.
+    frames: Vec<Frame>,
+    /// One section's strand-group nodes to draw, section-local ([`DrawnAs::Strands`]).
+    strands: Vec<Vec3>,
+    /// The strand-group nodes rebuilt from the level a blending section leaves.
+    leaving: Vec<Vec3>,
+    /// How the strand groups follow the coarser levels (built at the first frame drawn as
+    /// strands).
+    follow: Option<StrandFollow>,
+    /// The rebuild's own scratch.
+    rebuild: FollowScratch,
+}
+
+/// What the gather stage reads: the groom, the state, the head and the time shown.
+#[derive(Clone, Copy)]
+pub(super) struct Gathered<'a> {
+    pub(super) groom: &'a Groom,
+    pub(super) state: &'a PipelineState,
+    /// The head pose [m] the roots are carried by.
+    pub(super) head: &'a RigidTransform,
+    /// The time shown [s].
+    pub(super) display_time: f64,
+    pub(super) drawn_as: DrawnAs,
+}
+
+/// Appends to `active` the skeletons to draw, on the groom's chain numbering after the chains
+/// already there: each level as itself ([`DrawnAs::Level`], [`append_levels`]) or every
+/// level as strands ([`DrawnAs::Strands`], [`append_strands`]).
 pub(super) fn append_drawn(
-    groom: &Groom,
-    state: &PipelineState,
-    head: &RigidTransform,
-    display_time: f64,
+    gathered: Gathered<'_>,
+    scratch: &mut DrawScratch,
+    active: &mut ActiveSkeletons,
+) -> Result<()> {
+    match gathered.drawn_as {
+        DrawnAs::Level => append_levels(gathered, &mut scratch.frames, active),
+        DrawnAs::Strands => append_strands(gathered, scratch, active),
+    }
+}
+
+/// Each visible section's chains at its level (and at its previous level while it blends), with
+/// node frames from the simulated positions and the head at `head`; every other chain inactive.
+/// `frames_scratch` is reused.
+fn append_levels(
+    gathered: Gathered<'_>,
     frames_scratch: &mut Vec<Frame>,
     active: &mut ActiveSkeletons,
 ) -> Result<()> {
+    let Gathered {
+        groom,
+        state,
+        head,
+        display_time,
+        ..
+    } = gathered;
     let levels = &state.levels;
     for chain in 0..groom.skeletons.chain_count() {
         let (section, level, _) = groom.chain_owner(chain);
@@ -61,20 +112,172 @@ pub(super) fn append_drawn(
     Ok(())
 }
 
+/// Every visible section's strand groups, on skeletons rebuilt from the level the section is
+/// simulated at ([`StrandFollow::rebuild`]; its own strand-group skeletons when it is simulated as
+/// strand groups). While a section blends between two levels, its strands are drawn on the
+/// skeletons of both rebuilt and blended by the blend's weight (lengths restored by
+/// follow-the-leader), so the strands move from one simulation to the other without a jump; a
+/// section coming into view or leaving it dissolves in or out as a whole. Cluster and patch
+/// chains are inactive.
+fn append_strands(
+    gathered: Gathered<'_>,
+    scratch: &mut DrawScratch,
+    active: &mut ActiveSkeletons,
+) -> Result<()> {
+    let Gathered {
+        groom,
+        state,
+        head,
+        display_time,
+        ..
+    } = gathered;
+    let levels = &state.levels;
+    if scratch.follow.is_none() {
+        scratch.follow = Some(StrandFollow::new(groom));
+    }
+    // Whether the section of the strand-group chains being pushed has nodes to draw.
+    let mut section_drawn = false;
+    for chain in 0..groom.skeletons.chain_count() {
+        let (section, level, child) = groom.chain_owner(chain);
+        let shown = levels.shown_weight(section, display_time);
+        if level != Level::StrandGroup || shown <= 0.0 {
+            active.push_inactive_chain();
+            continue;
+        }
+        if child == 0 {
+            section_drawn = section_strands(gathered, section, scratch)?;
+        }
+        if !section_drawn {
+            active.push_inactive_chain();
+            continue;
+        }
+        let first = groom.section_chains(section, Level::StrandGroup).start;
+        let before: usize = (first..chain)
+            .map(|c| groom.skeletons.chain_node_count(c))
+            .sum();
+        let count = groom.skeletons.chain_node_count(chain);
+        let positions = &scratch.strands[before..before + count];
+        scratch.frames.clear();
+        scratch.frames.resize(count, Frame::default());
+        let root_frame = groom.skeletons.world_root_frame(chain, head);
+        node_frames(&root_frame, positions, &mut scratch.frames);
+        active.push_chain_with_coverage(positions, &scratch.frames, shown)?;
+    }
+    Ok(())
+}
+
+/// Fills `scratch.strands` with section `section`'s strand-group nodes to draw
+/// ([`append_strands`]); `false` when no level simulates the section (nothing to draw).
+fn section_strands(
+    gathered: Gathered<'_>,
+    section: usize,
+    scratch: &mut DrawScratch,
+) -> Result<bool> {
+    let Gathered {
+        groom,
+        state,
+        display_time,
+        ..
+    } = gathered;
+    let levels = &state.levels;
+    let chains = groom.section_chains(section, Level::StrandGroup);
+    let nodes: usize = chains
+        .clone()
+        .map(|chain| groom.skeletons.chain_node_count(chain))
+        .sum();
+    scratch.strands.resize(nodes, Vec3::ZERO);
+    let current = levels.current()[section];
+    let DrawScratch {
+        strands,
+        leaving,
+        follow,
+        rebuild,
+        ..
+    } = scratch;
+    let Some(follow) = follow.as_ref() else {
+        return Ok(false);
+    };
+    if !rebuilt_strands(gathered, follow, section, current, strands, rebuild)? {
+        return Ok(false);
+    }
+    let Some(previous) = levels.previous(section) else {
+        return Ok(true);
+    };
+    let weight = levels.blend_weight(section, display_time);
+    if weight >= 1.0 {
+        return Ok(true);
+    }
+    leaving.resize(nodes, Vec3::ZERO);
+    if !rebuilt_strands(gathered, follow, section, previous, leaving, rebuild)? {
+        return Ok(true);
+    }
+    for (arriving, leaving) in strands.iter_mut().zip(leaving.iter()) {
+        *arriving = leaving.lerp(*arriving, weight);
+    }
+    let mut start = 0;
+    for chain in chains {
+        let count = groom.skeletons.chain_node_count(chain);
+        follow_the_leader(
+            &mut strands[start..start + count],
+            &groom.skeletons.segment_rest_lengths[groom.skeletons.nodes(chain)],
+        );
+        start += count;
+    }
+    Ok(true)
+}
+
+/// Writes into `out` section `section`'s strand-group nodes as simulated at `level`: copied at
+/// the strand-group level, rebuilt by `follow` from a coarser one; `false` when the level does
+/// not simulate the section.
+fn rebuilt_strands(
+    gathered: Gathered<'_>,
+    follow: &StrandFollow,
+    section: usize,
+    level: Level,
+    out: &mut [Vec3],
+    rebuild: &mut FollowScratch,
+) -> Result<bool> {
+    let block = &gathered.state.blocks[level];
+    let Some(slot) = block.slot(section) else {
+        return Ok(false);
+    };
+    let simulated = &block.state.node_positions[block.nodes(slot)];
+    follow.rebuild(
+        gathered.groom,
+        section,
+        level,
+        simulated,
+        gathered.head,
+        out,
+        rebuild,
+    )?;
+    Ok(true)
+}
+
 /// Segments drawn and pixels covered at each level by the sections shown at `display_time` [s]
 /// (strand groups count each of their strands drawn: a dissolving strand level draws only its
 /// coverage's share of them; a dissolving surface is drawn whole and screen-doored, and not at
 /// all once its coverage is 0, as a surface that gave way is in the second half of its blend).
-/// `section_pixels` are the pixels each section covers this frame.
+/// Drawn as strands ([`DrawnAs::Strands`]), every shown section draws its strand groups, at
+/// the strand-group level whatever it simulates. `section_pixels` are the pixels each section
+/// covers this frame.
 pub(super) fn drawn_work(
     levels: &SectionLevels,
+    drawn_as: DrawnAs,
     section_work: &[SectionWork],
     section_pixels: &[f64],
     display_time: f64,
 ) -> ([usize; 3], [f64; 3]) {
     let (mut segments, mut pixels) = ([0; 3], [0.0; 3]);
+    let strands = Level::StrandGroup as usize;
     for (section, work) in section_work.iter().enumerate() {
-        if levels.shown_weight(section, display_time) <= 0.0 {
+        let shown = levels.shown_weight(section, display_time);
+        if shown <= 0.0 {
+            continue;
+        }
+        if drawn_as == DrawnAs::Strands {
+            segments[strands] += (work.drawn_segments[strands] as f32 * shown).round() as usize;
+            pixels[strands] += section_pixels[section];
             continue;
         }
         for level in levels.drawn(section) {

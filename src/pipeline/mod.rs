@@ -55,7 +55,7 @@ pub use error::{PipelineError, Result};
 pub use levels::SectionLevels;
 pub use pipeline::Pipeline;
 pub use report::{FrameReport, LodChanges, StageTimes};
-pub use settings::{LodMode, PipelineSettings, RunMode};
+pub use settings::{DrawnAs, LodMode, PipelineSettings, RunMode};
 pub use state::PipelineState;
 pub use state_check::{MAX_NODE_SPEED, MAX_STATE_FRAMES};
 pub use style::DrawStyle;

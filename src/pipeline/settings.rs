@@ -1,5 +1,5 @@
-//! What the frame pipeline runs: automatic levels or one fixed level, the dynamics settings,
-//! collision on or off and how it finds the hair near the head.
+//! What the frame pipeline runs: automatic levels or one fixed level, how the levels are drawn,
+//! the dynamics settings, collision on or off and how it finds the hair near the head.
 
 use hair_collide::BroadPhase;
 use hair_core::Level;
@@ -55,11 +55,31 @@ impl LodMode {
     }
 }
 
+hair_core::named_enum! {
+    /// How a section is drawn, whatever level it is simulated at.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub enum DrawnAs {
+        /// Each level as itself (the paper): strand groups as their strands, clusters as
+        /// textured tubes, a patch as a textured strip.
+        #[default]
+        Level = "level",
+        /// Every level as strands: a section simulated as clusters or as a patch has its five
+        /// strand-group skeletons rebuilt each frame from its simulated skeletons by the
+        /// hand-over map (§4.2, [`rebuild_section`](hair_core::lod::rebuild_section)), and its
+        /// strands drawn on them. The simulation's cost stays the level's; the drawing costs
+        /// what the strands cost (thin them with
+        /// [`strands_per_pixel`](hair_core::lod::LodSettings::strands_per_pixel)).
+        Strands = "strands",
+    }
+}
+
 /// Settings of a [`Pipeline`](super::Pipeline).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PipelineSettings {
     /// Level selection.
     pub lod: LodMode,
+    /// How the levels are drawn: each as itself (the default) or all as strands.
+    pub drawn_as: DrawnAs,
     /// Integrator, frame time step (one step per frame) and substeps.
     pub dynamics: SimulationSettings,
     /// Hair-head collision (response, friction and the positional guarantee) on.
@@ -87,12 +107,13 @@ impl PipelineSettings {
 }
 
 impl Default for PipelineSettings {
-    /// Automatic levels with default settings, the default integrator
+    /// Automatic levels with default settings, each drawn as itself, the default integrator
     /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on
     /// through the paper's hierarchies.
     fn default() -> Self {
         PipelineSettings {
             lod: LodMode::Auto(LodSettings::default()),
+            drawn_as: DrawnAs::default(),
             dynamics: SimulationSettings::recommended(IntegratorKind::DEFAULT),
             collision: true,
             broad_phase: BroadPhase::default(),

@@ -42,6 +42,7 @@ use hair_formats::UpAxis;
 use hair_render::{ClusterGeometry, LineCoverage, ShadingModel};
 use serde::Deserialize;
 
+use crate::pipeline::DrawnAs;
 use crate::rest_pose::RestPose;
 
 /// A scene file that cannot be read or used: the file, and what is wrong (naming the field path
@@ -357,6 +358,10 @@ pub struct LodTable {
     /// Strand thinning: strands drawn per pixel of a strand group's screen width, ≥ 0 (default
     /// 0: every strand). 4 covers a group's pixels as all its strands do.
     pub strands_per_pixel: Option<f32>,
+    /// How the levels are drawn: `"level"` (default: each as itself, the paper) or
+    /// `"strands"` (every level's sections drawn as strands on strand-group skeletons rebuilt
+    /// from the level simulated).
+    pub drawn_as: Option<DrawnAs>,
 }
 
 /// `[dynamics]`.

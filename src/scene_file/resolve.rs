@@ -53,6 +53,7 @@ impl SceneFile {
         };
         let settings = PipelineSettings {
             lod: self.lod_mode(width, height)?,
+            drawn_as: self.lod.drawn_as.unwrap_or_default(),
             dynamics: self.dynamics_settings(fps)?,
             collision: self.dynamics.collision.unwrap_or(true),
             broad_phase: self.dynamics.collision_broad_phase.unwrap_or_default(),

@@ -122,6 +122,8 @@ struct PaperReport<'a> {
     lods_instant_switching: &'a ModeRun,
     /// How collision found the hair near the head (`distance-field` or `hierarchies`).
     broad_phase: hairlod::collide::BroadPhase,
+    /// How the levels were drawn (`level`: each as itself; `strands`: all as strands).
+    drawn_as: hairlod::pipeline::DrawnAs,
     speedup_lods_over_strands: Speedups,
     popping_blended: Popping,
     popping_instant: Popping,
@@ -215,7 +217,10 @@ pub fn paper_tables(
     renderer.warm_up(&scene)?;
     let adapter = renderer.renderer().adapter_report().to_string();
     let broad_phase = shot.settings.broad_phase;
-    println!("rendering on {adapter}; collision broad phase: {broad_phase}");
+    let drawn_as = shot.settings.drawn_as;
+    println!(
+        "rendering on {adapter}; collision broad phase: {broad_phase}; levels drawn as: {drawn_as}"
+    );
     let bar = progress_bar(
         shot.frames * PaperRun::ALL.len(),
         "LODs, Strands, Clusters, Patches, LODs instant, frame by frame",
@@ -314,6 +319,7 @@ pub fn paper_tables(
         modes: &modes,
         lods_instant_switching: &instant_run,
         broad_phase,
+        drawn_as,
         speedup_lods_over_strands: speedups,
         popping_blended,
         popping_instant,

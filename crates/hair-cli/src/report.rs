@@ -6,6 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use hairlod::benchmark::{paper_shot, resized};
 use hairlod::collide::BroadPhase;
+use hairlod::pipeline::DrawnAs;
 use hairlod::run::ModeRun;
 use hairlod::shot::Shot;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -27,6 +28,11 @@ pub struct PaperShotArgs {
     /// library's default) or `distance-field`. The same contacts either way; only the cost differs.
     #[arg(long, default_value_t = BroadPhase::default())]
     pub broad_phase: BroadPhase,
+    /// How the levels are drawn: `level` (each as itself, the paper's Tables) or `strands`
+    /// (every level's sections as strands, on strand-group skeletons rebuilt from the level
+    /// simulated).
+    #[arg(long, default_value_t = DrawnAs::default())]
+    pub drawn_as: DrawnAs,
 }
 
 impl PaperShotArgs {
@@ -41,6 +47,7 @@ impl PaperShotArgs {
         let (width, height) = self.size;
         let mut shot = resized(&paper_shot(self.wind), self.frames, width, height);
         shot.settings.broad_phase = self.broad_phase;
+        shot.settings.drawn_as = self.drawn_as;
         Ok(shot)
     }
 }

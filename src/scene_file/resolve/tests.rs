@@ -142,7 +142,7 @@ fn every_fixed_choice_field_takes_its_enum_names_and_lists_them_when_wrong() {
     use hair_core::lod::{BudgetMethod, ErrorModel, OcclusionTest};
     use hair_render::{ClusterGeometry, LineCoverage, ShadingModel};
     // (table, key, the enum's names): each field deserializes straight into its enum.
-    let fields: [(&str, &str, &[&str]); 16] = [
+    let fields: [(&str, &str, &[&str]); 17] = [
         ("groom", "preset", &hair_core::GroomPreset::NAMES),
         ("groom", "up_axis", &hair_formats::UpAxis::NAMES),
         ("groom", "rest_pose", &RestPose::NAMES),
@@ -154,6 +154,7 @@ fn every_fixed_choice_field_takes_its_enum_names_and_lists_them_when_wrong() {
         ("lod", "error_model", &ErrorModel::NAMES),
         ("lod", "budget_method", &BudgetMethod::NAMES),
         ("lod", "occlusion_test", &OcclusionTest::NAMES),
+        ("lod", "drawn_as", &crate::pipeline::DrawnAs::NAMES),
         ("dynamics", "integrator", &IntegratorKind::NAMES),
         ("dynamics", "collision_broad_phase", &BroadPhase::NAMES),
         ("output", "shading", &ShadingModel::NAMES),

@@ -11,6 +11,7 @@
 //! - [`LodSelector`]: the per-frame choice for every section ([`SectionChoice`]) from what it sees of
 //!   each ([`SectionObservation`]);
 //! - [`hand_over`]: a section's skeleton state from one level to another (split and merge);
+//! - [`StrandFollow`]: strand-group skeletons rebuilt on a coarser level's, to draw its strands;
 //! - [`refine_within_budget`] with a [`CostModel`]: the frame budget that minimises the total
 //!   estimated error (greedy refinement by error saved per unit cost, costs calibrated at run
 //!   time);
@@ -26,12 +27,15 @@ mod observation;
 mod section_choice;
 mod selector;
 mod settings;
+mod strand_follow;
 mod transfer;
 
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_lead;
+#[cfg(test)]
+mod tests_strand_follow;
 
 pub use budget::{BudgetController, BudgetMethod, BudgetReport, BudgetSettings};
 pub use cost_model::{CostModel, CostRates, RenderSample, SectionWork};
@@ -49,6 +53,7 @@ pub use observation::{SIGHT_SAMPLES, SectionObservation};
 pub use section_choice::{Reason, SectionChoice, covered_pixels};
 pub use selector::LodSelector;
 pub use settings::{ErrorModel, LodSettings, OcclusionTest};
+pub use strand_follow::{FollowScratch, StrandFollow};
 pub use transfer::{SectionStateRef, hand_over};
 #[cfg(test)]
 mod tests_deviation;
