@@ -13,7 +13,9 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::formats::UsdCurvesWriter;
-use hairlod::pipeline::{Checkpoint, DrawStyle, FrameReport, PipelineRenderer, StageTimes};
+use hairlod::pipeline::{
+    Checkpoint, DrawStyle, DrawnAs, FrameReport, PipelineRenderer, StageTimes,
+};
 use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
@@ -51,6 +53,11 @@ pub struct RenderArgs {
     /// Screen-space error tolerance of automatic levels [pixels] [scene: lod.pixel_tolerance].
     #[arg(long, value_name = "PX")]
     pixel_tolerance: Option<f32>,
+    /// How the levels are drawn: `level` (each as itself) or `strands` (every level's sections
+    /// as strands, on strand-group skeletons rebuilt from the level simulated) [scene:
+    /// lod.drawn_as; default level].
+    #[arg(long, value_parser = choice::<DrawnAs>())]
+    drawn_as: Option<DrawnAs>,
     /// Colour-code by level (strands yellow, clusters red, patches blue) instead of shading.
     #[arg(long)]
     color_code: bool,
@@ -163,6 +170,9 @@ impl RenderArgs {
         }
         if let Some(clusters) = self.clusters {
             file.output.clusters = Some(clusters);
+        }
+        if let Some(drawn_as) = self.drawn_as {
+            file.lod.drawn_as = Some(drawn_as);
         }
         // Flags are checked like the file's own values.
         file.resolve()
