@@ -25,6 +25,8 @@ use crate::level::Level;
 use crate::skeleton::node_frames;
 use crate::transform::RigidTransform;
 
+use super::transfer::section_nodes;
+
 /// How one strand-group chain follows a coarser level: the source children (section-local) on
 /// either side of it and the weight of the second, `t` in `[0, 1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -169,25 +171,13 @@ impl StrandFollow {
         scratch: &mut FollowScratch,
     ) -> Result<()> {
         let skeletons = &groom.skeletons;
-        if section >= groom.section_count() {
-            return Err(HairError::invalid(
-                "section index",
-                section,
-                "less than the groom's section count",
-            ));
-        }
+        let source_nodes = section_nodes(groom, section, from_level)?;
+        let strand_nodes = section_nodes(groom, section, Level::StrandGroup)?;
         let sources = groom.section_chains(section, from_level);
         let targets = groom.section_chains(section, Level::StrandGroup);
-        let total = |chains: std::ops::Range<usize>| -> usize {
-            chains.map(|chain| skeletons.chain_node_count(chain)).sum()
-        };
         for (what, actual, expected) in [
-            (
-                "source positions",
-                from_positions.len(),
-                total(sources.clone()),
-            ),
-            ("strand-group positions", out.len(), total(targets.clone())),
+            ("source positions", from_positions.len(), source_nodes),
+            ("strand-group positions", out.len(), strand_nodes),
         ] {
             if actual != expected {
                 return Err(HairError::SizeMismatch {

@@ -9,7 +9,12 @@ use crate::scene::Scene;
 use crate::transform::RigidTransform;
 
 /// Rest positions of section `section`'s skeletons at `level` (section-local, chain-major).
-fn rest_section(scene: &Scene, section: usize, level: Level, head: &RigidTransform) -> Vec<Vec3> {
+pub(super) fn rest_section(
+    scene: &Scene,
+    section: usize,
+    level: Level,
+    head: &RigidTransform,
+) -> Vec<Vec3> {
     let skeletons = &scene.groom.skeletons;
     let mut positions = Vec::new();
     for chain in scene.groom.section_chains(section, level) {

@@ -5,22 +5,11 @@
 
 use glam::{Quat, Vec3};
 
+use super::tests::rest_section;
 use super::*;
 use crate::level::Level;
 use crate::scene::Scene;
 use crate::transform::RigidTransform;
-
-/// Section `section`'s rest node positions at `level` with the head at `head`, chain-major.
-fn rest_section(scene: &Scene, section: usize, level: Level, head: &RigidTransform) -> Vec<Vec3> {
-    let skeletons = &scene.groom.skeletons;
-    let mut positions = Vec::new();
-    for chain in scene.groom.section_chains(section, level) {
-        let mut chain_positions = vec![Vec3::ZERO; skeletons.chain_node_count(chain)];
-        skeletons.rest_positions_of(chain, head, &mut chain_positions);
-        positions.extend(chain_positions);
-    }
-    positions
-}
 
 fn largest_distance(a: &[Vec3], b: &[Vec3]) -> f32 {
     assert_eq!(a.len(), b.len());

@@ -48,20 +48,10 @@ pub fn hand_over(
     head: &RigidTransform,
 ) -> Result<()> {
     let skeletons = &groom.skeletons;
-    if section >= groom.section_count() {
-        return Err(HairError::invalid(
-            "section index",
-            section,
-            "less than the groom's section count",
-        ));
-    }
+    let source_nodes = section_nodes(groom, section, from_level)?;
+    let target_nodes = section_nodes(groom, section, to)?;
     let source_chains = groom.section_chains(section, from_level);
     let target_chains = groom.section_chains(section, to);
-    let node_total = |chains: std::ops::Range<usize>| -> usize {
-        chains.map(|chain| skeletons.chain_node_count(chain)).sum()
-    };
-    let source_nodes = node_total(source_chains.clone());
-    let target_nodes = node_total(target_chains.clone());
     for (what, actual, expected) in [
         ("source positions", from.positions.len(), source_nodes),
         ("source velocities", from.velocities.len(), source_nodes),
@@ -158,4 +148,20 @@ pub fn hand_over(
         );
     }
     Ok(())
+}
+
+/// The node count of section `section`'s skeletons at `level` (its chains one after the other);
+/// an error names a section that is not one of `groom`'s.
+pub(super) fn section_nodes(groom: &Groom, section: usize, level: Level) -> Result<usize> {
+    if section >= groom.section_count() {
+        return Err(HairError::invalid(
+            "section index",
+            section,
+            "less than the groom's section count",
+        ));
+    }
+    Ok(groom
+        .section_chains(section, level)
+        .map(|chain| groom.skeletons.chain_node_count(chain))
+        .sum())
 }
