@@ -9,7 +9,9 @@ use glam::Vec3;
 use hairlod::core::dynamics::{Environment, HeadMotion, WindField};
 use hairlod::core::lod::LodSettings;
 use hairlod::metrics::{luma, ssim};
-use hairlod::pipeline::{DrawnAs, LodMode, Pipeline, PipelineRenderer, PipelineSettings};
+use hairlod::pipeline::{
+    DrawnAs, FrameReport, LodMode, Pipeline, PipelineRenderer, PipelineSettings,
+};
 use hairlod::render::{ActiveSkeletons, RendererOptions, ShadingMode};
 use hairlod::{Camera, Level, Scene};
 
@@ -117,8 +119,8 @@ fn drawn_chain(active: &ActiveSkeletons, chain: usize) -> Vec<Vec3> {
 }
 
 /// A curly pipeline at `level` drawn as `drawn_as`, 12 frames into a 3 m/s wind (so the
-/// skeletons have moved off their rest shape).
-fn windy_pipeline(level: Level, drawn_as: DrawnAs) -> Pipeline {
+/// skeletons have moved off their rest shape), and its last frame's report.
+fn windy_run(level: Level, drawn_as: DrawnAs) -> (Pipeline, FrameReport) {
     let settings = PipelineSettings {
         lod: LodMode::Fixed(level),
         drawn_as,
@@ -131,10 +133,16 @@ fn windy_pipeline(level: Level, drawn_as: DrawnAs) -> Pipeline {
     };
     let mut pipeline =
         Pipeline::new(Scene::preset("curly").unwrap(), environment, settings).unwrap();
+    let mut report = FrameReport::default();
     for _ in 0..12 {
-        pipeline.advance(&Camera::default()).unwrap();
+        report = pipeline.advance(&Camera::default()).unwrap();
     }
-    pipeline
+    (pipeline, report)
+}
+
+/// [`windy_run`]'s pipeline.
+fn windy_pipeline(level: Level, drawn_as: DrawnAs) -> Pipeline {
+    windy_run(level, drawn_as).0
 }
 
 /// Drawn as strands, a section simulated as clusters or as a patch draws its five strand groups
@@ -145,8 +153,23 @@ fn windy_pipeline(level: Level, drawn_as: DrawnAs) -> Pipeline {
 #[test]
 fn strands_drawn_on_any_level_read_the_simulation_and_keep_its_centre_skeletons() {
     for level in Level::ALL {
-        let mut as_strands = windy_pipeline(level, DrawnAs::Strands);
-        let mut as_level = windy_pipeline(level, DrawnAs::Level);
+        let (mut as_strands, strands_report) = windy_run(level, DrawnAs::Strands);
+        let (mut as_level, level_report) = windy_run(level, DrawnAs::Level);
+        // The frame report counts what is drawn: strand-group segments only, every strand of
+        // every strand group (all sections shown at a fixed level), as many as all-strands
+        // draws; drawn as levels, the level's own segments.
+        let strand_segments = windy_run(Level::StrandGroup, DrawnAs::Level).1.drawn_at;
+        let s = Level::StrandGroup as usize;
+        assert_eq!(strands_report.drawn_at[s], strand_segments[s], "{level:?}");
+        assert_eq!(
+            strands_report.drawn_segments, strand_segments[s],
+            "{level:?}"
+        );
+        assert_eq!(
+            level_report.drawn_segments,
+            level_report.drawn_at[level as usize]
+        );
+        assert_eq!(strands_report.simulated_nodes, level_report.simulated_nodes);
         assert_eq!(
             as_strands.block(level).state.node_positions,
             as_level.block(level).state.node_positions,

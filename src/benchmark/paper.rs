@@ -88,6 +88,9 @@ pub struct PaperOptions {
     pub blend_time: Option<f32>,
     /// Look ahead of the LODs' choice, a fraction of the blend time (`None`: the shot's).
     pub blend_lead: Option<f32>,
+    /// Strands the LODs draw per pixel of a strand group's screen width (`None`: the shot's; 0
+    /// draws every strand).
+    pub strands_per_pixel: Option<f32>,
 }
 
 impl PaperOptions {
@@ -99,6 +102,7 @@ impl PaperOptions {
             error_model: self.error_model.unwrap_or(base.error_model),
             blend_time: self.blend_time.unwrap_or(base.blend_time),
             blend_lead: self.blend_lead.unwrap_or(base.blend_lead),
+            strands_per_pixel: self.strands_per_pixel.unwrap_or(base.strands_per_pixel),
             ..base
         };
         lod.validate()?;

@@ -87,6 +87,11 @@ pub struct PaperArgs {
     /// (default: the library's, 0.5; 0: the current frame only).
     #[arg(long, value_name = "FRACTION")]
     pub blend_lead: Option<f32>,
+    /// Strand thinning of the LODs: strands drawn per pixel of a strand group's screen width, ≥ 0
+    /// (default: the library's, 0: every strand; see docs/render.md, "Strand thinning"). The
+    /// fixed levels always draw every strand.
+    #[arg(long, value_name = "K")]
+    pub strands_per_pixel: Option<f32>,
     /// Also run the LODs in frame-budget mode: levels chosen so that a frame costs at most MS
     /// milliseconds (see --budget-method).
     #[arg(long, value_name = "MS")]
@@ -131,6 +136,8 @@ struct PaperReport<'a> {
     excess_popping_instant: ExcessPopping,
     popping_lod_stage: hairlod::popping::PoppingComparison,
     pixel_tolerance: f32,
+    /// The LODs' strand thinning [strands per pixel of a group's width; 0: every strand].
+    strands_per_pixel: f32,
     error_model: ErrorModel,
     mean_ssim_against_strands: AgainstStrands,
     mean_pixel_error_against_strands: AgainstStrands,
@@ -189,6 +196,7 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
             error_model: Some(args.error_model),
             blend_time: args.blend_time,
             blend_lead: args.blend_lead,
+            strands_per_pixel: args.strands_per_pixel,
         },
         chart: args.chart.clone(),
     };
@@ -275,8 +283,11 @@ pub fn paper_tables(
     );
     println!(
         "mean SSIM against Strands, frame by frame: LODs {:.4}, Clusters {:.4}, Patches {:.4} \
-         (LOD pixel tolerance {pixel_tolerance} px)",
-        mean_ssim.lods, mean_ssim.clusters, mean_ssim.patches
+         (LOD pixel tolerance {pixel_tolerance} px{})",
+        mean_ssim.lods,
+        mean_ssim.clusters,
+        mean_ssim.patches,
+        crate::report::thinning_label(lod.strands_per_pixel)
     );
     print_where_lods_sit(
         &modes,
@@ -327,6 +338,7 @@ pub fn paper_tables(
         excess_popping_instant: excess_instant,
         popping_lod_stage,
         pixel_tolerance,
+        strands_per_pixel: lod.strands_per_pixel,
         error_model: lod.error_model,
         mean_ssim_against_strands: mean_ssim,
         mean_pixel_error_against_strands: mean_pixels,
