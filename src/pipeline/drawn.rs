@@ -2,8 +2,7 @@
 //! written. The skeletons to draw ([`append_drawn`]): each level as itself, with each level's
 //! dissolve coverage while a section blends, or every level as strands on strand-group
 //! skeletons rebuilt from the level simulated ([`DrawnAs::Strands`], [`StrandFollow`]); and what
-//! they cost to draw
-//! ([`drawn_work`], [`section_work`]).
+//! they cost to draw ([`drawn_work`], [`section_work`]).
 
 use glam::Vec3;
 use hair_core::dynamics::follow_the_leader;
@@ -86,17 +85,10 @@ fn append_levels(
             continue;
         };
         // The chain's nodes inside the section's node range of the block.
-        let section_chains = groom.section_chains(section, level);
-        let before: usize = (section_chains.start..chain)
-            .map(|c| groom.skeletons.chain_node_count(c))
-            .sum();
-        let count = groom.skeletons.chain_node_count(chain);
-        let start = block.nodes(slot).start + before;
-        let positions = &block.state.node_positions[start..start + count];
-        frames_scratch.clear();
-        frames_scratch.resize(count, Frame::default());
-        let root_frame = groom.skeletons.world_root_frame(chain, head);
-        node_frames(&root_frame, positions, frames_scratch);
+        let local = nodes_in_section(groom, section, level, chain);
+        let start = block.nodes(slot).start;
+        let positions = &block.state.node_positions[start + local.start..start + local.end];
+        chain_frames(groom, chain, head, positions, frames_scratch);
         // While blending, the new level dissolves in over the first half of the blend while
         // the old one dissolves out over the whole blend: no frame shows less hair than
         // either level, and the switch frame itself changes little. Between two surfaces
@@ -110,6 +102,38 @@ fn append_levels(
         }
     }
     Ok(())
+}
+
+/// The node range of chain `chain` inside its section's nodes at `level` (the section's chains
+/// one after the other).
+fn nodes_in_section(
+    groom: &Groom,
+    section: usize,
+    level: Level,
+    chain: usize,
+) -> std::ops::Range<usize> {
+    let before: usize = (groom.section_chains(section, level).start..chain)
+        .map(|c| groom.skeletons.chain_node_count(c))
+        .sum();
+    before..before + groom.skeletons.chain_node_count(chain)
+}
+
+/// Fills `frames` with the node frames of chain `chain` at `positions`, its root frame carried
+/// by the head at `head`.
+fn chain_frames(
+    groom: &Groom,
+    chain: usize,
+    head: &RigidTransform,
+    positions: &[Vec3],
+    frames: &mut Vec<Frame>,
+) {
+    frames.clear();
+    frames.resize(positions.len(), Frame::default());
+    node_frames(
+        &groom.skeletons.world_root_frame(chain, head),
+        positions,
+        frames,
+    );
 }
 
 /// Every visible section's strand groups, on skeletons rebuilt from the level the section is
@@ -151,16 +175,8 @@ fn append_strands(
             active.push_inactive_chain();
             continue;
         }
-        let first = groom.section_chains(section, Level::StrandGroup).start;
-        let before: usize = (first..chain)
-            .map(|c| groom.skeletons.chain_node_count(c))
-            .sum();
-        let count = groom.skeletons.chain_node_count(chain);
-        let positions = &scratch.strands[before..before + count];
-        scratch.frames.clear();
-        scratch.frames.resize(count, Frame::default());
-        let root_frame = groom.skeletons.world_root_frame(chain, head);
-        node_frames(&root_frame, positions, &mut scratch.frames);
+        let positions = &scratch.strands[nodes_in_section(groom, section, level, chain)];
+        chain_frames(groom, chain, head, positions, &mut scratch.frames);
         active.push_chain_with_coverage(positions, &scratch.frames, shown)?;
     }
     Ok(())
