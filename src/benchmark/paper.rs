@@ -91,6 +91,9 @@ pub struct PaperOptions {
     /// Strands the LODs draw per pixel of a strand group's screen width (`None`: the shot's; 0
     /// draws every strand).
     pub strands_per_pixel: Option<f32>,
+    /// Whether the LODs' thinned strands are widened to stand for those left out (`None`: the
+    /// shot's).
+    pub raise_thinned_widths: Option<bool>,
 }
 
 impl PaperOptions {
@@ -103,6 +106,9 @@ impl PaperOptions {
             blend_time: self.blend_time.unwrap_or(base.blend_time),
             blend_lead: self.blend_lead.unwrap_or(base.blend_lead),
             strands_per_pixel: self.strands_per_pixel.unwrap_or(base.strands_per_pixel),
+            raise_thinned_widths: self
+                .raise_thinned_widths
+                .unwrap_or(base.raise_thinned_widths),
             ..base
         };
         lod.validate()?;

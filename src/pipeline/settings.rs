@@ -99,6 +99,7 @@ impl PipelineSettings {
             LodMode::Auto(lod) if lod.strands_per_pixel > 0.0 => {
                 hair_render::StrandThinning::ByScreenWidth {
                     strands_per_pixel: lod.strands_per_pixel,
+                    raise_widths: lod.raise_thinned_widths,
                 }
             }
             _ => hair_render::StrandThinning::Off,

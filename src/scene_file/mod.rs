@@ -358,6 +358,9 @@ pub struct LodTable {
     /// Strand thinning: strands drawn per pixel of a strand group's screen width, ≥ 0 (default
     /// 0: every strand). 4 covers a group's pixels as all its strands do.
     pub strands_per_pixel: Option<f32>,
+    /// With thinning, widen each drawn strand to stand for those left out, so that a thinned
+    /// group covers what all its strands cover (default false).
+    pub raise_thinned_widths: Option<bool>,
     /// How the levels are drawn: `"level"` (default: each as itself, the paper) or
     /// `"strands"` (every level's sections drawn as strands on strand-group skeletons rebuilt
     /// from the level simulated).

@@ -489,6 +489,9 @@ impl SceneFile {
                 "strands per pixel in 0..=1000",
             )?;
         }
+        if let Some(raise) = table.raise_thinned_widths {
+            lod.raise_thinned_widths = raise;
+        }
         if let Some(model) = table.error_model {
             lod.error_model = model;
         }

@@ -178,7 +178,7 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
         if occlusion_test != OcclusionTest::default() {
             model.push_str(&format!(" ({occlusion_test} occlusion)"));
         }
-        model.push_str(&thinning_label(strands_per_pixel));
+        model.push_str(&thinning_label(&lod));
         let lead = if blend_lead == default_lead {
             String::new()
         } else {

@@ -92,6 +92,11 @@ pub struct PaperArgs {
     /// fixed levels always draw every strand.
     #[arg(long, value_name = "K")]
     pub strands_per_pixel: Option<f32>,
+    /// With --strands-per-pixel: widen each strand the LODs draw to stand for those left out
+    /// (1/φ its width for a drawn fraction φ, at most its group's width on screen), so that a
+    /// thinned group covers what all its strands cover.
+    #[arg(long)]
+    pub raise_thinned_widths: bool,
     /// Also run the LODs in frame-budget mode: levels chosen so that a frame costs at most MS
     /// milliseconds (see --budget-method).
     #[arg(long, value_name = "MS")]
@@ -138,6 +143,8 @@ struct PaperReport<'a> {
     pixel_tolerance: f32,
     /// The LODs' strand thinning [strands per pixel of a group's width; 0: every strand].
     strands_per_pixel: f32,
+    /// Whether the LODs' thinned strands were widened for those left out.
+    raise_thinned_widths: bool,
     error_model: ErrorModel,
     mean_ssim_against_strands: AgainstStrands,
     mean_pixel_error_against_strands: AgainstStrands,
@@ -197,6 +204,7 @@ fn run_paper(args: &PaperArgs) -> Result<()> {
             blend_time: args.blend_time,
             blend_lead: args.blend_lead,
             strands_per_pixel: args.strands_per_pixel,
+            raise_thinned_widths: args.raise_thinned_widths.then_some(true),
         },
         chart: args.chart.clone(),
     };
@@ -287,7 +295,7 @@ pub fn paper_tables(
         mean_ssim.lods,
         mean_ssim.clusters,
         mean_ssim.patches,
-        crate::report::thinning_label(lod.strands_per_pixel)
+        crate::report::thinning_label(&lod)
     );
     print_where_lods_sit(
         &modes,
@@ -339,6 +347,7 @@ pub fn paper_tables(
         popping_lod_stage,
         pixel_tolerance,
         strands_per_pixel: lod.strands_per_pixel,
+        raise_thinned_widths: lod.raise_thinned_widths,
         error_model: lod.error_model,
         mean_ssim_against_strands: mean_ssim,
         mean_pixel_error_against_strands: mean_pixels,

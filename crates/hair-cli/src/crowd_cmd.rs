@@ -394,7 +394,7 @@ pub fn accuracy(
                 ..lod
             };
             lod.validate()?;
-            let thinned = crate::report::thinning_label(thinning);
+            let thinned = crate::report::thinning_label(&lod);
             modes.push((format!("LODs {tolerance} px{thinned}"), LodMode::Auto(lod)));
         }
     }

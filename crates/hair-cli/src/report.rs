@@ -157,12 +157,13 @@ pub fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<(
     Ok(())
 }
 
-/// How a LOD configuration's label names its strand thinning: ` thinned K/px`, or nothing
-/// when every strand is drawn (`strands_per_pixel` 0).
-pub(crate) fn thinning_label(strands_per_pixel: f32) -> String {
-    if strands_per_pixel > 0.0 {
-        format!(" thinned {strands_per_pixel}/px")
-    } else {
-        String::new()
+/// How a LOD configuration's label names its strand thinning: ` thinned K/px` (`, widened`
+/// when the drawn strands stand wider for those left out), or nothing when every strand is
+/// drawn (`strands_per_pixel` 0).
+pub(crate) fn thinning_label(lod: &hairlod::core::lod::LodSettings) -> String {
+    match (lod.strands_per_pixel > 0.0, lod.raise_thinned_widths) {
+        (false, _) => String::new(),
+        (true, false) => format!(" thinned {}/px", lod.strands_per_pixel),
+        (true, true) => format!(" thinned {}/px, widened", lod.strands_per_pixel),
     }
 }

@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::inputs::SkeletonFrame;
 use crate::settings::{ClusterGeometry, Tessellation};
 
-/// One chain as the shaders read it (`Chain` in `common.wgsl`), 36 bytes.
+/// One chain as the shaders read it (`Chain` in `common.wgsl`), 40 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct GpuChain {
@@ -28,6 +28,9 @@ pub(crate) struct GpuChain {
     /// Weight of each drawn strand's opacity in the light passes: the inverse of the fraction
     /// strand thinning draws (1 unthinned; see `thinning.rs`).
     pub shadow_weight: f32,
+    /// How much wider than itself each drawn strand is drawn: 1, or more where thinning raises
+    /// the widths of the strands it keeps (see `thinning.rs`).
+    pub width_scale: f32,
 }
 
 /// Bytes per chain-curve sample (`ChainSample` in `chain_curve_types.wgsl`: six `vec4<f32>`).
@@ -88,6 +91,7 @@ pub(crate) fn chain_table(
                         frame.chain_gives_way.get(chain).copied().unwrap_or(false),
                     ),
                     shadow_weight: 1.0,
+                    width_scale: 1.0,
                 }
             }),
     );

@@ -7,7 +7,7 @@ use crate::device::GpuContext;
 use crate::inputs::{GpuNode, SkeletonFrame, pack_nodes};
 use crate::items::HairItems;
 use crate::pipelines::Pipelines;
-use crate::settings::{FrameSettings, StrandStyle};
+use crate::settings::FrameSettings;
 use crate::shadows::bounding_sphere;
 use crate::thinning::thin_chains;
 use crate::uniforms::Globals;
@@ -89,13 +89,8 @@ impl SceneInputs {
         // A ribbon no wider than a pixel covers what a 1-pixel line does, at a fraction of the
         // rasterization cost: such strands are drawn as lines.
         let focal = settings.camera.focal_length_pixels(settings.height);
-        let is_thin = |distance: f32| match settings.strand_style {
-            StrandStyle::Lines => true,
-            StrandStyle::Ribbons {
-                width,
-                min_width_pixels,
-            } => (width * focal / distance.max(1e-6)).max(min_width_pixels) <= 1.0,
-        };
+        let style = settings.strand_style;
+        let is_thin = |distance: f32| style.ribbon_pixels(focal, distance).is_none_or(|p| p <= 1.0);
         let samples = chain_table(
             frame,
             &settings.tessellation,
@@ -113,6 +108,7 @@ impl SceneInputs {
             &self.chain_distances,
             focal,
             settings.strand_thinning,
+            style,
         );
         samples
     }

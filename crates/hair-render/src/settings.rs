@@ -113,6 +113,21 @@ pub enum StrandStyle {
     },
 }
 
+impl StrandStyle {
+    /// The width [pixels] a strand is drawn at `distance` [m] through a focal length of
+    /// `focal_pixels`: the ribbon's projected width, at least its minimum; `None` for lines
+    /// (always one pixel, never widened).
+    pub fn ribbon_pixels(&self, focal_pixels: f32, distance: f32) -> Option<f32> {
+        match *self {
+            StrandStyle::Lines => None,
+            StrandStyle::Ribbons {
+                width,
+                min_width_pixels,
+            } => Some((width * focal_pixels / distance.max(1e-6)).max(min_width_pixels)),
+        }
+    }
+}
+
 impl Default for StrandStyle {
     /// Ribbons 80 µm wide, at least 1 pixel.
     fn default() -> Self {
@@ -449,6 +464,12 @@ pub enum StrandThinning {
         /// Strands kept per pixel of the group's width (k above; 4 covers a group's pixels as
         /// fully as all its strands do, see `docs/render.md`).
         strands_per_pixel: f32,
+        /// Widen each drawn strand so that the group covers what all its strands cover: a
+        /// strand drawn `p` pixels wide standing for `1/φ` strands (φ the drawn fraction) is
+        /// drawn `p/φ` wide, at most the group's own projected width (so that a group thinned to
+        /// one strand draws one strand as wide as the group: an aggregated strand). Needs
+        /// [`StrandStyle::Ribbons`]; lines keep their pixel.
+        raise_widths: bool,
     },
 }
 
@@ -457,7 +478,9 @@ impl StrandThinning {
     pub fn validate(&self) -> Result<()> {
         match *self {
             StrandThinning::Off => Ok(()),
-            StrandThinning::ByScreenWidth { strands_per_pixel } => {
+            StrandThinning::ByScreenWidth {
+                strands_per_pixel, ..
+            } => {
                 if strands_per_pixel.is_finite() && strands_per_pixel > 0.0 {
                     Ok(())
                 } else {

@@ -14,7 +14,7 @@
 
 use crate::batches::GpuChain;
 use crate::inputs::StrandSet;
-use crate::settings::StrandThinning;
+use crate::settings::{StrandStyle, StrandThinning};
 
 /// A chain's strands: how many follow it, and the largest root offset among them [m] (half the
 /// group's width).
@@ -59,24 +59,52 @@ pub(crate) fn drawn_fraction(
 
 /// Thins the strand chains of a frame's chain table: each chain's coverage is scaled by its
 /// drawn fraction (the batches then draw that prefix of its ranked strands) and its shadow
-/// weight set to the inverse. `distances` [m] are the chains' root distances.
+/// weight set to the inverse. `distances` [m] are the chains' root distances. Where the
+/// thinning raises widths, each drawn strand is widened ([`raised_width_scale`]) and drawn as a
+/// ribbon once wider than a pixel.
 pub(crate) fn thin_chains(
     chains: &mut [GpuChain],
     spans: &[StrandSpan],
     distances: &[f32],
     focal: f32,
     thinning: StrandThinning,
+    style: StrandStyle,
 ) {
-    let StrandThinning::ByScreenWidth { strands_per_pixel } = thinning else {
+    let StrandThinning::ByScreenWidth {
+        strands_per_pixel,
+        raise_widths,
+    } = thinning
+    else {
         return;
     };
     for ((chain, span), &distance) in chains.iter_mut().zip(spans).zip(distances) {
         let fraction = drawn_fraction(*span, distance, focal, strands_per_pixel);
-        if fraction < 1.0 {
-            chain.coverage *= fraction;
-            chain.shadow_weight = 1.0 / fraction;
+        if fraction >= 1.0 {
+            continue;
+        }
+        chain.coverage *= fraction;
+        chain.shadow_weight = 1.0 / fraction;
+        let drawn = style.ribbon_pixels(focal, distance);
+        if let (true, Some(pixels)) = (raise_widths, drawn) {
+            let group = 2.0 * span.radius * focal / distance.max(1e-6);
+            chain.width_scale = raised_width_scale(pixels, group, fraction);
+            if pixels * chain.width_scale > 1.0 {
+                chain.thin = 0;
+            }
         }
     }
+}
+
+/// How much wider a strand drawn `pixels` wide is drawn when a fraction `fraction` of its
+/// group's strands is drawn, the group `group_pixels` wide on screen: `min(1/φ, max(g/p, 1))`.
+///
+/// Strands spread over a group `g` pixels wide leave a pixel column uncovered with probability
+/// `(1 − p/g)^n ≈ e^{−n·p/g}` for `n` strands `p` wide; `φ·n` strands `p/φ` wide leave the same
+/// share, so the group covers what all its strands cover. A strand wider than its group covers
+/// the group on its own, so the width stops at the group's.
+pub(crate) fn raised_width_scale(pixels: f32, group_pixels: f32, fraction: f32) -> f32 {
+    let widest = (group_pixels / pixels.max(1e-6)).max(1.0);
+    (1.0 / fraction.max(1e-6)).min(widest)
 }
 
 #[cfg(test)]
@@ -138,22 +166,27 @@ mod tests {
             GpuChain {
                 coverage: 1.0,
                 shadow_weight: 1.0,
+                width_scale: 1.0,
                 ..GpuChain::default()
             },
             GpuChain {
                 coverage: 0.5, // fading in: both fractions apply
                 shadow_weight: 1.0,
+                width_scale: 1.0,
                 ..GpuChain::default()
             },
         ];
         let spans = [span(100, 0.005), span(100, 0.005)];
         let thinning = StrandThinning::ByScreenWidth {
             strands_per_pixel: 4.0,
+            raise_widths: false,
         };
-        thin_chains(&mut chains, &spans, &[0.2, 2.0], 1000.0, thinning);
+        let style = StrandStyle::default();
+        thin_chains(&mut chains, &spans, &[0.2, 2.0], 1000.0, thinning, style);
         assert_eq!((chains[0].coverage, chains[0].shadow_weight), (1.0, 1.0));
         assert!((chains[1].coverage - 0.1).abs() < 1e-6);
         assert!((chains[1].shadow_weight - 5.0).abs() < 1e-5);
+        assert_eq!(chains[1].width_scale, 1.0, "widths left alone");
         // Off leaves the table as it is.
         let before = chains;
         thin_chains(
@@ -162,8 +195,48 @@ mod tests {
             &[9.0, 9.0],
             1000.0,
             StrandThinning::Off,
+            style,
         );
         assert_eq!(chains, before);
+    }
+
+    #[test]
+    fn raised_widths_stand_for_the_strands_left_out_up_to_the_group() {
+        // A 1-pixel strand drawn for a fifth of its group, the group 5 px wide: 5× wider, as
+        // wide as the group. For a tenth of a 20 px group: 10×. For a hundredth of a 3 px
+        // group: the group's 3 px, not 100.
+        assert!((raised_width_scale(1.0, 5.0, 0.2) - 5.0).abs() < 1e-5);
+        assert!((raised_width_scale(1.0, 20.0, 0.1) - 10.0).abs() < 1e-4);
+        assert!((raised_width_scale(1.0, 3.0, 0.01) - 3.0).abs() < 1e-5);
+        // A strand already wider than its group is never narrowed.
+        assert_eq!(raised_width_scale(2.0, 1.0, 0.1), 1.0);
+    }
+
+    #[test]
+    fn raising_widths_widens_thinned_ribbons_and_leaves_lines() {
+        let chain = GpuChain {
+            coverage: 1.0,
+            shadow_weight: 1.0,
+            width_scale: 1.0,
+            thin: 1,
+            ..GpuChain::default()
+        };
+        let spans = [span(100, 0.005)];
+        let thinning = StrandThinning::ByScreenWidth {
+            strands_per_pixel: 4.0,
+            raise_widths: true,
+        };
+        // At 2 m through 1000 px the group is 5 px wide and a fifth of it is drawn: its 1-pixel
+        // strands (80 µm project to 0.04 px, raised to the 1 px minimum) become 5 px ribbons.
+        let mut chains = [chain];
+        thin_chains(&mut chains, &spans, &[2.0], 1000.0, thinning, StrandStyle::default());
+        assert!((chains[0].width_scale - 5.0).abs() < 1e-4, "{:?}", chains[0]);
+        assert_eq!(chains[0].thin, 0, "wider than a pixel: a ribbon");
+        // Lines stay lines, one pixel wide.
+        let mut chains = [chain];
+        thin_chains(&mut chains, &spans, &[2.0], 1000.0, thinning, StrandStyle::Lines);
+        assert_eq!((chains[0].width_scale, chains[0].thin), (1.0, 1));
+        assert!((chains[0].coverage - 0.2).abs() < 1e-6);
     }
 
     #[test]
@@ -171,6 +244,7 @@ mod tests {
         for k in [0.0, -1.0, f32::NAN, f32::INFINITY] {
             let error = StrandThinning::ByScreenWidth {
                 strands_per_pixel: k,
+                raise_widths: true,
             }
             .validate()
             .unwrap_err()

@@ -38,7 +38,8 @@ fn strand_thinning_is_off_unless_asked_for_and_only_in_automatic_mode() {
             .settings
             .strand_thinning(),
         hair_render::StrandThinning::ByScreenWidth {
-            strands_per_pixel: 4.0
+            strands_per_pixel: 4.0,
+            raise_widths: false,
         }
     );
     // A fixed level is a reference: every strand is drawn.

@@ -100,6 +100,10 @@ pub struct LodSettings {
     /// its projected width, at least one and at most all (a stochastic simplification; the
     /// renderer's `StrandThinning`). 0 (the default) draws every strand.
     pub strands_per_pixel: f32,
+    /// With thinning: each strand drawn is widened to stand for the strands left out (`1/φ` its
+    /// width for a drawn fraction φ, at most its group's width on screen), so that a thinned
+    /// group covers the pixels all its strands cover (the renderer's `raise_widths`).
+    pub raise_thinned_widths: bool,
 }
 
 impl Default for LodSettings {
@@ -121,6 +125,7 @@ impl Default for LodSettings {
             error_model: ErrorModel::Deviation,
             rules_min_pixels: 20.0,
             strands_per_pixel: 0.0,
+            raise_thinned_widths: false,
         }
     }
 }

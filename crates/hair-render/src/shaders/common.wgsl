@@ -72,6 +72,8 @@ struct Chain {
     // Weight of a drawn strand's opacity in the light passes: 1 / the fraction strand thinning
     // draws (`thinning.rs`).
     shadow_weight: f32,
+    // How much wider than itself each drawn strand is drawn (thinning that raises widths).
+    width_scale: f32,
 }
 
 @group(0) @binding(0) var<uniform> globals: Globals;

@@ -144,7 +144,8 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     var offset = vec2<f32>(0.0);
     if (side != 0.0) {
         // Half width in pixels: the projected hair width, but at least the minimum.
-        let half_pixels = max(globals.ribbon.x * globals.ribbon.z / max(clip.w, 1e-6), globals.ribbon.y);
+        // A thinned strand standing for several is widened by the chain's width scale.
+        let half_pixels = max(globals.ribbon.x * globals.ribbon.z / max(clip.w, 1e-6), globals.ribbon.y) * chain.width_scale;
         offset = ribbon_offset(clip, tangent, side, half_pixels);
     }
     out.clip = vec4<f32>(clip.xy + offset, clip.zw);
@@ -152,8 +153,9 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     out.tangent = tangent;
     out.shade = strand.shade;
     if (globals.line_coverage.x > 0.0) {
-        // The fibre's projected width w·f/z [pixels], at most the whole pixel.
-        out.coverage = clamp(globals.line_coverage.x * globals.ribbon.z / max(clip.w, 1e-6), 0.0, 1.0);
+        // The fibre's projected width w·f/z [pixels] (widened with a thinned strand), at most
+        // the whole pixel.
+        out.coverage = clamp(globals.line_coverage.x * globals.ribbon.z * chain.width_scale / max(clip.w, 1e-6), 0.0, 1.0);
     }
     return out;
 }
