@@ -121,6 +121,9 @@ pub trait Runnable {
         view: View,
     ) -> Result<(image::RgbaImage, f64)>;
 
+    /// What `renderer`'s last frame drew (strands and segments, after thinning).
+    fn drawn_by(renderer: &Self::Renderer) -> hair_render::DrawnCounts;
+
     /// The run's mode (`LODs`, `Strands`, `Clusters`, `Patches`).
     fn run_mode(&self) -> RunMode;
 }
@@ -162,6 +165,10 @@ impl Runnable for Pipeline {
             }
             View::SideBySide => renderer.render_side_by_side(self, camera, width, height),
         }
+    }
+
+    fn drawn_by(renderer: &PipelineRenderer) -> hair_render::DrawnCounts {
+        renderer.renderer().last_drawn()
     }
 
     fn run_mode(&self) -> RunMode {
@@ -355,6 +362,9 @@ impl<'s, R: Runnable> FrameLoop<'s, R> {
                 )?;
                 if k == 0 {
                     report.times.rendering = seconds;
+                    let drawn = R::drawn_by(renderer);
+                    report.rendered_strands = drawn.strands;
+                    report.rendered_strand_segments = drawn.strand_segments;
                 }
                 self.images.push(image);
             }

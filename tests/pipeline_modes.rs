@@ -338,3 +338,40 @@ fn strands_drawn_on_any_level_blend_across_a_switch() {
         "blended {blended} vs instant {instant}"
     );
 }
+
+/// Drawn as strands, the colour-coded view colours each section's strands by the level it is
+/// simulated at (yellow strand groups, red clusters, blue patch: `LevelColors::default`), so a
+/// picture of strands still shows the levels chosen. A pixel of another level's pure colour
+/// cannot come from blending the one level's colour with the head and the background at the
+/// edges, so none may show.
+#[test]
+fn the_colour_coded_view_shows_the_level_simulated_under_strands() {
+    let options = RendererOptions::from_env().unwrap();
+    let camera = Camera::default();
+    let colours = [
+        (Level::StrandGroup, [255u8, 255, 0]),
+        (Level::Cluster, [255, 0, 0]),
+        (Level::Patch, [0, 0, 255]),
+    ];
+    let mut renderer: Option<PipelineRenderer> = None;
+    for (level, own) in colours {
+        let mut pipeline = windy_pipeline(level, DrawnAs::Strands);
+        let renderer = renderer
+            .get_or_insert_with(|| PipelineRenderer::new(&options, pipeline.scene()).unwrap());
+        let (image, _) = renderer
+            .render(&mut pipeline, &camera, 160, 90, ShadingMode::LevelColors)
+            .unwrap();
+        let count = |rgb: [u8; 3]| image.pixels().filter(|p| p.0[..3] == rgb).count();
+        eprintln!("{level:?}: {} pixels of its colour", count(own));
+        assert!(
+            count(own) > 100,
+            "{level:?}: {} pixels of its colour",
+            count(own)
+        );
+        for (other, rgb) in colours {
+            if other != level {
+                assert_eq!(count(rgb), 0, "{level:?} shows {other:?}'s colour");
+            }
+        }
+    }
+}

@@ -192,6 +192,10 @@ impl Runnable for Crowd {
         }
     }
 
+    fn drawn_by(renderer: &CrowdRenderer) -> hair_render::DrawnCounts {
+        renderer.renderer().last_drawn()
+    }
+
     fn run_mode(&self) -> crate::pipeline::RunMode {
         self.settings().lod.run_mode()
     }

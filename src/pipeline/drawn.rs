@@ -142,7 +142,8 @@ fn chain_frames(
 /// skeletons of both rebuilt and blended by the blend's weight (lengths restored by
 /// follow-the-leader), so the strands move from one simulation to the other without a jump; a
 /// section coming into view or leaving it dissolves in or out as a whole. Cluster and patch
-/// chains are inactive.
+/// chains are inactive. Each strand-group chain is marked with the level its section is
+/// simulated at, for the colour-coded view.
 fn append_strands(
     gathered: Gathered<'_>,
     scratch: &mut DrawScratch,
@@ -177,7 +178,15 @@ fn append_strands(
         }
         let positions = &scratch.strands[nodes_in_section(groom, section, level, chain)];
         chain_frames(groom, chain, head, positions, &mut scratch.frames);
-        active.push_chain_with_coverage(positions, &scratch.frames, shown)?;
+        // The colour-coded view shows the level the strands' motion comes from.
+        match levels.current()[section] {
+            Level::StrandGroup => {
+                active.push_chain_with_coverage(positions, &scratch.frames, shown)?;
+            }
+            simulated => {
+                active.push_rebuilt_chain(positions, &scratch.frames, shown, simulated)?;
+            }
+        }
     }
     Ok(())
 }

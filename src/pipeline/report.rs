@@ -73,6 +73,13 @@ pub struct FrameReport {
     /// [`hair_collide::STRETCH_WARNING`] the step is too coarse for the hair's motion near the head.
     #[serde(default)]
     pub max_stretch: f32,
+    /// Strands the renderer drew (the first view; 0 when not drawn): after strand thinning and
+    /// dissolves, which [`drawn_segments`](Self::drawn_segments) does not see.
+    #[serde(default)]
+    pub rendered_strands: usize,
+    /// Their segments, each strand tessellated as its chain is at its distance.
+    #[serde(default)]
+    pub rendered_strand_segments: usize,
     /// Time per stage [s].
     pub times: StageTimes,
 }

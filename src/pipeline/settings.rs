@@ -64,11 +64,13 @@ hair_core::named_enum! {
         #[default]
         Level = "level",
         /// Every level as strands: a section simulated as clusters or as a patch has its five
-        /// strand-group skeletons rebuilt each frame from its simulated skeletons by the
-        /// hand-over map (§4.2, [`rebuild_section`](hair_core::lod::rebuild_section)), and its
-        /// strands drawn on them. The simulation's cost stays the level's; the drawing costs
-        /// what the strands cost (thin them with
-        /// [`strands_per_pixel`](hair_core::lod::LodSettings::strands_per_pixel)).
+        /// strand-group skeletons rebuilt each frame from its simulated skeletons, each node
+        /// kept at its rest offset from the source nodes beside it
+        /// ([`StrandFollow`](hair_core::lod::StrandFollow)), and its strands drawn on them. The
+        /// simulation's cost stays the level's; the drawing costs what the strands cost (thin
+        /// them with [`strands_per_pixel`](hair_core::lod::LodSettings::strands_per_pixel) and
+        /// widen those kept with
+        /// [`raise_thinned_widths`](hair_core::lod::LodSettings::raise_thinned_widths)).
         Strands = "strands",
     }
 }

@@ -297,6 +297,7 @@ pub fn paper_tables(
         mean_ssim.patches,
         crate::report::thinning_label(&lod)
     );
+    print_drawn(&modes);
     print_where_lods_sit(
         &modes,
         &instant_run,
@@ -485,4 +486,28 @@ fn print_where_lods_sit(
             pixels
         );
     }
+}
+
+/// Prints each mode's mean strands and strand segments drawn per frame, as the renderer drew them
+/// (after thinning and dissolves), beside its mean nodes simulated.
+fn print_drawn(modes: &[ModeRun]) {
+    let mean = |run: &ModeRun, of: fn(&hairlod::pipeline::FrameReport) -> usize| {
+        run.frames.iter().map(of).sum::<usize>() as f64 / run.frames.len().max(1) as f64
+    };
+    let parts: Vec<String> = modes
+        .iter()
+        .map(|run| {
+            format!(
+                "{} {:.0} strands, {:.0} segments, {:.0} nodes",
+                run.mode,
+                mean(run, |f| f.rendered_strands),
+                mean(run, |f| f.rendered_strand_segments),
+                mean(run, |f| f.simulated_nodes)
+            )
+        })
+        .collect();
+    println!(
+        "drawn per frame, mean (after thinning), beside the nodes simulated: {}",
+        parts.join("; ")
+    );
 }

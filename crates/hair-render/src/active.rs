@@ -17,6 +17,7 @@ pub struct ActiveSkeletons {
     node_binormals: Vec<Vec3>,
     chain_coverage: Vec<f32>,
     chain_gives_way: Vec<bool>,
+    chain_simulated_at: Vec<Option<Level>>,
 }
 
 impl ActiveSkeletons {
@@ -33,6 +34,7 @@ impl ActiveSkeletons {
         self.node_binormals.clear();
         self.chain_coverage.clear();
         self.chain_gives_way.clear();
+        self.chain_simulated_at.clear();
     }
 
     /// Appends an active chain: node positions [m] and their frames, one per node.
@@ -95,6 +97,24 @@ impl ActiveSkeletons {
         self.chain_offsets.push(self.node_positions.len() as u32);
         self.chain_coverage.push(coverage);
         self.chain_gives_way.push(gives_way);
+        self.chain_simulated_at.push(None);
+        Ok(())
+    }
+
+    /// Appends an active chain drawn with `coverage` in `[0, 1]` whose motion is simulated at
+    /// `simulated_at`, another level than its own (strands drawn on skeletons rebuilt from
+    /// clusters or a patch; see [`SkeletonFrame::chain_simulated_at`]).
+    pub fn push_rebuilt_chain(
+        &mut self,
+        node_positions: &[Vec3],
+        node_frames: &[Frame],
+        coverage: f32,
+        simulated_at: Level,
+    ) -> Result<()> {
+        self.push_fading_chain(node_positions, node_frames, coverage, false)?;
+        if let Some(last) = self.chain_simulated_at.last_mut() {
+            *last = Some(simulated_at);
+        }
         Ok(())
     }
 
@@ -106,6 +126,7 @@ impl ActiveSkeletons {
         self.chain_offsets.push(self.node_positions.len() as u32);
         self.chain_coverage.push(0.0);
         self.chain_gives_way.push(false);
+        self.chain_simulated_at.push(None);
     }
 
     /// Refills the buffer for `groom`: section `s` is drawn at `section_levels[s]`, so its chains
@@ -193,6 +214,7 @@ impl ActiveSkeletons {
             node_binormals: &self.node_binormals,
             chain_coverage: &self.chain_coverage,
             chain_gives_way: &self.chain_gives_way,
+            chain_simulated_at: &self.chain_simulated_at,
         }
     }
 }

@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::inputs::SkeletonFrame;
 use crate::settings::{ClusterGeometry, Tessellation};
 
-/// One chain as the shaders read it (`Chain` in `common.wgsl`), 40 bytes.
+/// One chain as the shaders read it (`Chain` in `common.wgsl`), 44 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct GpuChain {
@@ -31,6 +31,10 @@ pub(crate) struct GpuChain {
     /// How much wider than itself each drawn strand is drawn: 1, or more where thinning raises
     /// the widths of the strands it keeps (see `thinning.rs`).
     pub width_scale: f32,
+    /// Which level's colour the colour-coded view gives the chain: 0 its own, 1 strand groups,
+    /// 2 clusters, 3 patch (the level it is simulated at, see
+    /// [`SkeletonFrame::chain_simulated_at`]).
+    pub code_level: u32,
 }
 
 /// Bytes per chain-curve sample (`ChainSample` in `chain_curve_types.wgsl`: six `vec4<f32>`).
@@ -92,10 +96,21 @@ pub(crate) fn chain_table(
                     ),
                     shadow_weight: 1.0,
                     width_scale: 1.0,
+                    code_level: code_level(frame.chain_simulated_at.get(chain).copied().flatten()),
                 }
             }),
     );
     samples
+}
+
+/// [`GpuChain::code_level`] of a chain simulated at `simulated_at` (`None`: its own level).
+fn code_level(simulated_at: Option<hair_core::Level>) -> u32 {
+    match simulated_at {
+        None => 0,
+        Some(hair_core::Level::StrandGroup) => 1,
+        Some(hair_core::Level::Cluster) => 2,
+        Some(hair_core::Level::Patch) => 3,
+    }
 }
 
 /// Items of one kind sorted by chain (stable), with the runs of items sharing a chain.
@@ -542,6 +557,7 @@ mod tests {
             node_binormals: &axes,
             chain_coverage: &[],
             chain_gives_way: &[],
+            chain_simulated_at: &[],
         };
         let mut table = Vec::new();
         let mut distances = Vec::new();

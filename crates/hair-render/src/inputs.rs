@@ -30,6 +30,11 @@ pub struct SkeletonFrame<'a> {
     /// pixels the incoming one drops, so that where both cover, every pixel shows one of them
     /// and none shows both. Strands ignore it. Empty means none.
     pub chain_gives_way: &'a [bool],
+    /// The level each chain's motion is simulated at, where it is not the level drawn (strands
+    /// drawn on skeletons rebuilt from clusters or a patch): the colour-coded view
+    /// ([`crate::ShadingMode::LevelColors`]) shows that level's colour. `None`, or empty for
+    /// every chain: the chain's own level.
+    pub chain_simulated_at: &'a [Option<hair_core::Level>],
 }
 
 impl SkeletonFrame<'_> {
@@ -76,6 +81,15 @@ impl SkeletonFrame<'_> {
             return Err(invalid(format!(
                 "{} chain give-way flags for {} chains (give one per chain, or none)",
                 self.chain_gives_way.len(),
+                self.chain_count()
+            )));
+        }
+        if !self.chain_simulated_at.is_empty()
+            && self.chain_simulated_at.len() != self.chain_count()
+        {
+            return Err(invalid(format!(
+                "{} chain simulation levels for {} chains (give one per chain, or none)",
+                self.chain_simulated_at.len(),
                 self.chain_count()
             )));
         }
@@ -268,6 +282,7 @@ mod tests {
             node_binormals: axes,
             chain_coverage: &[],
             chain_gives_way: &[],
+            chain_simulated_at: &[],
         }
     }
 
@@ -325,6 +340,7 @@ mod tests {
             node_binormals: &binormals,
             chain_coverage: &[],
             chain_gives_way: &[],
+            chain_simulated_at: &[],
         };
         let points = f.strand_control_points(0, Vec2::new(0.1, 0.2));
         assert_eq!(

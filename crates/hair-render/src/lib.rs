@@ -66,6 +66,7 @@
 //!     node_binormals: &binormals,
 //!     chain_coverage: &[],
 //!     chain_gives_way: &[],
+//!     chain_simulated_at: &[],
 //! };
 //! let image = renderer.render(&frame, &FrameSettings::new(320, 240, Camera::default()))?;
 //! hair_render::output::write_png_atomic(&image, std::path::Path::new("frame_00000.png"))?;
@@ -79,6 +80,7 @@ pub mod active;
 pub mod bspline;
 pub mod camera;
 pub mod device;
+pub mod drawn_counts;
 pub mod error;
 pub mod groom;
 pub mod inputs;
@@ -120,6 +122,7 @@ pub use device::{
     AdapterReport, BACKEND_ENV_VAR, BackendChoice, DeviceOptions, GpuContext, acquire_device,
     acquire_device_for_surface,
 };
+pub use drawn_counts::DrawnCounts;
 pub use error::{RenderError, Result};
 pub use inputs::{SkeletonFrame, StrandSet};
 pub use marschner::Marschner;

@@ -10,6 +10,7 @@ use hair_core::TriangleMesh;
 
 use crate::chain_curves::ChainCurvePass;
 use crate::device::{AdapterReport, DeviceOptions, GpuContext, acquire_device};
+use crate::drawn_counts::DrawnCounts;
 use crate::error::{RenderError, Result, invalid};
 use crate::evaluate;
 use crate::head::{upload_mesh, validate_mesh};
@@ -70,6 +71,8 @@ pub struct Renderer {
     readback: Readback,
     /// Where the last frame's time went.
     timings: RenderTimings,
+    /// What the last frame drew.
+    drawn: DrawnCounts,
 }
 
 impl Renderer {
@@ -104,6 +107,7 @@ impl Renderer {
             main_pass: MainPass::new(),
             readback: Readback::new(sample_count),
             timings: RenderTimings::default(),
+            drawn: DrawnCounts::default(),
         })
     }
 
@@ -111,6 +115,12 @@ impl Renderer {
     /// without the wait and the readback) went.
     pub fn last_timings(&self) -> RenderTimings {
         self.timings
+    }
+
+    /// The strands and strand segments the last frame drew in its camera pass, after thinning
+    /// and dissolves (the light passes draw the same strands).
+    pub fn last_drawn(&self) -> DrawnCounts {
+        self.drawn
     }
 
     /// The adapter in use.
@@ -388,6 +398,7 @@ impl Renderer {
             self.scene.chain_table(),
             self.scene.chain_distances(),
         );
+        self.drawn = DrawnCounts::of_strand_batches(&items.batches[0]);
         let draws_strands = !items.batches[0].is_empty();
         self.curves
             .prepare(&gpu.device, pipelines, counts.chains, slots, draws_strands);

@@ -90,7 +90,11 @@ impl SceneInputs {
         // rasterization cost: such strands are drawn as lines.
         let focal = settings.camera.focal_length_pixels(settings.height);
         let style = settings.strand_style;
-        let is_thin = |distance: f32| style.ribbon_pixels(focal, distance).is_none_or(|p| p <= 1.0);
+        let is_thin = |distance: f32| {
+            style
+                .ribbon_pixels(focal, distance)
+                .is_none_or(|p| p <= 1.0)
+        };
         let samples = chain_table(
             frame,
             &settings.tessellation,

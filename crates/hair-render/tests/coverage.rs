@@ -15,6 +15,7 @@ fn lit_pixels(renderer: &mut hair_render::Renderer, chains: &Chains, coverage: f
     let frame = SkeletonFrame {
         chain_coverage: &coverages,
         chain_gives_way: &[],
+        chain_simulated_at: &[],
         ..base
     };
     let image = renderer.render(&frame, &settings(800, 600, 1.0)).unwrap();
@@ -52,6 +53,7 @@ fn patch_pixels(
     let frame = SkeletonFrame {
         chain_coverage: &coverages,
         chain_gives_way: &flags,
+        chain_simulated_at: &[],
         ..base
     };
     let mut settings = settings(400, 300, 1.0);
@@ -189,6 +191,7 @@ fn bad_coverage_is_rejected() {
         let frame = SkeletonFrame {
             chain_coverage: &coverages,
             chain_gives_way: &[],
+            chain_simulated_at: &[],
             ..base
         };
         let error = renderer.render(&frame, &settings(64, 64, 1.0)).unwrap_err();
@@ -196,6 +199,7 @@ fn bad_coverage_is_rejected() {
     }
     let frame = SkeletonFrame {
         chain_gives_way: &[false, true],
+        chain_simulated_at: &[],
         ..base
     };
     let error = renderer.render(&frame, &settings(64, 64, 1.0)).unwrap_err();

@@ -74,6 +74,8 @@ struct Chain {
     shadow_weight: f32,
     // How much wider than itself each drawn strand is drawn (thinning that raises widths).
     width_scale: f32,
+    // The colour-coded view's level: 0 the chain's own, 1 strand groups, 2 clusters, 3 patch.
+    code_level: u32,
 }
 
 @group(0) @binding(0) var<uniform> globals: Globals;

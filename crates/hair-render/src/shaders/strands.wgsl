@@ -12,6 +12,8 @@ struct StrandVertex {
     // The share of a pixel the strand covers (`LineCoverage`), and the strand for its hash.
     @location(3) coverage: f32,
     @location(4) @interpolate(flat) strand: u32,
+    // The colour-coded view's level of the strand's chain (`Chain::code_level`).
+    @location(5) @interpolate(flat) code_level: u32,
 }
 
 // The strands this frame draws, by sorted position: instance i of a batch draws strand
@@ -76,6 +78,7 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     out.shade = 0.0;
     out.coverage = 1.0;
     out.strand = strand_index;
+    out.code_level = 0u;
     if (strand_index >= globals.counts.x || strand_index >= arrayLength(&strands)) {
         return out;
     }
@@ -84,6 +87,7 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
     if (chain.node_count < 2u || strand.dissolve_rank >= chain.coverage) {
         return out;
     }
+    out.code_level = chain.code_level;
     // A strand of length l takes the chain points up to l and ends exactly at u = l, between
     // two of them; later vertices repeat its end (`representation::drawn` in hair-core).
     let segments = chain.along_segments;
@@ -264,6 +268,13 @@ fn fs_strand_line_covered(in: LineVertex) -> CoveredFragment {
 
 fn strand_color(in: StrandVertex) -> vec3<f32> {
     if (globals.shading.w > 0.5) {
+        // The level the strand's motion is simulated at (its own unless rebuilt).
+        if (in.code_level == 2u) {
+            return globals.cluster_code_color.rgb;
+        }
+        if (in.code_level == 3u) {
+            return globals.patch_code_color.rgb;
+        }
         return globals.strand_code_color.rgb;
     }
     let base = mix(globals.hair_dark.rgb, globals.hair_light.rgb, in.shade);

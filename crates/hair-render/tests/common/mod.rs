@@ -114,6 +114,7 @@ impl Chains {
             node_binormals: &self.binormals,
             chain_coverage: &[],
             chain_gives_way: &[],
+            chain_simulated_at: &[],
         }
     }
 }
