@@ -24,6 +24,18 @@ fn hair_pixels(image: &image::RgbaImage, bare: &image::RgbaImage) -> (usize, f64
     (count, luma / count.max(1) as f64)
 }
 
+/// A renderer with the paper-curly groom's strands at rest, and the same chains all inactive
+/// (the head alone).
+fn curly_at_rest() -> (Renderer, ActiveSkeletons, ActiveSkeletons) {
+    let scene = Scene::preset("paper-curly").unwrap();
+    let (renderer, active) = common::strands_at_rest(&scene);
+    let mut bare = ActiveSkeletons::new();
+    for _ in 0..scene.groom.skeletons.chain_count() {
+        bare.push_inactive_chain();
+    }
+    (renderer, active, bare)
+}
+
 fn render(
     renderer: &mut Renderer,
     frame: &SkeletonFrame<'_>,
@@ -44,12 +56,7 @@ fn render(
 /// written); 5 % bounds it.
 #[test]
 fn thinned_far_hair_covers_and_shades_like_all_its_strands() {
-    let scene = Scene::preset("paper-curly").unwrap();
-    let (mut renderer, active) = common::strands_at_rest(&scene);
-    let mut bare = ActiveSkeletons::new();
-    for _ in 0..scene.groom.skeletons.chain_count() {
-        bare.push_inactive_chain();
-    }
+    let (mut renderer, active, bare) = curly_at_rest();
     let settings = FrameSettings::new(640, 360, coverage_camera(3.0));
     let thinned_settings = FrameSettings {
         strand_thinning: StrandThinning::ByScreenWidth {
@@ -110,12 +117,7 @@ fn near_hair_is_not_thinned() {
 /// each strand covers its group's columns, and the hair covers what all its strands cover.
 #[test]
 fn widened_thin_strands_cover_what_all_the_strands_cover() {
-    let scene = Scene::preset("paper-curly").unwrap();
-    let (mut renderer, active) = common::strands_at_rest(&scene);
-    let mut bare = ActiveSkeletons::new();
-    for _ in 0..scene.groom.skeletons.chain_count() {
-        bare.push_inactive_chain();
-    }
+    let (mut renderer, active, bare) = curly_at_rest();
     let settings = FrameSettings::new(640, 360, coverage_camera(3.0));
     let thinned = |raise_widths| FrameSettings {
         strand_thinning: StrandThinning::ByScreenWidth {

@@ -228,33 +228,21 @@ mod tests {
         };
         // At 2 m through 1000 px the group is 5 px wide and a fifth of it is drawn: its 1-pixel
         // strands (80 µm project to 0.04 px, raised to the 1 px minimum) become 5 px ribbons.
-        let mut chains = [chain];
-        thin_chains(
-            &mut chains,
-            &spans,
-            &[2.0],
-            1000.0,
-            thinning,
-            StrandStyle::default(),
-        );
-        assert!(
-            (chains[0].width_scale - 5.0).abs() < 1e-4,
-            "{:?}",
-            chains[0]
-        );
-        assert_eq!(chains[0].thin, 0, "wider than a pixel: a ribbon");
         // Lines stay lines, one pixel wide.
-        let mut chains = [chain];
-        thin_chains(
-            &mut chains,
-            &spans,
-            &[2.0],
-            1000.0,
-            thinning,
-            StrandStyle::Lines,
-        );
-        assert_eq!((chains[0].width_scale, chains[0].thin), (1.0, 1));
-        assert!((chains[0].coverage - 0.2).abs() < 1e-6);
+        for (style, width_scale, thin) in [
+            (StrandStyle::default(), 5.0, 0),
+            (StrandStyle::Lines, 1.0, 1),
+        ] {
+            let mut chains = [chain];
+            thin_chains(&mut chains, &spans, &[2.0], 1000.0, thinning, style);
+            assert!(
+                (chains[0].width_scale - width_scale).abs() < 1e-4,
+                "{style:?}: {:?}",
+                chains[0]
+            );
+            assert_eq!(chains[0].thin, thin, "{style:?}");
+            assert!((chains[0].coverage - 0.2).abs() < 1e-6);
+        }
     }
 
     #[test]
