@@ -23,6 +23,7 @@
 
 pub mod accuracy;
 pub mod benchmark;
+pub mod cache;
 pub mod crowd;
 pub mod head_levels;
 pub mod loaded;

@@ -16,8 +16,8 @@ use hair_render::ShadingMode;
 use serde::Serialize;
 
 use crate::pipeline::{
-    Checkpoint, FrameReport, Pipeline, PipelineError, PipelineRenderer, PipelineSettings, Result,
-    RunMode, StageTimes,
+    Checkpoint, DrawnSource, FrameReport, Pipeline, PipelineError, PipelineRenderer,
+    PipelineSettings, Result, RunMode, StageTimes,
 };
 use crate::shot::Shot;
 
@@ -155,24 +155,85 @@ impl Runnable for Pipeline {
         &mut self,
         renderer: &mut PipelineRenderer,
         camera: &hair_core::Camera,
-        (width, height): (u32, u32),
+        size: (u32, u32),
         view: View,
     ) -> Result<(image::RgbaImage, f64)> {
-        match view {
-            View::Shaded => renderer.render(self, camera, width, height, ShadingMode::Shaded),
-            View::LevelColors => {
-                renderer.render(self, camera, width, height, ShadingMode::LevelColors)
-            }
-            View::SideBySide => renderer.render_side_by_side(self, camera, width, height),
-        }
+        render_view_of(renderer, self, camera, size, view)
     }
 
     fn drawn_by(renderer: &PipelineRenderer) -> hair_render::DrawnCounts {
-        renderer.renderer().last_drawn()
+        renderer.last_drawn()
     }
 
     fn run_mode(&self) -> RunMode {
         self.settings().lod.run_mode()
+    }
+}
+
+/// A renderer the frame loop draws its views with: one character's
+/// ([`PipelineRenderer`]) or a crowd's ([`CrowdRenderer`](crate::crowd::CrowdRenderer)), drawing
+/// any [`DrawnSource`] (a run in memory, or frames read back from a cache).
+pub trait FrameRenderer {
+    /// Draws `source`'s frame through `camera` into a `width`×`height` image, shaded or
+    /// colour-coded by level; returns the image and the time it took [s].
+    fn render_source(
+        &mut self,
+        source: &mut impl DrawnSource,
+        camera: &hair_core::Camera,
+        size: (u32, u32),
+        mode: ShadingMode,
+    ) -> Result<(image::RgbaImage, f64)>;
+
+    /// Draws shaded and colour-coded side by side (`2·width`×`height`); returns the image and
+    /// the time it took [s].
+    fn render_source_side_by_side(
+        &mut self,
+        source: &mut impl DrawnSource,
+        camera: &hair_core::Camera,
+        size: (u32, u32),
+    ) -> Result<(image::RgbaImage, f64)>;
+
+    /// What the last frame drew (strands and segments, after thinning).
+    fn last_drawn(&self) -> hair_render::DrawnCounts;
+}
+
+impl FrameRenderer for PipelineRenderer {
+    fn render_source(
+        &mut self,
+        source: &mut impl DrawnSource,
+        camera: &hair_core::Camera,
+        (width, height): (u32, u32),
+        mode: ShadingMode,
+    ) -> Result<(image::RgbaImage, f64)> {
+        self.render(source, camera, width, height, mode)
+    }
+
+    fn render_source_side_by_side(
+        &mut self,
+        source: &mut impl DrawnSource,
+        camera: &hair_core::Camera,
+        (width, height): (u32, u32),
+    ) -> Result<(image::RgbaImage, f64)> {
+        self.render_side_by_side(source, camera, width, height)
+    }
+
+    fn last_drawn(&self) -> hair_render::DrawnCounts {
+        self.renderer().last_drawn()
+    }
+}
+
+/// Draws `source` in `view` with `renderer` (see [`Runnable::render_view`]).
+pub fn render_view_of<R: FrameRenderer>(
+    renderer: &mut R,
+    source: &mut impl DrawnSource,
+    camera: &hair_core::Camera,
+    size: (u32, u32),
+    view: View,
+) -> Result<(image::RgbaImage, f64)> {
+    match view {
+        View::Shaded => renderer.render_source(source, camera, size, ShadingMode::Shaded),
+        View::LevelColors => renderer.render_source(source, camera, size, ShadingMode::LevelColors),
+        View::SideBySide => renderer.render_source_side_by_side(source, camera, size),
     }
 }
 

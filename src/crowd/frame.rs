@@ -9,7 +9,7 @@ use hair_render::ActiveSkeletons;
 
 use super::model::CrowdModel;
 use crate::pipeline::{
-    CharacterModel, Checkpoint, FrameReport, PipelineSettings, Result, Shared, World, WorldPipeline,
+    Checkpoint, FrameReport, PipelineSettings, Result, Shared, World, WorldPipeline,
 };
 
 /// A crowd in motion: every character in one world, advanced together.
@@ -62,13 +62,7 @@ impl Crowd {
     fn at_rest(model: &CrowdModel, settings: PipelineSettings) -> Result<Crowd> {
         super::memory::check_fits(model, &settings, super::memory::available_bytes())?;
         let characters = model.members.iter().map(|member| {
-            let character = CharacterModel {
-                scene: member.scene.clone(),
-                environment: member.character.environment.clone(),
-                params: hair_core::dynamics::DynamicsParams::for_style(
-                    &member.scene.groom.params.style,
-                ),
-            };
+            let character = member.model();
             let shared = Shared {
                 deviations: Some(&member.deviations),
                 body: Some(&member.body),

@@ -7,7 +7,7 @@ use hair_collide::CollisionBody;
 use hair_core::Scene;
 use hair_core::lod::{LevelDeviation, level_deviations};
 
-use crate::pipeline::{PipelineError, Result};
+use crate::pipeline::{CharacterModel, PipelineError, Result};
 use crate::shot::{Character, Shot};
 
 /// One built character: its description, its scene (groom and head) and its sections' level
@@ -25,6 +25,13 @@ pub struct CrowdMember {
     /// Its head's collision body, built once per groom: a clone, which shares the mesh, its
     /// tree and pseudonormals with the other characters'.
     pub body: CollisionBody,
+}
+
+impl CrowdMember {
+    /// Its model: its scene, its motion and the groom style's material.
+    pub fn model(&self) -> CharacterModel {
+        CharacterModel::new(self.scene.clone(), self.character.environment.clone())
+    }
 }
 
 /// The built characters of a crowd shot.

@@ -6,13 +6,15 @@
 use std::time::Instant;
 
 use hair_core::{Camera, NO_PROFILE, PROFILE_SAMPLES, RigidTransform, TriangleMesh};
-use hair_render::{ActiveSkeletons, GroomGeometry, Renderer, RendererOptions, ShadingMode};
+use hair_render::{
+    ActiveSkeletons, GroomGeometry, Renderer, RendererOptions, ShadingMode, StrandThinning,
+};
 
 use super::frame::Crowd;
 use super::model::CrowdModel;
 use crate::head_levels::{HEAD_PIXEL_TOLERANCE, HeadLevels};
-use crate::pipeline::{DrawStyle, Result};
-use crate::run::{Runnable, View};
+use crate::pipeline::{DrawStyle, DrawnSource, Result};
+use crate::run::{FrameRenderer, Runnable, View, render_view_of};
 
 /// A renderer bound to a crowd's grooms and heads.
 pub struct CrowdRenderer {
@@ -88,16 +90,18 @@ impl CrowdRenderer {
     /// Gathers every character's skeletons and poses the heads where the simulation has them,
     /// each tessellated as coarsely as [`HEAD_PIXEL_TOLERANCE`] allows from `camera` in an image
     /// `height` pixels tall.
-    fn prepare(&mut self, crowd: &mut Crowd, camera: &Camera, height: u32) -> Result<()> {
-        self.active.clear();
-        crowd.append_drawn(&mut self.active)?;
+    fn prepare(
+        &mut self,
+        crowd: &mut impl DrawnSource,
+        camera: &Camera,
+        height: u32,
+    ) -> Result<()> {
+        crowd.gather_drawn(&mut self.active)?;
         let poses: Vec<(RigidTransform, usize)> = crowd
-            .world()
-            .characters()
-            .iter()
+            .head_poses()
+            .into_iter()
             .zip(&self.heads)
-            .map(|(p, &head)| {
-                let pose = p.head_pose();
+            .map(|(pose, &head)| {
                 let level =
                     self.head_levels[head].select(camera, height, &pose, HEAD_PIXEL_TOLERANCE);
                 (pose, level)
@@ -121,7 +125,7 @@ impl CrowdRenderer {
     /// by level); returns the image and the time it took [s].
     pub fn render(
         &mut self,
-        crowd: &mut Crowd,
+        crowd: &mut impl DrawnSource,
         camera: &Camera,
         (width, height): (u32, u32),
         mode: ShadingMode,
@@ -129,7 +133,7 @@ impl CrowdRenderer {
         let started = Instant::now();
         self.prepare(crowd, camera, height)?;
         let mut settings = self.style.frame_settings(width, height, camera, mode);
-        settings.strand_thinning = crowd.settings().strand_thinning();
+        settings.strand_thinning = crowd.strand_thinning();
         let image = self.renderer.render(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
     }
@@ -138,7 +142,7 @@ impl CrowdRenderer {
     /// the time it took [s].
     pub fn render_side_by_side(
         &mut self,
-        crowd: &mut Crowd,
+        crowd: &mut impl DrawnSource,
         camera: &Camera,
         (width, height): (u32, u32),
     ) -> Result<(image::RgbaImage, f64)> {
@@ -147,11 +151,55 @@ impl CrowdRenderer {
         let mut settings = self
             .style
             .frame_settings(width, height, camera, ShadingMode::Shaded);
-        settings.strand_thinning = crowd.settings().strand_thinning();
+        settings.strand_thinning = crowd.strand_thinning();
         let image = self
             .renderer
             .render_side_by_side(&self.active.frame(), &settings)?;
         Ok((image, started.elapsed().as_secs_f64()))
+    }
+}
+
+impl FrameRenderer for CrowdRenderer {
+    fn render_source(
+        &mut self,
+        source: &mut impl DrawnSource,
+        camera: &Camera,
+        size: (u32, u32),
+        mode: ShadingMode,
+    ) -> Result<(image::RgbaImage, f64)> {
+        self.render(source, camera, size, mode)
+    }
+
+    fn render_source_side_by_side(
+        &mut self,
+        source: &mut impl DrawnSource,
+        camera: &Camera,
+        size: (u32, u32),
+    ) -> Result<(image::RgbaImage, f64)> {
+        self.render_side_by_side(source, camera, size)
+    }
+
+    fn last_drawn(&self) -> hair_render::DrawnCounts {
+        self.renderer().last_drawn()
+    }
+}
+
+impl DrawnSource for Crowd {
+    fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
+        active.clear();
+        self.append_drawn(active)
+    }
+
+    fn head_poses(&self) -> Vec<RigidTransform> {
+        self.world()
+            .characters()
+            .iter()
+            .map(|c| c.head_pose())
+            .collect()
+    }
+
+    fn strand_thinning(&self) -> StrandThinning {
+        self.settings().strand_thinning()
     }
 }
 
@@ -185,15 +233,11 @@ impl Runnable for Crowd {
         size: (u32, u32),
         view: View,
     ) -> Result<(image::RgbaImage, f64)> {
-        match view {
-            View::Shaded => renderer.render(self, camera, size, ShadingMode::Shaded),
-            View::LevelColors => renderer.render(self, camera, size, ShadingMode::LevelColors),
-            View::SideBySide => renderer.render_side_by_side(self, camera, size),
-        }
+        render_view_of(renderer, self, camera, size, view)
     }
 
     fn drawn_by(renderer: &CrowdRenderer) -> hair_render::DrawnCounts {
-        renderer.renderer().last_drawn()
+        renderer.last_drawn()
     }
 
     fn run_mode(&self) -> crate::pipeline::RunMode {

@@ -6,12 +6,42 @@
 use std::time::Instant;
 
 use hair_core::{Camera, RigidTransform, Scene};
-use hair_render::{ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode};
+use hair_render::{
+    ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode, StrandThinning,
+};
 
 use super::error::Result;
 use super::pipeline::Pipeline;
 use super::style::DrawStyle;
 use crate::head_levels::{HEAD_PIXEL_TOLERANCE, HeadLevels};
+
+/// What a frame is drawn from: a run in memory ([`Pipeline`], a
+/// [`Crowd`](crate::crowd::Crowd)) or a frame read back from a simulation cache
+/// ([`crate::cache`]). The renderers draw whatever gives them these.
+pub trait DrawnSource {
+    /// Fills `active` (cleared first) with the skeletons to draw, on the grooms' chain numbering.
+    fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()>;
+
+    /// Each character's head pose, in the shot's order (one for a lone character).
+    fn head_poses(&self) -> Vec<RigidTransform>;
+
+    /// How the renderer thins the strand groups small on screen.
+    fn strand_thinning(&self) -> StrandThinning;
+}
+
+impl DrawnSource for Pipeline {
+    fn gather_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
+        Pipeline::gather_drawn(self, active)
+    }
+
+    fn head_poses(&self) -> Vec<RigidTransform> {
+        vec![self.head_pose()]
+    }
+
+    fn strand_thinning(&self) -> StrandThinning {
+        self.settings().strand_thinning()
+    }
+}
 
 /// A renderer bound to one pipeline's groom and head (uploaded once), with its per-frame buffer.
 /// The head mesh is drawn where the simulation has it: it is uploaded again, posed, whenever the
@@ -88,18 +118,17 @@ impl PipelineRenderer {
         Ok(())
     }
 
-    /// Gathers the pipeline's skeletons to draw and poses the head mesh where the simulation
+    /// Gathers the source's skeletons to draw and poses the head mesh where the simulation
     /// has it, for a frame drawn with `settings`.
-    fn prepare(&mut self, pipeline: &mut Pipeline, settings: &FrameSettings) -> Result<()> {
-        pipeline.gather_drawn(&mut self.active)?;
-        self.pose_head(pipeline, settings)
+    fn prepare(&mut self, source: &mut impl DrawnSource, settings: &FrameSettings) -> Result<()> {
+        source.gather_drawn(&mut self.active)?;
+        let pose = source.head_poses().first().copied().unwrap_or_default();
+        self.pose_head(pose, settings)
     }
 
-    /// Poses the head mesh where the simulation has it, tessellated as coarsely as
-    /// [`HEAD_PIXEL_TOLERANCE`] allows through `settings`' camera (uploaded again only when
-    /// either changed).
-    fn pose_head(&mut self, pipeline: &Pipeline, settings: &FrameSettings) -> Result<()> {
-        let pose = pipeline.head_pose();
+    /// Poses the head mesh at `pose`, tessellated as coarsely as [`HEAD_PIXEL_TOLERANCE`]
+    /// allows through `settings`' camera (uploaded again only when either changed).
+    fn pose_head(&mut self, pose: RigidTransform, settings: &FrameSettings) -> Result<()> {
         let level = self.head_levels.select(
             &settings.camera,
             settings.height,
@@ -123,7 +152,7 @@ impl PipelineRenderer {
     /// (shaded, or colour-coded by level); returns the image and the time it took [s].
     pub fn render(
         &mut self,
-        pipeline: &mut Pipeline,
+        pipeline: &mut impl DrawnSource,
         camera: &Camera,
         width: u32,
         height: u32,
@@ -140,13 +169,13 @@ impl PipelineRenderer {
     /// returns the image and the time it took [s].
     pub fn render_with_settings(
         &mut self,
-        pipeline: &mut Pipeline,
+        pipeline: &mut impl DrawnSource,
         settings: &FrameSettings,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
         self.prepare(pipeline, settings)?;
         let settings = FrameSettings {
-            strand_thinning: pipeline.settings().strand_thinning(),
+            strand_thinning: pipeline.strand_thinning(),
             ..*settings
         };
         let image = self.renderer.render(&self.active.frame(), &settings)?;
@@ -162,7 +191,7 @@ impl PipelineRenderer {
         settings: &FrameSettings,
     ) -> Result<(image::RgbaImage, f64)> {
         let started = Instant::now();
-        self.pose_head(pipeline, settings)?;
+        self.pose_head(pipeline.head_pose(), settings)?;
         self.active.clear();
         for _ in 0..pipeline.scene().groom.skeletons.chain_count() {
             self.active.push_inactive_chain();
@@ -176,7 +205,7 @@ impl PipelineRenderer {
     /// took to record and submit [s] (the GPU's work is not waited for).
     pub fn render_to_texture(
         &mut self,
-        pipeline: &mut Pipeline,
+        pipeline: &mut impl DrawnSource,
         camera: &Camera,
         mode: ShadingMode,
         destination: &hair_render::wgpu::Texture,
@@ -185,7 +214,7 @@ impl PipelineRenderer {
         let mut settings =
             self.style
                 .frame_settings(destination.width(), destination.height(), camera, mode);
-        settings.strand_thinning = pipeline.settings().strand_thinning();
+        settings.strand_thinning = pipeline.strand_thinning();
         self.prepare(pipeline, &settings)?;
         self.renderer
             .render_to_texture(&self.active.frame(), &settings, destination)?;
@@ -196,7 +225,7 @@ impl PipelineRenderer {
     /// the time it took [s].
     pub fn render_side_by_side(
         &mut self,
-        pipeline: &mut Pipeline,
+        pipeline: &mut impl DrawnSource,
         camera: &Camera,
         width: u32,
         height: u32,
@@ -205,7 +234,7 @@ impl PipelineRenderer {
         let mut settings = self
             .style
             .frame_settings(width, height, camera, ShadingMode::Shaded);
-        settings.strand_thinning = pipeline.settings().strand_thinning();
+        settings.strand_thinning = pipeline.strand_thinning();
         self.prepare(pipeline, &settings)?;
         let image = self
             .renderer

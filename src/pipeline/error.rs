@@ -189,6 +189,20 @@ pub enum PipelineError {
         /// What is wrong with it.
         why: String,
     },
+    /// A simulation cache's record could not be read or written, is missing, damaged, or
+    /// belongs to another run or version ([`crate::cache`]).
+    #[error(
+        "cache {path}{}: {why}",
+        .frame.map(|frame| format!(" (frame {frame})")).unwrap_or_default()
+    )]
+    Cache {
+        /// The record file (or the cache folder).
+        path: std::path::PathBuf,
+        /// The frame the record is of, when one is.
+        frame: Option<usize>,
+        /// What is wrong.
+        why: String,
+    },
 }
 
 /// What to do about a groom that [`PipelineError::Unsettled`] or [`PipelineError::HangUnstable`]

@@ -32,6 +32,11 @@ impl Fnv1a {
         }
     }
 
+    /// The hash.
+    pub(crate) fn value(&self) -> u64 {
+        self.0
+    }
+
     /// The hash as 16 hexadecimal digits.
     pub(crate) fn hex(&self) -> String {
         format!("{:016x}", self.0)

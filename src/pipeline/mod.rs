@@ -50,7 +50,7 @@ mod world_pipeline;
 pub use block::LevelBlock;
 pub use budget::FrameBudget;
 pub use checkpoint::{CHECKPOINT_FORMAT, CHECKPOINT_VERSION, Checkpoint};
-pub use draw::PipelineRenderer;
+pub use draw::{DrawnSource, PipelineRenderer};
 pub use error::{PipelineError, Result};
 pub use levels::SectionLevels;
 pub use pipeline::Pipeline;
@@ -62,6 +62,7 @@ pub use style::DrawStyle;
 pub use world::{Character, CharacterModel, World};
 
 pub(crate) use character::Shared;
+pub(crate) use fingerprint::Fnv1a;
 #[cfg(test)]
 pub(crate) use step::charge_wall_time;
 pub(crate) use world_pipeline::WorldPipeline;

@@ -31,6 +31,17 @@ pub struct CharacterModel {
 }
 
 impl CharacterModel {
+    /// A character wearing `scene`, moved by `environment`, its skeletons of the groom style's
+    /// material ([`DynamicsParams::for_style`]).
+    pub fn new(scene: Arc<Scene>, environment: Environment) -> Self {
+        let params = DynamicsParams::for_style(&scene.groom.params.style);
+        CharacterModel {
+            scene,
+            environment,
+            params,
+        }
+    }
+
     /// The scene: groom and head.
     pub fn scene(&self) -> &Scene {
         &self.scene

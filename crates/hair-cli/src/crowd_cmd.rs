@@ -14,11 +14,12 @@ use hairlod::core::lod::{BudgetMethod, BudgetReport, BudgetSettings};
 use hairlod::crowd::{Crowd, CrowdModel, CrowdRenderer, run_crowd};
 use hairlod::metrics::{luma, luma_difference, ssim};
 use hairlod::pipeline::{Checkpoint, DrawStyle, LodMode, PipelineSettings};
-use hairlod::render::{RendererOptions, output};
+use hairlod::render::RendererOptions;
 use hairlod::run::{FrameLoop, ModeRun, RunOptions, View};
 use hairlod::shot::Shot;
 use serde::Serialize;
 
+use crate::frame_writer::FrameWriter;
 use crate::report::{print_table, progress_bar, write_json};
 
 /// Builds the crowd, saying how big it is.
@@ -68,20 +69,17 @@ pub fn render(
     );
     let model = build(shot)?;
     let views = View::of_outputs(&shot.outputs);
-    let folders: Vec<PathBuf> = if views.len() == 1 {
-        vec![out.to_path_buf()]
-    } else {
-        views.iter().map(|v| out.join(v.name())).collect()
-    };
-    for folder in &folders {
-        std::fs::create_dir_all(folder)
-            .with_context(|| format!("cannot create output folder {}", folder.display()))?;
-    }
+    let mut writer = FrameWriter::new(
+        out,
+        &views,
+        frames.frames.clone(),
+        shot.frames,
+        shot.outputs.contact_sheet,
+    )?;
     let mut renderer = CrowdRenderer::new(options, &model)?;
     renderer.set_style(style);
     eprintln!("adapter: {}", renderer.renderer().adapter_report());
     let bar = progress_bar(frames.frames.len(), shot.settings.lod.column_name());
-    let mut thumbnails = Vec::new();
     let CrowdFrames {
         frames,
         resume,
@@ -93,18 +91,7 @@ pub fn render(
         ..RunOptions::whole(shot, shot.settings)
     };
     let result = run_crowd(&model, run, Some((&mut renderer, &views)), |frame| {
-        let index = frame.report.frame as u64;
-        for (image, folder) in frame.images.iter().zip(&folders) {
-            let path = output::frame_path(folder, index, shot.frames as u64);
-            output::write_png_atomic(image, &path)?;
-        }
-        if shot.outputs.contact_sheet
-            && let Some(image) = frame.images.first()
-        {
-            let width = 320.min(image.width());
-            let height = (image.height() * width / image.width()).max(1);
-            thumbnails.push(image::imageops::thumbnail(image, width, height));
-        }
+        writer.write(frame.report.frame, frame.images)?;
         let [p, c, s] = frame.report.sections_at;
         bar.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));
         bar.inc(1);
@@ -112,14 +99,7 @@ pub fn render(
     })
     .context("the crowd run stopped")?;
     bar.finish();
-    if let Some(first) = thumbnails.first() {
-        let (width, height) = first.dimensions();
-        let sheet =
-            output::contact_sheet(&thumbnails, (thumbnails.len() as u32).min(6), width, height)?;
-        let path = out.join("contact_sheet.png");
-        output::write_png_atomic(&sheet, &path)?;
-        eprintln!("wrote {}", path.display());
-    }
+    writer.finish()?;
     if let Some(dir) = &checkpoint {
         let path = dir.join(format!("checkpoint_{:05}.json", frames.end));
         result.pipeline.checkpoint()?.write(&path)?;

@@ -1,5 +1,6 @@
 //! The `hairlod` command-line tool: every verb that makes frames runs a scene through the one frame
-//! loop (`hairlod::run`): `render` (image sequences, checkpoints), `bench` (a scene in every mode,
+//! loop (`hairlod::run`): `render` (image sequences, checkpoints, frames from a cache),
+//! `simulate` (a per-frame cache), `farm` (OpenJD job templates), `bench` (a scene in every mode,
 //! the paper's tables), `demo` (the main job), `accuracy` (speed against accuracy); and `groom`
 //! (counts, OBJ export) and `stability` (where each integrator holds); `view` opens a window on
 //! the same frame loop.
@@ -9,11 +10,14 @@ mod bench_cmd;
 mod bench_costs;
 mod bench_coverage;
 mod bench_shading;
+mod cache_cmd;
 mod charts;
 mod cli_args;
 mod crowd_cmd;
 mod demo_cmd;
 mod destinations;
+mod farm_cmd;
+mod frame_writer;
 mod groom_cmd;
 mod pareto;
 mod render_cmd;
@@ -45,6 +49,13 @@ enum Command {
     /// Run a scene (SCENE.toml or flags) with levels of detail, dynamics and collision, and
     /// write its frames as PNG sequences: shaded, colour-coded by level, or side by side.
     Render(render_cmd::RenderArgs),
+    /// Simulate a scene into a per-frame cache (whole, or chunk K/N resuming from the chunk
+    /// before), for `render --from-cache` to draw on any machine. See docs/farm.md.
+    Simulate(cache_cmd::SimulateArgs),
+    /// Write an Open Job Description job template that simulates a scene in chained chunks and
+    /// renders its frames in parallel chunks from the cache (`openjd run`, Deadline Cloud). See
+    /// docs/farm.md.
+    Farm(farm_cmd::FarmArgs),
     /// Benchmarks: `bench SCENE` runs a scene in LODs and each fixed level in the paper's table
     /// layout, `bench paper` the paper's Tables 1 and 2, `bench shading` the strand-line
     /// shading's cost against its error.
@@ -67,6 +78,8 @@ fn main() -> ExitCode {
         Command::Groom(args) => groom_cmd::run(&args),
         Command::Stability(args) => stability_cmd::run(&args),
         Command::Render(args) => render_cmd::run(&args),
+        Command::Simulate(args) => cache_cmd::run(&args),
+        Command::Farm(args) => farm_cmd::run(&args),
         Command::Bench(args) => bench_cmd::run(&args),
         Command::Demo(args) => demo_cmd::run(&args),
         Command::Accuracy(args) => accuracy_cmd::run(&args),

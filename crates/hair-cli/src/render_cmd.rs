@@ -5,7 +5,9 @@
 //!
 //! Long shots split into frame ranges: `--frames A..B --checkpoint DIR` writes the state at the
 //! end of the range to `DIR/checkpoint_B.json`, and `--frames B.. --resume DIR/checkpoint_B.json`
-//! goes on from it, bit for bit as if the run had never stopped.
+//! goes on from it, bit for bit as if the run had never stopped. `--from-cache DIR` draws the
+//! frames from a simulation cache written by `hairlod simulate` instead of simulating
+//! ([`crate::cache_cmd`]), any range or `--chunk K/N` of them.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -28,6 +30,7 @@ use hairlod::scene_file::{CameraPathKind, LodModeKind, MotionKind};
 
 use crate::cli_args::{BackendArg, FramesArg, ShotOverrides, choice};
 use crate::destinations::{writable_file, writable_folder};
+use crate::frame_writer::FrameWriter;
 
 /// Arguments of `hairlod render`.
 #[derive(Debug, Args)]
@@ -117,6 +120,19 @@ pub struct RenderArgs {
     /// output.json, in the output folder].
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
+    /// Draw the frames from the simulation cache in DIR (written by `hairlod simulate` with the
+    /// same scene and flags) instead of simulating them.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["checkpoint", "resume"])]
+    from_cache: Option<PathBuf>,
+    /// With --from-cache: draw chunk K of N of the shot's frames (from 1; as even as whole
+    /// frames allow).
+    #[arg(
+        long,
+        value_name = "K/N",
+        requires = "from_cache",
+        conflicts_with = "frames"
+    )]
+    chunk: Option<hairlod::cache::Chunk>,
 }
 
 impl RenderArgs {
@@ -241,6 +257,29 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let setup_start = Instant::now();
     let file = args.scene_file()?;
     let shot = file.resolve()?;
+    let json = args
+        .json
+        .clone()
+        .or_else(|| file.json_output().map(|name| args.out.join(name)));
+    let mut device = DeviceOptions::from_env()?;
+    if let Some(backend) = args.backend {
+        device.backend = backend.into();
+    }
+    if let Some(cache) = &args.from_cache {
+        if let Some(path) = &json {
+            writable_file(path, "JSON report")?;
+        }
+        return crate::cache_cmd::render(crate::cache_cmd::CacheRender {
+            shot: &shot,
+            cache,
+            out: &args.out,
+            chunk: args.chunk,
+            frames: args.frames,
+            json,
+            options: RendererOptions { device },
+            style: args.style(&shot),
+        });
+    }
     let resume = match &args.resume {
         Some(path) => Some(Checkpoint::read(path)?),
         None => None,
@@ -250,15 +289,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(frames) => frames.range(shot.frames)?,
         None => start..shot.frames,
     };
-    let json = args
-        .json
-        .clone()
-        .or_else(|| file.json_output().map(|name| args.out.join(name)));
     check_destinations(args, &shot, json.as_deref())?;
-    let mut device = DeviceOptions::from_env()?;
-    if let Some(backend) = args.backend {
-        device.backend = backend.into();
-    }
     if shot.is_crowd() {
         let style = args.style(&shot);
         let frames = crate::crowd_cmd::CrowdFrames {
@@ -277,14 +308,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     let scene = shot.build_scene().context("could not build the groom")?;
     let views = View::of_outputs(&shot.outputs);
-    let folders: Vec<PathBuf> = if views.len() == 1 {
-        vec![args.out.clone()]
-    } else {
-        views.iter().map(|v| args.out.join(v.name())).collect()
-    };
-    for folder in &folders {
-        writable_folder(folder, "output folder")?;
-    }
+    let mut writer = FrameWriter::new(
+        &args.out,
+        &views,
+        frames.clone(),
+        shot.frames,
+        shot.outputs.contact_sheet,
+    )?;
     let hair_folder = args.out.join("hair");
 
     let options = RunOptions {
@@ -324,7 +354,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     );
     let mut write_time = Duration::ZERO;
     let mut usd: Option<UsdCurvesWriter> = None;
-    let mut thumbnails = Vec::new();
     let result = run_shot(
         &shot,
         &scene,
@@ -333,10 +362,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         |frame| {
             let started = Instant::now();
             let index = frame.report.frame as u64;
-            for (image, folder) in frame.images.iter().zip(&folders) {
-                let path = output::frame_path(folder, index, shot.frames as u64);
-                output::write_png_atomic(image, &path)?;
-            }
+            writer.write(frame.report.frame, frame.images)?;
             if shot.outputs.hair || shot.outputs.usd {
                 let curves = frame.pipeline.strand_curves(HAIR_SAMPLES_PER_SEGMENT)?;
                 if shot.outputs.hair {
@@ -358,13 +384,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                     .map_err(|error| writing(&usd_path, error))?;
                 }
             }
-            if shot.outputs.contact_sheet
-                && let Some(image) = frame.images.first()
-            {
-                let width = 320.min(image.width());
-                let height = (image.height() * width / image.width()).max(1);
-                thumbnails.push(image::imageops::thumbnail(image, width, height));
-            }
             write_time += started.elapsed();
             let [p, c, s] = frame.report.sections_at;
             progress.set_message(format!("{s} strand groups, {c} clusters, {p} patches"));
@@ -374,14 +393,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     )
     .with_context(|| format!("the run stopped in frames {}..{}", frames.start, frames.end))?;
     progress.finish_and_clear();
-    if let Some(first) = thumbnails.first() {
-        let (width, height) = first.dimensions();
-        let sheet =
-            output::contact_sheet(&thumbnails, (thumbnails.len() as u32).min(6), width, height)?;
-        let path = args.out.join("contact_sheet.png");
-        output::write_png_atomic(&sheet, &path)?;
-        eprintln!("wrote {}", path.display());
-    }
+    writer.finish()?;
     if let Some(writer) = &usd {
         let path = args.out.join("hair.usda");
         writer.write(&path).map_err(|error| writing(&path, error))?;

@@ -26,6 +26,40 @@ impl ActiveSkeletons {
         ActiveSkeletons::default()
     }
 
+    /// A buffer holding a copy of `frame` (a frame written out and read back, for example a
+    /// simulation cache's record), checked first ([`SkeletonFrame::validate`]): arrays of
+    /// matching lengths, offsets from 0 to the node count, finite values, coverages in `0..=1`.
+    /// Empty per-chain arrays stand for their defaults (coverage 1, no give-way, the chain's own
+    /// level).
+    pub fn from_frame(frame: &SkeletonFrame<'_>) -> Result<ActiveSkeletons> {
+        frame.validate()?;
+        let chains = frame.chain_count();
+        let per_chain = |values: &[f32], default: f32| {
+            if values.is_empty() {
+                vec![default; chains]
+            } else {
+                values.to_vec()
+            }
+        };
+        Ok(ActiveSkeletons {
+            chain_offsets: frame.chain_offsets.to_vec(),
+            node_positions: frame.node_positions.to_vec(),
+            node_normals: frame.node_normals.to_vec(),
+            node_binormals: frame.node_binormals.to_vec(),
+            chain_coverage: per_chain(frame.chain_coverage, 1.0),
+            chain_gives_way: if frame.chain_gives_way.is_empty() {
+                vec![false; chains]
+            } else {
+                frame.chain_gives_way.to_vec()
+            },
+            chain_simulated_at: if frame.chain_simulated_at.is_empty() {
+                vec![None; chains]
+            } else {
+                frame.chain_simulated_at.to_vec()
+            },
+        })
+    }
+
     /// Removes every chain.
     pub fn clear(&mut self) {
         self.chain_offsets.clear();
@@ -222,6 +256,39 @@ impl ActiveSkeletons {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn from_frame_copies_a_frame_and_refuses_a_broken_one() {
+        let mut active = ActiveSkeletons::new();
+        let positions = [Vec3::ZERO, Vec3::NEG_Y, Vec3::new(0.0, -2.0, 0.0)];
+        let frames = vec![Frame::default(); 3];
+        active
+            .push_chain_giving_way(&positions, &frames, 0.25)
+            .unwrap();
+        active.push_inactive_chain();
+        active
+            .push_rebuilt_chain(&positions[..2], &frames[..2], 1.0, Level::Cluster)
+            .unwrap();
+        let copy = ActiveSkeletons::from_frame(&active.frame()).unwrap();
+        assert_eq!(copy.frame().chain_offsets, active.frame().chain_offsets);
+        assert_eq!(copy.frame().node_positions, active.frame().node_positions);
+        assert_eq!(copy.frame().chain_coverage, &[0.25, 0.0, 1.0]);
+        assert_eq!(copy.frame().chain_gives_way, &[true, false, false]);
+        assert_eq!(
+            copy.frame().chain_simulated_at,
+            &[None, None, Some(Level::Cluster)]
+        );
+        // Offsets that end past the nodes are refused, naming them.
+        let offsets = [0, 3, 3, 6];
+        let broken = SkeletonFrame {
+            chain_offsets: &offsets,
+            ..active.frame()
+        };
+        let error = ActiveSkeletons::from_frame(&broken)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("chain offsets"), "{error}");
+    }
 
     #[test]
     fn set_coverage_fades_only_active_chains() {
