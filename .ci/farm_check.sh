@@ -67,8 +67,13 @@ size = "320x180"
 SCENE
 run_job paper-curly
 
+# The crowd's grooms are grown, not hung (each of the job's nine processes builds them).
 cat >"$work/crowd.toml" <<'SCENE'
 version = 2
+[groom]
+rest_pose = "grown"
+[dynamics]
+settle_seconds = 0.0
 [camera]
 path = "orbit"
 distance = 2.5

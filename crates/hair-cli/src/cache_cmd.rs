@@ -11,15 +11,13 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hairlod::cache::{CachedRun, Chunk, SimulationCache, run_fingerprint, simulate};
-use hairlod::core::GroomPreset;
 use hairlod::crowd::{Crowd, CrowdModel, CrowdRenderer};
-use hairlod::pipeline::{CharacterModel, Checkpoint, DrawStyle, DrawnAs, PipelineRenderer};
+use hairlod::pipeline::{CharacterModel, Checkpoint, DrawStyle, PipelineRenderer};
 use hairlod::render::RendererOptions;
 use hairlod::run::{FrameLoop, ModeRun, Runnable, View, run_frames};
-use hairlod::scene_file::{CameraPathKind, LodModeKind, MotionKind};
 use hairlod::shot::Shot;
 
-use crate::cli_args::{FramesArg, ShotOverrides, choice};
+use crate::cli_args::{FramesArg, RunFlags};
 use crate::destinations::writable_file;
 use crate::frame_writer::FrameWriter;
 use crate::report::{progress_bar, write_json};
@@ -44,27 +42,9 @@ pub struct SimulateArgs {
     /// frames (A > 0 resumes from the cache's checkpoint at A).
     #[arg(long, value_name = "N|A..B", value_parser = FramesArg::parse)]
     frames: Option<FramesArg>,
-    /// Preset groom [scene: groom.preset].
-    #[arg(long, value_parser = choice::<GroomPreset>())]
-    preset: Option<GroomPreset>,
-    /// Level of detail [scene: lod.mode].
-    #[arg(long, value_parser = choice::<LodModeKind>())]
-    level: Option<LodModeKind>,
-    /// Screen-space error tolerance of automatic levels [pixels] [scene: lod.pixel_tolerance].
-    #[arg(long, value_name = "PX")]
-    pixel_tolerance: Option<f32>,
-    /// How the levels are drawn [scene: lod.drawn_as].
-    #[arg(long, value_parser = choice::<DrawnAs>())]
-    drawn_as: Option<DrawnAs>,
-    /// Image size WIDTHxHEIGHT [pixels] (the levels follow it) [scene: frames.size].
-    #[arg(long, value_name = "WxH")]
-    size: Option<String>,
-    /// Camera path [scene: camera.path].
-    #[arg(long, value_parser = choice::<CameraPathKind>())]
-    camera: Option<CameraPathKind>,
-    /// Head motion [scene: motion.kind].
-    #[arg(long, value_parser = choice::<MotionKind>())]
-    motion: Option<MotionKind>,
+    /// The flags that shape the run (the same as `hairlod render`'s).
+    #[command(flatten)]
+    run: RunFlags,
     /// Write every frame's report (levels, model size, stage times) as JSON to FILE.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
@@ -72,22 +52,7 @@ pub struct SimulateArgs {
 
 /// Runs `hairlod simulate`.
 pub fn run(args: &SimulateArgs) -> Result<()> {
-    let mut file = ShotOverrides {
-        preset: args.preset,
-        frames: match args.frames {
-            Some(FramesArg::Count(count)) => Some(count),
-            _ => None,
-        },
-        level: args.level,
-        pixel_tolerance: args.pixel_tolerance,
-        size: args.size.as_ref(),
-        camera: args.camera,
-        motion: args.motion,
-    }
-    .scene_file(args.scene.as_deref())?;
-    if let Some(drawn_as) = args.drawn_as {
-        file.lod.drawn_as = Some(drawn_as);
-    }
+    let file = args.run.scene_file(args.scene.as_deref(), args.frames)?;
     let shot = file
         .resolve()
         .context("the scene with the command-line flags")?;

@@ -190,3 +190,62 @@ impl ShotOverrides<'_> {
         }
     }
 }
+
+/// The flags that shape a run, which a simulation cache is fingerprinted against: `render` and
+/// `simulate` take these same ones (one definition), so a cache simulated with some flags is
+/// rendered with the same.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct RunFlags {
+    /// Preset groom [scene: groom.preset; default paper-curly].
+    #[arg(long, value_parser = choice::<GroomPreset>())]
+    pub preset: Option<GroomPreset>,
+    /// Level of detail [scene: lod.mode; default auto].
+    #[arg(long, value_parser = choice::<LodModeKind>())]
+    pub level: Option<LodModeKind>,
+    /// Screen-space error tolerance of automatic levels [pixels] [scene: lod.pixel_tolerance].
+    #[arg(long, value_name = "PX")]
+    pub pixel_tolerance: Option<f32>,
+    /// How the levels are drawn: `level` (each as itself) or `strands` (every level's sections
+    /// as strands, on strand-group skeletons rebuilt from the level simulated) [scene:
+    /// lod.drawn_as; default level].
+    #[arg(long, value_parser = choice::<hairlod::pipeline::DrawnAs>())]
+    pub drawn_as: Option<hairlod::pipeline::DrawnAs>,
+    /// Image size WIDTHxHEIGHT [pixels] (the levels follow it) [scene: frames.size; default
+    /// 1280x720].
+    #[arg(long, value_name = "WxH")]
+    pub size: Option<String>,
+    /// Camera path [scene: camera.path; default orbit].
+    #[arg(long, value_parser = choice::<CameraPathKind>())]
+    pub camera: Option<CameraPathKind>,
+    /// Head motion [scene: motion.kind; default still].
+    #[arg(long, value_parser = choice::<MotionKind>())]
+    pub motion: Option<MotionKind>,
+}
+
+impl RunFlags {
+    /// The scene file at `path` (the built-in default scene without one) with these flags and
+    /// `frames` (a count sets the shot's length) applied.
+    pub fn scene_file(
+        &self,
+        path: Option<&std::path::Path>,
+        frames: Option<FramesArg>,
+    ) -> anyhow::Result<hairlod::scene_file::SceneFile> {
+        let mut file = ShotOverrides {
+            preset: self.preset,
+            frames: match frames {
+                Some(FramesArg::Count(count)) => Some(count),
+                _ => None,
+            },
+            level: self.level,
+            pixel_tolerance: self.pixel_tolerance,
+            size: self.size.as_ref(),
+            camera: self.camera,
+            motion: self.motion,
+        }
+        .scene_file(path)?;
+        if let Some(drawn_as) = self.drawn_as {
+            file.lod.drawn_as = Some(drawn_as);
+        }
+        Ok(file)
+    }
+}

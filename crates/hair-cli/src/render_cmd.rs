@@ -15,9 +15,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::formats::UsdCurvesWriter;
-use hairlod::pipeline::{
-    Checkpoint, DrawStyle, DrawnAs, FrameReport, PipelineRenderer, StageTimes,
-};
+use hairlod::pipeline::{Checkpoint, DrawStyle, FrameReport, PipelineRenderer, StageTimes};
 use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
@@ -26,9 +24,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use hairlod::core::GroomPreset;
 use hairlod::render::{ClusterGeometry, LineCoverage, ShadingModel};
-use hairlod::scene_file::{CameraPathKind, LodModeKind, MotionKind};
 
-use crate::cli_args::{BackendArg, FramesArg, ShotOverrides, choice};
+use crate::cli_args::{BackendArg, FramesArg, RunFlags, choice};
 use crate::destinations::{writable_file, writable_folder};
 use crate::frame_writer::FrameWriter;
 
@@ -47,35 +44,15 @@ pub struct RenderArgs {
     /// frames (with --resume: from the checkpoint's frame).
     #[arg(long, value_name = "N|A..B", value_parser = FramesArg::parse)]
     frames: Option<FramesArg>,
-    /// Preset groom [scene: groom.preset; default paper-curly].
-    #[arg(long, value_parser = choice::<GroomPreset>())]
-    preset: Option<GroomPreset>,
-    /// Level of detail [scene: lod.mode; default auto].
-    #[arg(long, value_parser = choice::<LodModeKind>())]
-    level: Option<LodModeKind>,
-    /// Screen-space error tolerance of automatic levels [pixels] [scene: lod.pixel_tolerance].
-    #[arg(long, value_name = "PX")]
-    pixel_tolerance: Option<f32>,
-    /// How the levels are drawn: `level` (each as itself) or `strands` (every level's sections
-    /// as strands, on strand-group skeletons rebuilt from the level simulated) [scene:
-    /// lod.drawn_as; default level].
-    #[arg(long, value_parser = choice::<DrawnAs>())]
-    drawn_as: Option<DrawnAs>,
+    /// The flags that shape the run (the same as `hairlod simulate`'s).
+    #[command(flatten)]
+    run: RunFlags,
     /// Colour-code by level (strands yellow, clusters red, patches blue) instead of shading.
     #[arg(long)]
     color_code: bool,
     /// Write shaded | colour-coded pairs side by side (twice as wide).
     #[arg(long)]
     side_by_side: bool,
-    /// Image size WIDTHxHEIGHT [pixels] [scene: frames.size; default 1280x720].
-    #[arg(long, value_name = "WxH")]
-    size: Option<String>,
-    /// Camera path [scene: camera.path; default orbit].
-    #[arg(long, value_parser = choice::<CameraPathKind>())]
-    camera: Option<CameraPathKind>,
-    /// Head motion [scene: motion.kind; default still].
-    #[arg(long, value_parser = choice::<MotionKind>())]
-    motion: Option<MotionKind>,
     /// Also write contact_sheet.png with every frame scaled down.
     #[arg(long)]
     contact_sheet: bool,
@@ -148,19 +125,7 @@ impl RenderArgs {
 
     /// The scene file with the flags applied over it.
     fn scene_file(&self) -> Result<SceneFile> {
-        let mut file = ShotOverrides {
-            preset: self.preset,
-            frames: match self.frames {
-                Some(FramesArg::Count(count)) => Some(count),
-                _ => None,
-            },
-            level: self.level,
-            pixel_tolerance: self.pixel_tolerance,
-            size: self.size.as_ref(),
-            camera: self.camera,
-            motion: self.motion,
-        }
-        .scene_file(self.scene.as_deref())?;
+        let mut file = self.run.scene_file(self.scene.as_deref(), self.frames)?;
         if self.color_code {
             file.output.color_coded = Some(true);
             file.output.shaded.get_or_insert(false);
@@ -186,9 +151,6 @@ impl RenderArgs {
         }
         if let Some(clusters) = self.clusters {
             file.output.clusters = Some(clusters);
-        }
-        if let Some(drawn_as) = self.drawn_as {
-            file.lod.drawn_as = Some(drawn_as);
         }
         // Flags are checked like the file's own values.
         file.resolve()

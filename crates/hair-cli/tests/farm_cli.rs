@@ -38,6 +38,25 @@ fn pngs(dir: &Path) -> Vec<(String, Vec<u8>)> {
     files
 }
 
+/// The arguments of `hairlod render SCENE --from-cache CACHE --out OUT` followed by `extra`.
+fn from_cache<'a>(
+    scene: &'a Path,
+    cache: &'a Path,
+    out: &'a Path,
+    extra: &[&'a str],
+) -> Vec<&'a str> {
+    let mut args = vec![
+        "render",
+        path(scene),
+        "--from-cache",
+        path(cache),
+        "--out",
+        path(out),
+    ];
+    args.extend_from_slice(extra);
+    args
+}
+
 /// Runs the binary expecting it to fail; returns what it printed.
 fn fails(args: &[&str]) -> String {
     let output = Command::new(BINARY).args(args).output().unwrap();
@@ -84,16 +103,7 @@ fn chunks_simulated_and_rendered_from_the_cache_make_the_frames_of_one_render() 
     // Rendered in reverse chunk order, each chunk a process of its own.
     let cached = dir.join("cached");
     for chunk in ["3/3", "2/3", "1/3"] {
-        hairlod(&[
-            "render",
-            path(&scene),
-            "--from-cache",
-            path(&cache),
-            "--out",
-            path(&cached),
-            "--chunk",
-            chunk,
-        ]);
+        hairlod(&from_cache(&scene, &cache, &cached, &["--chunk", chunk]));
     }
     let (a, b) = (pngs(&straight), pngs(&cached));
     assert_eq!(a.len(), 6);
@@ -112,14 +122,7 @@ fn chunks_simulated_and_rendered_from_the_cache_make_the_frames_of_one_render() 
     let other_scene = dir.join("other.toml");
     std::fs::write(&other_scene, SCENE.replace("96x64", "96x48")).unwrap();
     let out = dir.join("refused");
-    let error = fails(&[
-        "render",
-        path(&other_scene),
-        "--from-cache",
-        path(&cache),
-        "--out",
-        path(&out),
-    ]);
+    let error = fails(&from_cache(&other_scene, &cache, &out, &[]));
     assert!(
         error.contains("frame_00000.hlc") && error.contains("another run"),
         "{error}"
@@ -127,16 +130,7 @@ fn chunks_simulated_and_rendered_from_the_cache_make_the_frames_of_one_render() 
     let record = cache.join("frame_00004.hlc");
     let bytes = std::fs::read(&record).unwrap();
     std::fs::write(&record, &bytes[..bytes.len() / 2]).unwrap();
-    let error = fails(&[
-        "render",
-        path(&scene),
-        "--from-cache",
-        path(&cache),
-        "--out",
-        path(&out),
-        "--frames",
-        "4..6",
-    ]);
+    let error = fails(&from_cache(&scene, &cache, &out, &["--frames", "4..6"]));
     assert!(
         error.contains("frame_00004.hlc")
             && error.contains("frame 4")
@@ -144,30 +138,12 @@ fn chunks_simulated_and_rendered_from_the_cache_make_the_frames_of_one_render() 
         "{error}"
     );
     std::fs::remove_file(&record).unwrap();
-    let error = fails(&[
-        "render",
-        path(&scene),
-        "--from-cache",
-        path(&cache),
-        "--out",
-        path(&out),
-        "--chunk",
-        "3/3",
-    ]);
+    let error = fails(&from_cache(&scene, &cache, &out, &["--chunk", "3/3"]));
     assert!(
         error.contains("frame 4") && error.contains("missing"),
         "{error}"
     );
-    let error = fails(&[
-        "render",
-        path(&scene),
-        "--from-cache",
-        path(&cache),
-        "--out",
-        path(&out),
-        "--chunk",
-        "4/3",
-    ]);
+    let error = fails(&from_cache(&scene, &cache, &out, &["--chunk", "4/3"]));
     assert!(error.contains("chunk 4 of 3 is out of range"), "{error}");
     // No frame was written by a refused run.
     assert!(!out.exists() || pngs(&out).is_empty());
@@ -196,7 +172,9 @@ fn farm_writes_a_template_per_scene() {
         "Render-1",
         "dependsOn: \"Simulate-1\"",
         "\"{{Task.Param.Chunk}}/{{Param.RenderChunks}}\"",
-        &format!("default: \"{}\"", scene.display()),
+        // PATH defaults are relative to the template's folder (OpenJD joins them to it).
+        "default: \"shot.toml\"",
+        "default: \"shot.cache\"",
     ] {
         assert!(text.contains(needle), "no {needle} in\n{text}");
     }
