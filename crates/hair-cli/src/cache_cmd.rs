@@ -36,7 +36,7 @@ pub struct SimulateArgs {
     cache: PathBuf,
     /// Simulate chunk K of N of the shot's frames (from 1; the chunks are as even as whole
     /// frames allow). Chunk K > 1 resumes from the checkpoint chunk K − 1 left in the cache.
-    #[arg(long, value_name = "K/N", conflicts_with = "frames")]
+    #[arg(long, value_name = "K/N")]
     chunk: Option<Chunk>,
     /// Frames: a count N (the shot is N frames long), or a range A..B or A.. of the scene's
     /// frames (A > 0 resumes from the cache's checkpoint at A).
@@ -85,9 +85,13 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     Ok(())
 }
 
-/// The frames a command works on: chunk K/N of the shot, a range or count, or the whole shot.
+/// The frames a command works on: chunk K/N of the shot, a range or count, or the whole shot (a
+/// count with a chunk is the shot's length, already in the scene).
 fn frames_of(shot: &Shot, chunk: Option<Chunk>, frames: Option<FramesArg>) -> Result<Range<usize>> {
     match (chunk, frames) {
+        (Some(chunk), Some(FramesArg::Range(..))) => {
+            bail!("--chunk {chunk} and a frame range both choose the frames: give one")
+        }
         (Some(chunk), _) => chunk
             .frames(shot.frames)
             .map_err(|why| anyhow::anyhow!("--chunk {chunk}: {why}")),

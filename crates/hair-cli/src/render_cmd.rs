@@ -103,12 +103,7 @@ pub struct RenderArgs {
     from_cache: Option<PathBuf>,
     /// With --from-cache: draw chunk K of N of the shot's frames (from 1; as even as whole
     /// frames allow).
-    #[arg(
-        long,
-        value_name = "K/N",
-        requires = "from_cache",
-        conflicts_with = "frames"
-    )]
+    #[arg(long, value_name = "K/N", requires = "from_cache")]
     chunk: Option<hairlod::cache::Chunk>,
 }
 

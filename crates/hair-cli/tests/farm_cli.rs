@@ -145,6 +145,13 @@ fn chunks_simulated_and_rendered_from_the_cache_make_the_frames_of_one_render() 
     );
     let error = fails(&from_cache(&scene, &cache, &out, &["--chunk", "4/3"]));
     assert!(error.contains("chunk 4 of 3 is out of range"), "{error}");
+    let error = fails(&from_cache(
+        &scene,
+        &cache,
+        &out,
+        &["--chunk", "1/3", "--frames", "0..2"],
+    ));
+    assert!(error.contains("give one"), "{error}");
     // No frame was written by a refused run.
     assert!(!out.exists() || pngs(&out).is_empty());
 }
