@@ -67,6 +67,14 @@ size = "320x180"
 SCENE
 run_job paper-curly
 
+# A chunk count out of the template's range is refused by the runner, naming it.
+if refusal=$("$openjd" run "$work/paper-curly.job.yaml" --step Simulate-1 -p RenderChunks=7 2>&1); then
+  echo "openjd ran a job with 7 render chunks in a template of 6" >&2
+  exit 1
+fi
+grep -q "RenderChunks must be at most 6" <<<"$refusal" \
+  || { echo "unexpected refusal: $refusal" >&2; exit 1; }
+
 # The crowd's grooms are grown, not hung (each of the job's nine processes builds them).
 cat >"$work/crowd.toml" <<'SCENE'
 version = 2
