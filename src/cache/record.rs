@@ -66,7 +66,20 @@ pub(crate) enum RecordFault {
 impl FrameRecord {
     /// The record's bytes, for the run whose fingerprint is `fingerprint` (16 hex digits).
     pub(crate) fn encode(&self, fingerprint: &str) -> Vec<u8> {
-        let mut payload = Bytes::default();
+        let mut bytes = Bytes(Vec::with_capacity(
+            HEADER_BYTES + 64 + 40 * self.drawn.node_count() + 8,
+        ));
+        bytes.0.extend_from_slice(RECORD_MAGIC);
+        bytes.u32(RECORD_VERSION);
+        let mut print = [b'0'; 16];
+        for (slot, byte) in print.iter_mut().zip(fingerprint.bytes()) {
+            *slot = byte;
+        }
+        bytes.0.extend_from_slice(&print);
+        bytes.u64(self.frame as u64);
+        // The payload's length, filled in once the payload is written after it.
+        bytes.u64(0);
+        let payload = &mut bytes;
         let report = serde_json::to_vec(&self.report).unwrap_or_default();
         payload.u32(report.len() as u32);
         payload.0.extend_from_slice(&report);
@@ -108,17 +121,8 @@ impl FrameRecord {
                 payload.f32s(&v.to_array());
             }
         }
-        let mut bytes = Bytes(Vec::with_capacity(HEADER_BYTES + payload.0.len() + 8));
-        bytes.0.extend_from_slice(RECORD_MAGIC);
-        bytes.u32(RECORD_VERSION);
-        let mut print = [b'0'; 16];
-        for (slot, byte) in print.iter_mut().zip(fingerprint.bytes()) {
-            *slot = byte;
-        }
-        bytes.0.extend_from_slice(&print);
-        bytes.u64(self.frame as u64);
-        bytes.u64(payload.0.len() as u64);
-        bytes.0.extend_from_slice(&payload.0);
+        let payload_len = (bytes.0.len() - HEADER_BYTES) as u64;
+        bytes.0[HEADER_BYTES - 8..HEADER_BYTES].copy_from_slice(&payload_len.to_le_bytes());
         let mut hash = Fnv1a::new();
         hash.write(&bytes.0);
         bytes.u64(hash.value());

@@ -77,20 +77,6 @@ pub fn run(args: &FarmArgs) -> Result<()> {
             .with_context(|| format!("the scene {}", scene.display()))?;
         let scene = absolute(scene)?;
         let folder = scene.parent().unwrap_or(Path::new(".")).to_path_buf();
-        let paths = JobPaths {
-            cache: match (&args.cache, several) {
-                (Some(cache), false) => absolute(cache)?,
-                (Some(cache), true) => absolute(cache)?.join(stem(&scene)),
-                (None, _) => folder.join(format!("{}.cache", stem(&scene))),
-            },
-            frames: match (&args.frames_out, several) {
-                (Some(out), false) => absolute(out)?,
-                (Some(out), true) => absolute(out)?.join(stem(&scene)),
-                (None, _) => folder.join(format!("{}.frames", stem(&scene))),
-            },
-            hairlod: hairlod.clone(),
-            scene: scene.clone(),
-        };
         let path = if several {
             args.out.join(format!("{}.job.yaml", stem(&scene)))
         } else {
@@ -100,11 +86,21 @@ pub fn run(args: &FarmArgs) -> Result<()> {
         let base = absolute(&path)?
             .parent()
             .map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
+        let cache = match (&args.cache, several) {
+            (Some(cache), false) => absolute(cache)?,
+            (Some(cache), true) => absolute(cache)?.join(stem(&scene)),
+            (None, _) => folder.join(format!("{}.cache", stem(&scene))),
+        };
+        let frames = match (&args.frames_out, several) {
+            (Some(out), false) => absolute(out)?,
+            (Some(out), true) => absolute(out)?.join(stem(&scene)),
+            (None, _) => folder.join(format!("{}.frames", stem(&scene))),
+        };
         let paths = JobPaths {
-            scene: relative_to(&paths.scene, &base),
-            cache: relative_to(&paths.cache, &base),
-            frames: relative_to(&paths.frames, &base),
-            hairlod: paths.hairlod,
+            scene: relative_to(&scene, &base),
+            cache: relative_to(&cache, &base),
+            frames: relative_to(&frames, &base),
+            hairlod: hairlod.clone(),
         };
         let template = job_template(
             &paths,

@@ -34,19 +34,16 @@ impl ActiveSkeletons {
     pub fn from_frame(frame: &SkeletonFrame<'_>) -> Result<ActiveSkeletons> {
         frame.validate()?;
         let chains = frame.chain_count();
-        let per_chain = |values: &[f32], default: f32| {
-            if values.is_empty() {
-                vec![default; chains]
-            } else {
-                values.to_vec()
-            }
-        };
         Ok(ActiveSkeletons {
             chain_offsets: frame.chain_offsets.to_vec(),
             node_positions: frame.node_positions.to_vec(),
             node_normals: frame.node_normals.to_vec(),
             node_binormals: frame.node_binormals.to_vec(),
-            chain_coverage: per_chain(frame.chain_coverage, 1.0),
+            chain_coverage: if frame.chain_coverage.is_empty() {
+                vec![1.0; chains]
+            } else {
+                frame.chain_coverage.to_vec()
+            },
             chain_gives_way: if frame.chain_gives_way.is_empty() {
                 vec![false; chains]
             } else {
