@@ -3,11 +3,13 @@
 //! threads (and the same at both). The scene exercises everything that evolves: automatic levels
 //! with switches and blends under a zoom-out, a shaking head, gusting wind and collision.
 
+use hairlod::Scene;
 use hairlod::pipeline::{Checkpoint, PipelineRenderer, PipelineState};
 use hairlod::render::RendererOptions;
 use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
 use hairlod::shot::Shot;
+use std::sync::OnceLock;
 
 const FRAMES: usize = 8;
 
@@ -24,6 +26,13 @@ fn shot() -> Shot {
     .unwrap()
     .resolve()
     .unwrap()
+}
+
+/// The shot's scene, built (and its groom hung) once for every run of this file: the runs
+/// compare what evolves from it, not its building.
+fn scene() -> Scene {
+    static SCENE: OnceLock<Scene> = OnceLock::new();
+    SCENE.get_or_init(|| shot().build_scene().unwrap()).clone()
 }
 
 /// What a run leaves to compare: the final state, every frame's image and its report without
@@ -44,7 +53,7 @@ fn run(frames: std::ops::Range<usize>, checkpoint: Option<Checkpoint>, threads: 
         .unwrap();
     pool.install(|| {
         let shot = shot();
-        let scene = shot.build_scene().unwrap();
+        let scene = scene();
         let mut renderer =
             PipelineRenderer::new(&RendererOptions::from_env().unwrap(), &scene).unwrap();
         let options = RunOptions {
@@ -120,7 +129,7 @@ fn a_resumed_run_is_bit_identical_to_an_uninterrupted_one_at_any_thread_count() 
 #[test]
 fn a_checkpoint_of_another_scene_or_a_damaged_state_is_refused() {
     let shot = shot();
-    let scene = shot.build_scene().unwrap();
+    let scene = scene();
     let pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
     let checkpoint = pipeline.checkpoint().unwrap();
 
@@ -196,7 +205,7 @@ fn resealed(value: &serde_json::Value) -> serde_json::Value {
 #[test]
 fn an_edited_checkpoint_is_refused_naming_the_field() {
     let shot = shot();
-    let scene = shot.build_scene().unwrap();
+    let scene = scene();
     let outcome = run(0..FRAMES / 2, None, 1);
     let original = serde_json::to_value(&outcome.checkpoint).unwrap();
     assert_eq!(
@@ -321,7 +330,7 @@ fn randomly_edited_checkpoints_resume_or_are_refused_without_panicking() {
     use proptest::prelude::*;
     use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
     let shot = shot();
-    let scene = shot.build_scene().unwrap();
+    let scene = scene();
     let pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
     let original = serde_json::to_value(pipeline.checkpoint().unwrap()).unwrap();
     let mut paths = Vec::new();

@@ -15,24 +15,30 @@ use hairlod::pipeline::{LodMode, Pipeline, PipelineRenderer, PipelineSettings};
 use hairlod::render::{RendererOptions, ShadingMode};
 use hairlod::{Camera, HangSettings, Level, Scene, hang_groom};
 
-/// Every preset, hung once for all the tests of this file.
+/// Every preset, hung once for all the tests of this file, each on its own thread (a hang is
+/// mostly serial, and the straight and wavy presets take three rounds a level).
 fn hung() -> &'static [(&'static str, Scene)] {
     static HUNG: OnceLock<Vec<(&'static str, Scene)>> = OnceLock::new();
     HUNG.get_or_init(|| {
-        PRESET_NAMES
-            .iter()
-            .map(|&preset| {
-                let mut scene = Scene::preset(preset).unwrap();
-                let report = hang_groom(&mut scene, &HangSettings::default()).unwrap();
-                eprintln!(
-                    "{preset}: hung in {:.1} s, {:?} rounds, clamped springs {:?}",
-                    report.wall_seconds,
-                    report.rounds,
-                    report.sag_free.map(|_, r| r.clamped_joints)
-                );
-                (preset, scene)
-            })
-            .collect()
+        std::thread::scope(|threads| {
+            let hangs: Vec<_> = PRESET_NAMES
+                .iter()
+                .map(|&preset| {
+                    threads.spawn(move || {
+                        let mut scene = Scene::preset(preset).unwrap();
+                        let report = hang_groom(&mut scene, &HangSettings::default()).unwrap();
+                        eprintln!(
+                            "{preset}: hung in {:.1} s, {:?} rounds, clamped springs {:?}",
+                            report.wall_seconds,
+                            report.rounds,
+                            report.sag_free.map(|_, r| r.clamped_joints)
+                        );
+                        (preset, scene)
+                    })
+                })
+                .collect();
+            hangs.into_iter().map(|hang| hang.join().unwrap()).collect()
+        })
     })
 }
 

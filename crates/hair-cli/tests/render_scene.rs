@@ -188,9 +188,15 @@ fn a_run_split_by_a_checkpoint_writes_the_same_frames() {
     for k in 0..4 {
         assert_eq!(frame(&straight, k), frame(&split, k), "frame {k}");
     }
-    // A checkpoint of another scene is refused, naming the mismatch.
+    // A checkpoint of another scene is refused, naming the mismatch (a small wavy groom in its
+    // grown shape, so that the refusal is not waiting for a full groom to hang).
     let other = dir.join("other.toml");
-    std::fs::write(&other, "[groom]\npreset = \"wavy\"\n[frames]\ncount = 4\n").unwrap();
+    std::fs::write(
+        &other,
+        "[groom]\npreset = \"wavy\"\nsection_count = 12\nhair_length = 0.1\nrest_pose = \"grown\"\n\
+         [dynamics]\nsettle_seconds = 0.0\n[frames]\ncount = 4\n",
+    )
+    .unwrap();
     let output = Command::new(BINARY)
         .args(["render", other.to_str().unwrap(), "--out"])
         .arg(dir.join("other"))
