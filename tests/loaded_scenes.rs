@@ -5,11 +5,12 @@
 //! them) and fail naming the file they looked for when it is missing.
 
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use hairlod::core::dynamics::{Environment, HeadMotion, WindField};
-use hairlod::loaded::{LevelRestErrors, MAX_MEDIAN_ROOT_DISTANCE, rest_errors};
+use hairlod::loaded::{LevelRestErrors, LoadedScene, MAX_MEDIAN_ROOT_DISTANCE, rest_errors};
 use hairlod::pipeline::LodMode;
-use hairlod::{Level, SceneFile};
+use hairlod::{Level, Scene, SceneFile, Shot};
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -44,6 +45,32 @@ fn example_scene(example: &str) -> SceneFile {
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// Each example scene resolved and built (its groom fitted and its rest pose hung), once for
+/// every test of this file, the two side by side: a build takes most of a test's time.
+fn built(example: &str) -> &'static (Shot, Scene, LoadedScene) {
+    static BUILT: OnceLock<Vec<(Shot, Scene, LoadedScene)>> = OnceLock::new();
+    let built = BUILT.get_or_init(|| {
+        std::thread::scope(|threads| {
+            let builds: Vec<_> = EXAMPLES
+                .iter()
+                .map(|&example| {
+                    threads.spawn(move || {
+                        let shot = example_scene(example).resolve().unwrap();
+                        let (scene, loaded) = shot
+                            .build_loaded_scene()
+                            .unwrap_or_else(|e| panic!("{example}: {e}"));
+                        let loaded = loaded.expect("a groom file was loaded");
+                        (shot, scene, loaded)
+                    })
+                })
+                .collect();
+            builds.into_iter().map(|b| b.join().unwrap()).collect()
+        })
+    });
+    let index = EXAMPLES.iter().position(|&e| e == example).unwrap();
+    &built[index]
+}
+
 /// Each example scene builds (the groom fitted, the body in the head's place) and runs 6 frames of
 /// its own motion with collision and automatic levels: every node stays finite, every section
 /// has a level every frame, and the mohawk's roots lie on its body.
@@ -51,14 +78,12 @@ fn example_scene(example: &str) -> SceneFile {
 #[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
 fn example_scenes_load_and_run_with_collision_and_automatic_levels() {
     for example in EXAMPLES {
-        let file = example_scene(example);
-        let mut shot = file.resolve().unwrap();
+        let (shot, scene, loaded) = built(example);
+        let mut shot = shot.clone();
         assert!(shot.groom_file.is_some(), "{example}");
         assert!(shot.settings.collision, "{example}");
         assert!(matches!(shot.settings.lod, LodMode::Auto(_)), "{example}");
         shot.frames = 6;
-        let (scene, loaded) = shot.build_loaded_scene().unwrap_or_else(|e| panic!("{e}"));
-        let loaded = loaded.expect("a groom file was loaded");
         let sections = scene.groom.section_count();
         assert_eq!(sections, loaded.report.fit.sections);
         assert_eq!(
@@ -79,7 +104,7 @@ fn example_scenes_load_and_run_with_collision_and_automatic_levels() {
                 "{example}: no box inside the body"
             );
         }
-        let mut pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
+        let mut pipeline = shot.pipeline(scene, shot.settings, None).unwrap();
         for frame in 0..shot.frames {
             let report = pipeline.advance(&shot.camera(frame)).unwrap();
             assert_eq!(
@@ -205,14 +230,16 @@ fn bad_groom_and_body_files_are_errors_naming_the_field_and_the_file() {
 #[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
 fn loaded_grooms_stay_within_5_mm_after_2_s_at_rest() {
     for example in EXAMPLES {
-        let file = example_scene(example);
-        let mut shot = file.resolve().unwrap();
-        shot.environment = Environment {
+        let (shot, scene, _) = built(example);
+        let mut shot = shot.clone();
+        let environment = Environment {
             head: HeadMotion::default(),
             wind: WindField::Calm,
             ..Environment::default()
         };
-        let scene = shot.build_scene().unwrap();
+        // The build hangs the groom under the shot's gravity: the same here.
+        assert_eq!(shot.environment.gravity, environment.gravity, "{example}");
+        shot.environment = environment;
         let rest = scene
             .groom
             .skeletons
@@ -220,7 +247,7 @@ fn loaded_grooms_stay_within_5_mm_after_2_s_at_rest() {
         for level in Level::ALL {
             let mut settings = shot.settings;
             settings.lod = LodMode::Fixed(level);
-            let mut pipeline = shot.pipeline(&scene, settings, None).unwrap();
+            let mut pipeline = shot.pipeline(scene, settings, None).unwrap();
             pipeline.settle(2.0).unwrap();
             let block = pipeline.block(level);
             let mut moved = Vec::new();
@@ -245,9 +272,17 @@ fn loaded_grooms_stay_within_5_mm_after_2_s_at_rest() {
 
 /// Builds `shot`'s loaded scene and measures its rest pose against its file, printing the fit
 /// report and the errors under `name`; returns the errors and the strand counts (groom, file).
-fn rest_errors_of(name: &str, shot: &hairlod::Shot) -> (LevelRestErrors, usize, usize) {
+fn rest_errors_of(name: &str, shot: &Shot) -> (LevelRestErrors, usize, usize) {
     let (scene, loaded) = shot.build_loaded_scene().unwrap();
-    let loaded = loaded.unwrap();
+    rest_errors_of_built(name, &scene, &loaded.unwrap())
+}
+
+/// [`rest_errors_of`] a scene already built.
+fn rest_errors_of_built(
+    name: &str,
+    scene: &Scene,
+    loaded: &LoadedScene,
+) -> (LevelRestErrors, usize, usize) {
     let errors = rest_errors(&scene.groom, &loaded.fit, &loaded.curves).unwrap();
     eprintln!("{name}: fit\n{}", loaded.report.fit);
     eprintln!(
@@ -271,8 +306,8 @@ fn rest_errors_of(name: &str, shot: &hairlod::Shot) -> (LevelRestErrors, usize, 
 #[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
 fn loaded_rest_poses_fit_their_files() {
     for example in EXAMPLES {
-        let shot = example_scene(example).resolve().unwrap();
-        let (errors, strands, curves) = rest_errors_of(example, &shot);
+        let (_, scene, loaded) = built(example);
+        let (errors, strands, curves) = rest_errors_of_built(example, scene, loaded);
         assert_eq!(strands, curves);
         assert!(errors.drawn_strands.is_finite());
         // The real-groom issue's bar for the strands as drawn at rest: mean ≤ 0.5 mm, 95th
@@ -308,15 +343,14 @@ fn mohawk_as_guides_fits_much_closer_than_fifty_strands_per_section() {
         "strands_per_section = 50",
         "strands_per_section = 5\nchildren_per_strand = 8",
     );
-    let mut means = Vec::new();
-    for (name, text, per) in [
-        ("50 per section", text.as_str(), 1),
-        ("guides", guides.as_str(), 9),
-    ] {
-        let file = SceneFile::parse_in(text, Some(&repo("scenes"))).unwrap();
-        let (errors, strands, curves) = rest_errors_of(name, &file.resolve().unwrap());
-        assert_eq!(strands, per * curves, "{name}");
-        means.push(errors.levels[Level::StrandGroup].mean);
-    }
+    // The example scene as shipped (built once for this file), then as guides.
+    assert_eq!(EXAMPLES[0], "scenes/tressfx-ratboy.toml");
+    let (_, scene, loaded) = built(EXAMPLES[0]);
+    let (shipped, strands, curves) = rest_errors_of_built("50 per section", scene, loaded);
+    assert_eq!(strands, curves, "50 per section");
+    let file = SceneFile::parse_in(&guides, Some(&repo("scenes"))).unwrap();
+    let (as_guides, strands, curves) = rest_errors_of("guides", &file.resolve().unwrap());
+    assert_eq!(strands, 9 * curves, "guides");
+    let means = [shipped, as_guides].map(|errors| errors.levels[Level::StrandGroup].mean);
     assert!(means[1] < 0.5 * means[0], "{means:?}");
 }
