@@ -12,6 +12,8 @@ use hairlod::loaded::{LevelRestErrors, LoadedScene, MAX_MEDIAN_ROOT_DISTANCE, re
 use hairlod::pipeline::LodMode;
 use hairlod::{Level, Scene, SceneFile, Shot};
 
+mod common;
+
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
 }
@@ -50,21 +52,13 @@ fn example_scene(example: &str) -> SceneFile {
 fn built(example: &str) -> &'static (Shot, Scene, LoadedScene) {
     static BUILT: OnceLock<Vec<(Shot, Scene, LoadedScene)>> = OnceLock::new();
     let built = BUILT.get_or_init(|| {
-        std::thread::scope(|threads| {
-            let builds: Vec<_> = EXAMPLES
-                .iter()
-                .map(|&example| {
-                    threads.spawn(move || {
-                        let shot = example_scene(example).resolve().unwrap();
-                        let (scene, loaded) = shot
-                            .build_loaded_scene()
-                            .unwrap_or_else(|e| panic!("{example}: {e}"));
-                        let loaded = loaded.expect("a groom file was loaded");
-                        (shot, scene, loaded)
-                    })
-                })
-                .collect();
-            builds.into_iter().map(|b| b.join().unwrap()).collect()
+        common::side_by_side(&EXAMPLES, |&example| {
+            let shot = example_scene(example).resolve().unwrap();
+            let (scene, loaded) = shot
+                .build_loaded_scene()
+                .unwrap_or_else(|e| panic!("{example}: {e}"));
+            let loaded = loaded.expect("a groom file was loaded");
+            (shot, scene, loaded)
         })
     });
     let index = EXAMPLES.iter().position(|&e| e == example).unwrap();

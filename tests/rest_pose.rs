@@ -20,24 +20,16 @@ use hairlod::{Camera, HangSettings, Level, Scene, hang_groom};
 fn hung() -> &'static [(&'static str, Scene)] {
     static HUNG: OnceLock<Vec<(&'static str, Scene)>> = OnceLock::new();
     HUNG.get_or_init(|| {
-        std::thread::scope(|threads| {
-            let hangs: Vec<_> = PRESET_NAMES
-                .iter()
-                .map(|&preset| {
-                    threads.spawn(move || {
-                        let mut scene = Scene::preset(preset).unwrap();
-                        let report = hang_groom(&mut scene, &HangSettings::default()).unwrap();
-                        eprintln!(
-                            "{preset}: hung in {:.1} s, {:?} rounds, clamped springs {:?}",
-                            report.wall_seconds,
-                            report.rounds,
-                            report.sag_free.map(|_, r| r.clamped_joints)
-                        );
-                        (preset, scene)
-                    })
-                })
-                .collect();
-            hangs.into_iter().map(|hang| hang.join().unwrap()).collect()
+        common::side_by_side(&PRESET_NAMES, |&preset| {
+            let mut scene = Scene::preset(preset).unwrap();
+            let report = hang_groom(&mut scene, &HangSettings::default()).unwrap();
+            eprintln!(
+                "{preset}: hung in {:.1} s, {:?} rounds, clamped springs {:?}",
+                report.wall_seconds,
+                report.rounds,
+                report.sag_free.map(|_, r| r.clamped_joints)
+            );
+            (preset, scene)
         })
     })
 }

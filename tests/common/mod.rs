@@ -56,3 +56,24 @@ pub fn assert_hangs_like_hair(name: &str, scene: &Scene) {
         "{name}: the hair is {ratio}× the head's width"
     );
 }
+
+/// `build` of every item, each on a thread of its own, in the items' order: for builds that are
+/// mostly serial (a groom's hang uses little more than one core), several side by side.
+#[allow(dead_code)] // not every test crate that shares this module builds several scenes
+pub fn side_by_side<T: Sync, R: Send>(items: &[T], build: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let build = &build;
+    std::thread::scope(|threads| {
+        let handles: Vec<_> = items
+            .iter()
+            .map(|item| threads.spawn(move || build(item)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|handle| {
+                handle
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            })
+            .collect()
+    })
+}
