@@ -100,6 +100,26 @@ pub enum DynamicsError {
         /// Entries required.
         expected: usize,
     },
+    /// The position-based and XPBD integrators step chains of at most
+    /// [`MAX_CHAIN_NODES`](crate::dynamics::MAX_CHAIN_NODES) nodes (their scratch lives on the
+    /// stack); a model with a longer chain asks for one of the other integrators, or for fewer
+    /// nodes per chain (the fit's `max_nodes`).
+    #[error(
+        "chain {chain} has {nodes} nodes; the {} integrator steps chains of at most {limit} nodes \
+         (fit with max_nodes <= {limit}, or use the semi-implicit Euler or linear-implicit \
+         integrator)",
+        .integrator.name()
+    )]
+    ChainTooLong {
+        /// The first chain over the limit.
+        chain: usize,
+        /// Its node count.
+        nodes: usize,
+        /// The most nodes the integrator takes.
+        limit: usize,
+        /// The integrator asked for.
+        integrator: IntegratorKind,
+    },
     /// Sag-free initialisation found a shape the springs cannot hold under gravity.
     #[error(
         "sag-free initialisation: chain {chain} would need its spring at node {node} turned by \

@@ -14,8 +14,9 @@ crate::named_enum! {
         /// block solve per chain), then the same length projection as the semi-implicit integrator.
         LinearImplicit = "linear-implicit",
         /// XPBD with small steps (Macklin et al. 2016, 2019): prediction under external forces with
-        /// implicit drag, one Gauss-Seidel sweep of the angular springs as compliant constraints
-        /// (compliance `1/k`, so any stiffness is stable), then the exact length projection.
+        /// implicit drag, line-searched Newton steps of each chain's angular springs together as
+        /// compliant constraints (compliance `1/k`, so any stiffness is stable), then the exact
+        /// length projection and a dissipative damping sweep.
         Xpbd = "xpbd",
     }
 }
@@ -30,4 +31,11 @@ impl IntegratorKind {
     /// the default until 2026-11-28, stays available; the position-based integrator is the fast
     /// alternative where its damped look is acceptable.
     pub const DEFAULT: IntegratorKind = IntegratorKind::Xpbd;
+
+    /// Whether this integrator steps chains in runs of up to eight through a lane kernel (the
+    /// position-based and XPBD integrators; their chains have at most
+    /// [`MAX_CHAIN_NODES`](crate::dynamics::MAX_CHAIN_NODES) nodes) rather than one at a time.
+    pub fn steps_lanes(self) -> bool {
+        matches!(self, IntegratorKind::PositionBased | IntegratorKind::Xpbd)
+    }
 }

@@ -1,13 +1,14 @@
-//! One substep of one chain for each of the three force-based integrators, and the data they
-//! share with the fourth, XPBD (`xpbd.rs`).
+//! One substep of one chain for the two force-based integrators, semi-implicit Euler and
+//! linear-implicit (the position-based and XPBD steps are lane kernels: `position_based.rs`,
+//! `xpbd.rs`), and the lengths' stiffness the implicit steps share.
 //!
-//! All three evaluate forces at the start of the substep (time `t`, head pose at `t`), carry
+//! Both evaluate forces at the start of the substep (time `t`, head pose at `t`), carry
 //! attached roots to the head pose at `t + h` and end with every segment at its rest length.
 
 use glam::{Mat3, Vec3, Vec4};
 
 use crate::dynamics::banded::{cross_matrix, outer, solve_block_pentadiagonal};
-use crate::dynamics::constraints::{LENGTH_TOLERANCE, follow_the_leader, project_lengths};
+use crate::dynamics::constraints::{follow_the_leader, project_lengths};
 use crate::dynamics::forces::{Joint, add_external_forces, add_spring_forces, walk_joints};
 use crate::dynamics::params::{DynamicsParams, RootMode};
 use crate::frame::Frame;
@@ -63,7 +64,6 @@ pub(crate) struct Substep<'a> {
     pub gravity: Vec3,
     pub params: &'a DynamicsParams,
     pub roots: RootMode,
-    pub follow_the_leader_damping: f32,
 }
 
 impl Substep<'_> {
@@ -168,115 +168,6 @@ fn finish_with_projection(chain: &ChainConstants, arrays: &mut ChainArrays, step
     for i in step.first_free_node()..arrays.positions.len() {
         arrays.velocities[i] += (arrays.positions[i] - arrays.forces[i]) * inverse_h;
     }
-}
-
-/// Position-based dynamics with dynamic follow-the-leader (Müller, Kim, Chentanez 2012).
-///
-/// 1. Verlet prediction under the external forces: `v ← v + h·F/m`, `p = x + h·v`.
-/// 2. The angular springs as a shape target ([`shape_targets`]).
-/// 3. Follow-the-leader lengths, recording each node's correction `c_i`.
-/// 4. `v_i = (p_i − x_i)/h − s_damping·c_{i+1}/h`.
-///
-/// [`position_based_lanes`](crate::dynamics::position_based_lanes) is the same step for
-/// [`LANES`](crate::dynamics::lanes::LANES) chains at once; this one is its fallback.
-pub(crate) fn position_based(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) {
-    let h = step.h;
-    external_forces(chain, arrays, step, step.params.air_drag_rate);
-    let n = arrays.positions.len();
-    let first = step.first_free_node();
-    // Prediction.
-    for i in first..n {
-        arrays.velocities[i] += arrays.forces[i] * (h / chain.masses[i]);
-        arrays.positions[i] += arrays.velocities[i] * h;
-    }
-    let (root_end, root_velocity) = root_motion(chain, step);
-    if step.attached() {
-        arrays.positions[0] = root_end;
-    }
-    // `forces` then holds the shape targets' displacements.
-    shape_targets(chain, arrays, step);
-    // Follow-the-leader with the corrections kept.
-    arrays.corrections[0] = Vec3::ZERO;
-    for i in 1..n {
-        let segment = arrays.positions[i] - arrays.positions[i - 1];
-        let length = segment.length();
-        if length > 1e-12 && (length - chain.rest_lengths[i]).abs() > LENGTH_TOLERANCE * length {
-            let correction = segment * (chain.rest_lengths[i] / length - 1.0);
-            arrays.corrections[i] = correction;
-            arrays.positions[i] += correction;
-        } else {
-            arrays.corrections[i] = Vec3::ZERO;
-        }
-    }
-    // v = (p − x)/h − s·c_{i+1}/h, with p − x = h·v_pred + Δshape + c summed from its small
-    // parts rather than subtracted from rounded positions (which quantises v to ulp(x)/h).
-    let inverse_h = 1.0 / h;
-    let s = step.follow_the_leader_damping;
-    for i in first..n {
-        let next = if i + 1 < n {
-            arrays.corrections[i + 1]
-        } else {
-            Vec3::ZERO
-        };
-        arrays.velocities[i] +=
-            (arrays.forces[i] + arrays.corrections[i]) * inverse_h - next * (s * inverse_h);
-    }
-    if step.attached() {
-        arrays.velocities[0] = root_velocity;
-    }
-}
-
-/// The angular springs as one shape target per chain: the chain's bending energy `E` as an XPBD
-/// constraint `C = √(2E)` (Macklin et al. 2016) with compliance `1` (the stiffnesses are inside
-/// `E`): `Δx_j = w_j·F_j / (Σ w|F|²/(2E) + 1/h²)` with `F = −∇E` the exact spring forces and
-/// `w = 1/m` (0 at an attached root). For small `h` this is the springs' own displacement
-/// `h²·F/m`; for large `h` it is the Gauss-Newton step onto the rest shape, which can neither
-/// overshoot nor be unstable. `forces` is scratch.
-fn shape_targets(chain: &ChainConstants, arrays: &mut ChainArrays, step: &Substep) {
-    let first = step.first_free_node();
-    let spring_forces = &mut *arrays.forces;
-    spring_forces.fill(Vec3::ZERO);
-    let root_frame = step.head_end.transform_frame(&chain.root_frame);
-    let energy = add_spring_forces(
-        arrays.positions,
-        arrays.velocities,
-        &root_frame,
-        Vec3::ZERO,
-        chain.rest_local,
-        chain.stiffness,
-        0.0,
-        !step.attached(),
-        arrays.work,
-        spring_forces,
-    );
-    let weighted: f32 = spring_forces[first..]
-        .iter()
-        .zip(&chain.masses[first..])
-        .map(|(force, mass)| force.length_squared() / mass)
-        .sum();
-    let scale = shape_target_scale(energy, weighted, step.h);
-    for ((position, force), mass) in arrays.positions[first..]
-        .iter_mut()
-        .zip(&mut spring_forces[first..])
-        .zip(&chain.masses[first..])
-    {
-        *force *= scale / mass;
-        *position += *force;
-    }
-    if first == 1 {
-        spring_forces[0] = Vec3::ZERO;
-    }
-}
-
-/// The XPBD step size `1 / (Σ w|F|²/(2E) + 1/h²)` of the shape target for bending energy `E` [J],
-/// `Σ w|F|²` = `weighted` [N²/kg] and substep `h` [s]; 0 where the chain is at rest (`E` ≤ 1e-30
-/// J) or a value is not a number.
-#[inline(always)]
-pub(crate) fn shape_target_scale(energy: f32, weighted: f32, h: f32) -> f32 {
-    if energy.is_nan() || energy <= 1e-30 || weighted.is_nan() || weighted <= 0.0 {
-        return 0.0;
-    }
-    1.0 / (weighted / (2.0 * energy) + 1.0 / (h * h))
 }
 
 /// Adds one spring's Gauss-Newton stiffness `c·J_iᵀJ_i` (`J_i = ∂(d_i − r_i)/∂x`, the local

@@ -1,7 +1,7 @@
-//! What a lane-wise batch step is handed ([`BatchStep`], [`BatchState`]), the head pose laid
-//! on every lane's root ([`carried_roots`]), and the state gathered into lanes ([`gather`]) and
-//! checked and written back ([`check_and_scatter`]): shared by the position-based and XPBD lane
-//! steps.
+//! What a lane-wise run step is handed ([`BatchStep`], [`BatchState`], [`Attempt`]) and what it
+//! returns ([`LaneOutcome`]), the head pose laid on every lane's root ([`carried_roots`]), and the
+//! state gathered into lanes ([`gather`]) and checked and written back ([`check_and_scatter`]):
+//! shared by the position-based and XPBD lane steps.
 
 // Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
 #![allow(clippy::needless_range_loop)]
@@ -9,8 +9,9 @@
 use glam::{Mat3, Vec3};
 
 use crate::dynamics::environment::Environment;
+use crate::dynamics::error::FailedQuantity;
 use crate::dynamics::lane_model::LaneNode;
-use crate::dynamics::lane_model::{LaneModel, LaneRoots, rotate_lanes};
+use crate::dynamics::lane_model::{LaneRoots, rotate_lanes};
 use crate::dynamics::lane_springs::LaneFrame;
 use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
 use crate::dynamics::params::SimulationSettings;
@@ -18,7 +19,6 @@ use crate::transform::RigidTransform;
 
 /// What the batch step needs besides the state.
 pub(crate) struct BatchStep<'a> {
-    pub lanes: &'a LaneModel,
     pub settings: &'a SimulationSettings,
     pub environment: &'a Environment,
     /// Head poses at the substep boundaries (`substeps + 1`).
@@ -31,6 +31,63 @@ pub(crate) struct BatchStep<'a> {
     pub bending_damping: f32,
     /// Time at the start of the step [s].
     pub time: f64,
+}
+
+impl BatchStep<'_> {
+    /// The head pose [m] and its rotation matrix at substep boundary `k` of a step split into
+    /// `substeps << halvings` substeps: the precomputed ones without halvings, else sampled at
+    /// `time + k·h` as the precomputed ones are.
+    #[inline]
+    pub(crate) fn head_pose(&self, halvings: u32, k: usize) -> (RigidTransform, Mat3) {
+        if halvings == 0 {
+            return (self.head_poses[k], self.head_rotations[k]);
+        }
+        let (_, h) = substeps_halved(self.settings, halvings);
+        let pose = self
+            .environment
+            .head
+            .transform_at(self.time + k as f64 * h as f64);
+        (pose, Mat3::from_quat(pose.rotation))
+    }
+}
+
+/// One try at a run's step: the substep is halved `halvings` times (the step takes
+/// `substeps << halvings` substeps); XPBD's too-long check runs in the lanes of `adaptive`
+/// (1.0 / 0.0); the lanes of `write` (bit `lane`) that pass are written into the new state.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Attempt {
+    pub halvings: u32,
+    pub adaptive: Lanes,
+    pub write: u32,
+}
+
+impl Attempt {
+    /// The substeps of this try, `substeps << halvings`, and their length [s].
+    #[inline]
+    pub(crate) fn substeps(&self, settings: &SimulationSettings) -> (usize, f32) {
+        substeps_halved(settings, self.halvings)
+    }
+}
+
+/// The substeps of a step whose substep is halved `halvings` times, `substeps << halvings`, and
+/// their length [s].
+#[inline]
+pub(crate) fn substeps_halved(settings: &SimulationSettings, halvings: u32) -> (usize, f32) {
+    let substeps = (settings.substeps as usize) << halvings;
+    (substeps, settings.time_step / substeps as f32)
+}
+
+/// How a failing lane failed: the quantity and, where one node is to blame, that node.
+pub(crate) type LaneFailure = (FailedQuantity, Option<usize>);
+
+/// How each lane of a run's try ended (lanes past the run's last chain are `None`).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct LaneOutcome {
+    /// The lanes that failed the check (their new state is not written).
+    pub failures: [Option<LaneFailure>; LANES],
+    /// The lanes whose first Newton move of some substep was too long (XPBD's adaptive substeps),
+    /// with that move over its segment; their new state is not written either.
+    pub too_long: [Option<f32>; LANES],
 }
 
 /// The state of one batch: `first_chain..end_chain`, its node slices (chain-major, starting at
@@ -90,18 +147,21 @@ pub(crate) fn gather<const N: usize>(
 }
 
 /// Checks every chain's lane after a step (finite values, kinetic energy per unit mass
-/// `Σm·v²/(2·Σm)` at most `½·max_speed²` [m/s], 0 in every lane mask of `failures`) and writes
-/// the chains that pass into the new state (nodes `0..constants.len()`); returns the bit mask of
-/// the chains (bit `c − first_chain`) that failed and whose new state was not written.
+/// `½·Σm·v²/Σm` at most `½·max_speed²` [J/kg], 0 in the lane mask `unsolved`, not `too_long`),
+/// writes the chains that pass and are in `write` (bit `c − first_chain`) into the new state
+/// (nodes `0..constants.len()`), and returns how the lanes ended.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn check_and_scatter<const N: usize>(
     state: BatchState,
     constants: &[LaneNode],
     positions: &[LaneVec3; N],
     velocities: &[LaneVec3; N],
     max_speed: f32,
-    failures: &[Lanes],
-) -> u32 {
+    unsolved: Lanes,
+    too_long: [Option<f32>; LANES],
+    write: u32,
+) -> LaneOutcome {
     let n = constants.len();
     let chains = state.end_chain - state.first_chain;
     let mut kinetic = Lanes::splat(0.0);
@@ -117,14 +177,37 @@ pub(crate) fn check_and_scatter<const N: usize>(
         mass = mass + constants[i].mass;
     }
     let limit = max_speed * max_speed;
-    let mut failed = 0u32;
+    let mut outcome = LaneOutcome {
+        too_long,
+        ..LaneOutcome::default()
+    };
     for lane in 0..chains {
+        if too_long[lane].is_some() {
+            continue;
+        }
         let energy = kinetic.0[lane] / mass.0[lane].max(f32::MIN_POSITIVE);
-        let ok = finite.0[lane] == 0.0
-            && failures.iter().all(|mask| mask.0[lane] == 0.0)
-            && energy <= limit;
-        if !ok {
-            failed |= 1 << lane;
+        let failure = if unsolved.0[lane] != 0.0 {
+            Some((FailedQuantity::NonFiniteVelocity, None))
+        } else if finite.0[lane] != 0.0 {
+            let node_of =
+                |values: &[LaneVec3; N]| (0..n).find(|&i| !values[i].get(lane).is_finite());
+            Some(match node_of(positions) {
+                Some(node) => (FailedQuantity::NonFinitePosition, Some(node)),
+                None => (FailedQuantity::NonFiniteVelocity, node_of(velocities)),
+            })
+        } else if energy.is_nan() || energy > limit {
+            Some((
+                FailedQuantity::EnergyBlowUp {
+                    energy_per_mass: 0.5 * energy,
+                    limit: 0.5 * limit,
+                },
+                None,
+            ))
+        } else {
+            None
+        };
+        outcome.failures[lane] = failure;
+        if failure.is_some() || write & (1 << lane) == 0 {
             continue;
         }
         let node0 = lane * n;
@@ -133,5 +216,5 @@ pub(crate) fn check_and_scatter<const N: usize>(
             state.new_velocities[node0 + i] = velocities[i].get(lane);
         }
     }
-    failed
+    outcome
 }

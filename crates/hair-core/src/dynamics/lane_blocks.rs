@@ -364,8 +364,8 @@ mod tests {
     #[test]
     fn lane_solve_matches_the_one_chain_solve() {
         // Random SPD block-pentadiagonal systems (M + Σ JᵀJ over 3-node couplings), a different
-        // one per lane, unknowns 1..n (node 0 fixed): each lane must agree with the one-chain
-        // solve to f32 rounding of a well-conditioned system (relative 1e-4).
+        // one per lane, unknowns 1..n (node 0 fixed): each lane must agree with the banded solve
+        // of the linear-implicit step (`solve_block_pentadiagonal`) to f32 rounding of a well-conditioned system (relative 1e-4).
         let n = 11;
         let mut rng = SplitMix64::new(7);
         let mut system = LaneSystem::<16>::new();

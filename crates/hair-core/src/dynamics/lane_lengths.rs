@@ -1,6 +1,7 @@
-//! The segment lengths of [`LANES`](crate::dynamics::lanes::LANES) chains at once, node 0 fixed:
-//! the mass-weighted fast projection and follow-the-leader of the XPBD lane step, each lane as
-//! the one-chain [`constraints`](crate::dynamics::constraints) would.
+//! The segment lengths of [`LANES`](crate::dynamics::lanes::LANES) chains at once: the
+//! mass-weighted fast projection and follow-the-leader of the XPBD step, each lane as the
+//! one-chain [`constraints`](crate::dynamics::constraints) (which the other integrators use)
+//! would.
 
 // Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
 #![allow(clippy::needless_range_loop)]
@@ -8,21 +9,26 @@
 use crate::dynamics::constraints::LENGTH_TOLERANCE;
 use crate::dynamics::lane_model::LaneNode;
 use crate::dynamics::lanes::{LaneVec3, Lanes};
-use crate::dynamics::xpbd::LENGTH_ITERATIONS;
+
+/// Newton iterations of the length projection (it converges quadratically and stops when within
+/// [`LENGTH_TOLERANCE`](crate::dynamics::constraints::LENGTH_TOLERANCE)).
+pub(crate) const LENGTH_ITERATIONS: usize = 3;
 
 /// The mass-weighted fast projection onto the segment lengths
-/// ([`project_lengths`](crate::dynamics::constraints::project_lengths)) of every lane, node 0
-/// fixed: [`LENGTH_ITERATIONS`] Newton steps of the tridiagonal system, a lane stopping once all
+/// ([`project_lengths`](crate::dynamics::constraints::project_lengths)) of every lane, node 0 of
+/// inverse mass `root_weight` [1/kg] (0: fixed): [`LENGTH_ITERATIONS`] Newton steps of the tridiagonal system, a lane stopping once all
 /// its segments are within [`LENGTH_TOLERANCE`] (or a pivot vanishes).
 #[inline(always)]
 pub(crate) fn project_lengths<const N: usize>(
     positions: &mut [LaneVec3; N],
     constants: &[LaneNode],
+    root_weight: Lanes,
     n: usize,
 ) {
     let zero = Lanes::splat(0.0);
     let one = Lanes::splat(1.0);
     let tiny = Lanes::splat(1e-12);
+    let free_root = root_weight.greater(zero).any();
     let tolerance = Lanes::splat(LENGTH_TOLERANCE);
     let mut directions = [LaneVec3::default(); N];
     let mut violations = [zero; N];
@@ -30,7 +36,7 @@ pub(crate) fn project_lengths<const N: usize>(
     let mut todo = one;
     let weight = |i: usize| {
         if i == 0 {
-            zero
+            root_weight
         } else {
             constants[i].inverse_mass
         }
@@ -69,7 +75,7 @@ pub(crate) fn project_lengths<const N: usize>(
                 zero
             };
             let pivot = diagonal - previous_off * previous_c;
-            // A NaN or vanishing pivot stops the lane (as the one-chain projection returns).
+            // A NaN or vanishing pivot stops the lane (as the one-chain projection returns there).
             todo = todo * pivot.abs().greater(Lanes::splat(1e-30));
             let inverse = one / pivot;
             let c = off * inverse;
@@ -86,6 +92,10 @@ pub(crate) fn project_lengths<const N: usize>(
             let lambda = violations[i] - sweep[i] * next_lambda;
             violations[i] = lambda;
             next_lambda = lambda;
+        }
+        if free_root {
+            let moved = positions[0] + directions[1].scale(violations[1] * root_weight);
+            positions[0] = LaneVec3::select(todo, moved, positions[0]);
         }
         for i in 1..n {
             let mut delta = directions[i].scale(violations[i]);

@@ -8,10 +8,17 @@
 //! `α/sin α` share one division ([`Lanes::bend_angle_and_factor`]), the forces of a joint are
 //! carried in registers until their node is complete, and the transported normal is not
 //! re-orthonormalised (the transport is a rotation: it keeps the normal's f32 rounding error at the
-//! size it had, ~1e-7 per node, instead of letting it grow). The results agree with the one-chain
-//! function to f32 rounding.
+//! size it had, ~1e-7 per node, instead of letting it grow). Where a segment is turned back on its
+//! parent (`1 + t·d < 1e-4`) the two reflections are undefined, and that lane's frame is carried by
+//! [`Frame::transported_to`] instead (the quaternion code chooses an axis), as
+//! [`transport`](crate::dynamics::transport) does for one chain.
 
-use crate::dynamics::lanes::{LaneVec3, Lanes};
+use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
+use crate::frame::Frame;
+
+/// `1 + t·d` below which a segment counts as turned back on its parent: the frame is then
+/// transported by the quaternion code (as [`transport`](crate::dynamics::transport)).
+const REVERSED: f32 = 1e-4;
 
 /// Frames of every lane.
 #[derive(Clone, Copy)]
@@ -33,8 +40,8 @@ pub(crate) struct LaneSegment {
     pub direction: LaneVec3,
     /// The rest direction `r` in the parent frame.
     pub rest: LaneVec3,
-    /// `1 + t·d`: below 1e-4 the segment is turned back on its parent and the transport
-    /// undefined.
+    /// `1 + t·d`: below [`REVERSED`] the segment is turned back on its parent and the fast
+    /// transport undefined.
     pub one_plus_cos: Lanes,
     /// `1/max(1 + t·d, 1e-6)`, shared by the twist binormal and the transport.
     pub inverse_one_plus_cos: Lanes,
@@ -75,26 +82,43 @@ impl LaneFrame {
 
     /// This frame transported to `segment`'s direction: the rotation taking `t` to `d`, as two
     /// reflections (see `forces::transport`; the term `2(t·n)·d` is 0 for an orthonormal frame),
-    /// the normal not re-orthonormalised.
+    /// the normal not re-orthonormalised; in the lanes where the segment is turned back on its
+    /// parent, by [`Frame::transported_to`].
     #[inline(always)]
     pub(crate) fn transported(&self, segment: &LaneSegment) -> LaneFrame {
         let direction = segment.direction;
         let sum = self.tangent + direction;
         let normal = self.normal - sum.scale(sum.dot(self.normal) * segment.inverse_one_plus_cos);
-        LaneFrame {
+        let mut frame = LaneFrame {
             binormal: direction.cross(normal),
             normal,
             tangent: direction,
+        };
+        let reversed = Lanes::splat(REVERSED).greater(segment.one_plus_cos);
+        if reversed.any() {
+            self.transport_reversed(&mut frame, reversed, direction);
         }
+        frame
     }
-}
 
-impl LaneSegment {
-    /// Marks in `degenerate` the lanes where the segment is turned back on its parent (the
-    /// transport undefined: the lane is redone by the one-chain step).
-    #[inline(always)]
-    pub(crate) fn mark_degenerate(&self, degenerate: &mut Lanes) {
-        *degenerate = *degenerate + Lanes::splat(1e-4).greater(self.one_plus_cos);
+    /// The lanes of `reversed` (1.0 / 0.0) of `frame`: this frame carried to `direction` by the
+    /// quaternion code, one lane at a time (a segment turned back on its parent is rare).
+    #[cold]
+    #[inline(never)]
+    fn transport_reversed(&self, frame: &mut LaneFrame, reversed: Lanes, direction: LaneVec3) {
+        for lane in 0..LANES {
+            if reversed.0[lane] > 0.0 {
+                let parent = Frame {
+                    normal: self.normal.get(lane),
+                    binormal: self.binormal.get(lane),
+                    tangent: self.tangent.get(lane),
+                };
+                let carried = parent.transported_to(direction.get(lane));
+                frame.normal.set(lane, carried.normal);
+                frame.binormal.set(lane, carried.binormal);
+                frame.tangent.set(lane, carried.tangent);
+            }
+        }
     }
 }
 
@@ -154,14 +178,12 @@ pub(crate) fn joint<const N: usize>(
     k: Lanes,
     frame: &mut LaneFrame,
     energy: &mut Lanes,
-    degenerate: &mut Lanes,
 ) -> JointTerms {
     let seg = frame.segment(positions[i - 1], positions[i], rest_local);
     let (direction, rest, inverse_length) = (seg.direction, seg.rest, seg.inverse_length);
     let tangent = frame.tangent;
-    // 1 + t·d, shared by the twist binormal and the transport; below 1e-4 the segment is turned
-    // back on its parent and the transport undefined (the lane is redone by the one-chain step).
-    seg.mark_degenerate(degenerate);
+    // 1/(1 + t·d), shared by the twist binormal and the transport (clamped at 1e-6, as
+    // `add_spring_forces` clamps it, where the segment is turned back on its parent).
     let half_binormal = tangent.cross(direction).scale(seg.inverse_one_plus_cos);
     // Bend angle α = ∠(d, r) and α/sin α.
     let axis = direction.cross(rest);
@@ -191,8 +213,7 @@ pub(crate) fn joint<const N: usize>(
 /// Writes the spring forces [N] of nodes `0..n` (`2 ≤ n ≤ N`) into `s.forces` and returns the
 /// bending energies [J] and `Σ w_i·|F_i|²` over nodes `first..n` [N²/kg]. `rest_local(i)`,
 /// `stiffness(i)` and `weight(i)` are node `i`'s rest direction (local), spring stiffness
-/// [N·m/rad] and inverse mass [1/kg]; lanes whose transport is undefined are marked in
-/// `degenerate`.
+/// [N·m/rad] and inverse mass [1/kg].
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn spring_forces<const N: usize>(
@@ -204,7 +225,6 @@ pub(crate) fn spring_forces<const N: usize>(
     stiffness: impl Fn(usize) -> Lanes,
     weight: impl Fn(usize) -> Lanes,
     root_frame: LaneFrame,
-    degenerate: &mut Lanes,
 ) -> (Lanes, Lanes) {
     let n = n.clamp(2, N);
     let mut energy = Lanes::splat(0.0);
@@ -219,7 +239,6 @@ pub(crate) fn spring_forces<const N: usize>(
         stiffness(1),
         &mut frame,
         &mut energy,
-        degenerate,
     );
     let mut before = root_joint.qg;
     let mut last = -root_joint.qg;
@@ -234,7 +253,6 @@ pub(crate) fn spring_forces<const N: usize>(
             stiffness(i),
             &mut frame,
             &mut energy,
-            degenerate,
         );
         // Sᵀ·g = d_{i−1} × (r × g)/l_{i−1} = −m with m = d_{i−1} × torque/l_{i−1} (r × g =
         // −torque).

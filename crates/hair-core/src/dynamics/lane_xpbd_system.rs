@@ -1,8 +1,9 @@
-//! The Newton system of the lane-parallel XPBD step ([`xpbd_lanes`](crate::dynamics::xpbd_lanes)):
+//! The Newton system of the XPBD step ([`xpbd`](crate::dynamics::xpbd)):
 //! one walk of [`LANES`](crate::dynamics::lanes::LANES) chains that computes the bending forces
 //! (exact gradient, twist included), the stiff length springs, the inertia, the objective `Φ`
-//! and the Gauss-Newton blocks of `M/h² + H` together, for attached roots (node 0 fixed, unknowns
-//! `1..n`); and the walk that evaluates `Φ` alone for the line search.
+//! and the Gauss-Newton blocks of `M/h² + H` together, over the unknowns `first..n` (node 0 fixed
+//! where the roots are attached; with free roots node 0 is an unknown and the root bend has no
+//! spring); and the walk that evaluates `Φ` alone for the line search.
 //!
 //! The blocks of one bend (`J = [−S, S − Q, Q]` on nodes `i − 2, i − 1, i`, see
 //! [`forces`](crate::dynamics::forces)) are written from their structure instead of 3×3
@@ -25,6 +26,8 @@ use crate::dynamics::lanes::{LaneVec3, Lanes};
 pub(crate) struct LaneChainTerms<'a, const N: usize> {
     /// Node constants (`n` of them).
     pub constants: &'a [LaneNode],
+    /// The first unknown: 1 with attached roots, 0 with free ones.
+    pub first: usize,
     /// The lengths' stiffness κ [N/m] per segment (index of its end node).
     pub kappa: &'a [Lanes; N],
     /// `m·(1 + h·γ)/h²` per node [kg/s²]: the inertia of the objective.
@@ -35,10 +38,31 @@ pub(crate) struct LaneChainTerms<'a, const N: usize> {
     pub root_frame: LaneFrame,
 }
 
-/// Assembles `(M/h² + H)·Δx = −∇Φ` at `x_n + δ` (`here`, with the root at its end position) into
-/// `system` (unknowns `1..n`; the bending scratch in `springs`) and returns the objective
-/// `Φ = E_bend + E_length + ½·Σ m(1+hγ)/h²·|δ − δ̃|²` [J] per lane. Lanes whose transport is
-/// undefined are marked in `degenerate`.
+impl<const N: usize> LaneChainTerms<'_, N> {
+    /// The stiffness of bend `i` [N·m/rad] in the step: none at the root bend of a free root.
+    #[inline(always)]
+    fn stiffness(&self, i: usize) -> Lanes {
+        if i == 1 && self.first == 0 {
+            Lanes::splat(0.0)
+        } else {
+            self.constants[i].stiffness
+        }
+    }
+
+    /// The inertia term of node `i`: `½·m(1+hγ)/h²·|δ − δ̃|²` [J] and `δ̃ − δ` [m].
+    #[inline(always)]
+    fn lag(&self, delta: &[LaneVec3; N], i: usize) -> (Lanes, LaneVec3) {
+        let lag = self.predicted[i] - delta[i];
+        (
+            Lanes::splat(0.5) * self.inertia[i] * lag.length_squared(),
+            lag,
+        )
+    }
+}
+
+/// Assembles `(M/h² + H)·Δx = −∇Φ` at `x_n + δ` (`here`, with an attached root at its end
+/// position) into `system` (unknowns `first..n`; the bending scratch in `springs`) and returns
+/// the objective `Φ = E_bend + E_length + ½·Σ m(1+hγ)/h²·|δ − δ̃|²` [J] per lane.
 #[inline(always)]
 pub(crate) fn assemble<const N: usize>(
     terms: &LaneChainTerms<'_, N>,
@@ -47,7 +71,6 @@ pub(crate) fn assemble<const N: usize>(
     here: &[LaneVec3; N],
     delta: &[LaneVec3; N],
     n: usize,
-    degenerate: &mut Lanes,
 ) -> Lanes {
     let zero = Lanes::splat(0.0);
     let half = Lanes::splat(0.5);
@@ -56,28 +79,29 @@ pub(crate) fn assemble<const N: usize>(
     let mut inertia_energy = zero;
     let mut frame = terms.root_frame;
     system.rhs[0] = LaneVec3::default();
+    // Node i ≥ 2 + first reaches node i − 2 among the unknowns.
+    let reach = 2 + terms.first;
+    if terms.first == 0 {
+        let (energy, lag) = terms.lag(delta, 0);
+        inertia_energy = energy;
+        system.rhs[0] = lag.scale(terms.inertia[0]);
+        system.diagonal[0] = SymLanes::scaled_identity(terms.inertia[0]);
+        system.first[0] = MatLanes::default();
+        system.second[0] = MatLanes::default();
+    }
     for i in 1..n {
         let c = &terms.constants[i];
-        let k = c.stiffness;
+        let k = terms.stiffness(i);
         // Inertia: rhs = m·(1+hγ)/h²·(δ̃ − δ), its diagonal block and energy.
         let inertia = terms.inertia[i];
-        let lag = terms.predicted[i] - delta[i];
-        inertia_energy = inertia_energy + half * inertia * lag.length_squared();
+        let (energy, lag) = terms.lag(delta, i);
+        inertia_energy = inertia_energy + energy;
         system.rhs[i] = lag.scale(inertia);
         system.diagonal[i] = SymLanes::scaled_identity(inertia);
         system.first[i] = MatLanes::default();
         system.second[i] = MatLanes::default();
         let parent = (i >= 2).then(|| (springs.directions[i - 1], springs.inverse_lengths[i - 1]));
-        let joint_terms = joint(
-            springs,
-            here,
-            c.rest_local,
-            i,
-            k,
-            &mut frame,
-            &mut bend,
-            degenerate,
-        );
+        let joint_terms = joint(springs, here, c.rest_local, i, k, &mut frame, &mut bend);
         springs.rests[i] = joint_terms.rest;
         let d = springs.directions[i];
         let il = springs.inverse_lengths[i];
@@ -96,11 +120,17 @@ pub(crate) fn assemble<const N: usize>(
         let q2 = k * il * il;
         system.diagonal[i].add_identity_and_outer(q2, kappa - q2, d);
         let Some((dp, ilp)) = parent else {
+            if terms.first == 0 {
+                // A free root: the length spring's κ·d·dᵀ on (0, 0) and −κ·d·dᵀ on (1, 0) (the
+                // root bend has no spring).
+                system.diagonal[0].add_identity_and_outer(zero, kappa, d);
+                system.first[1].add_identity_and_outer(zero, -kappa, d);
+            }
             continue;
         };
         let m = dp.cross(joint_terms.torque).scale(ilp);
         system.rhs[i - 1] += m;
-        if i >= 3 {
+        if i >= reach {
             system.rhs[i - 2] -= m;
         }
         let r = joint_terms.rest;
@@ -127,7 +157,7 @@ pub(crate) fn assemble<const N: usize>(
         let e = cr * kq + q2;
         system.first[i].add_outer(kq, a, r);
         system.first[i].add_identity_and_outer(-e, e - kappa, d);
-        if i >= 3 {
+        if i >= reach {
             // (i−2, i−2) += k·SᵀS.
             system.diagonal[i - 2].add_identity_and_outer(kp2 * cr * cr, kp2, r);
             system.diagonal[i - 2].add_symmetric_outer(-(kp2 * cr), r, dp);
@@ -179,10 +209,12 @@ pub(crate) fn objective<const N: usize>(
     let mut stretch_energy = zero;
     let mut inertia_energy = zero;
     let mut frame = terms.root_frame;
+    if terms.first == 0 {
+        inertia_energy = terms.lag(delta, 0).0;
+    }
     for i in 1..n {
         let c = &terms.constants[i];
-        let lag = terms.predicted[i] - delta[i];
-        inertia_energy = inertia_energy + half * terms.inertia[i] * lag.length_squared();
+        inertia_energy = inertia_energy + terms.lag(delta, i).0;
         // As `lane_springs::joint`.
         let segment = frame.segment(here[i - 1], here[i], c.rest_local);
         let (direction, rest) = (segment.direction, segment.rest);
@@ -190,7 +222,7 @@ pub(crate) fn objective<const N: usize>(
         let sin = axis.length_squared().sqrt();
         let cos = direction.dot(rest);
         let (angle, _) = Lanes::bend_angle_and_factor(sin, cos);
-        bend = bend + half * c.stiffness * angle * angle;
+        bend = bend + half * terms.stiffness(i) * angle * angle;
         frame = frame.transported(&segment);
         let stretch = segment.length - c.rest_length;
         stretch_energy = stretch_energy + half * terms.kappa[i] * stretch * stretch;

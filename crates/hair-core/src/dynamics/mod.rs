@@ -42,16 +42,17 @@ mod integrator_kind;
 mod integrators;
 mod lane_batch;
 mod lane_blocks;
+mod lane_damping;
 mod lane_lengths;
 mod lane_model;
 mod lane_springs;
-mod lane_twisted_cg;
+mod lane_step;
 mod lane_xpbd_system;
 mod lanes;
 mod model;
 mod parallel;
 mod params;
-mod position_based_lanes;
+mod position_based;
 mod sag_free;
 mod simulation;
 pub mod stability;
@@ -60,18 +61,17 @@ mod strands;
 mod twisted_cg;
 mod wind;
 mod xpbd;
-mod xpbd_lanes;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_lanes;
 #[cfg(test)]
 mod tests_sag_free;
 #[cfg(test)]
 mod tests_stability;
 #[cfg(test)]
 mod tests_xpbd;
-#[cfg(test)]
-mod tests_xpbd_lanes;
 
 pub use banded::solve_block_pentadiagonal;
 pub use constraints::{follow_the_leader, remove_stretch_velocity};
@@ -81,6 +81,7 @@ pub use forces::{
     rest_local_direction, transport, walk_joints,
 };
 pub use head_motion::{HeadKeyframe, HeadMotion, NECK_PIVOT, angular_velocity};
+pub use lane_model::MAX_CHAIN_NODES;
 pub use model::DynamicsModel;
 pub use params::{
     DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind, RootMode,

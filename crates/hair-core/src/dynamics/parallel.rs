@@ -114,22 +114,6 @@ impl<'a> ChainSlices<'a> {
         )
     }
 
-    /// Calls `work(chain, arrays)` for every chain of these slices (which end at `end_chain`), one
-    /// after the other on this thread.
-    pub(crate) fn for_each_chain_here(
-        self,
-        offsets: &[u32],
-        end_chain: usize,
-        mut work: impl FnMut(usize, ChainWork<'_>),
-    ) {
-        let mut rest = self;
-        for chain in rest.first_chain..end_chain {
-            let (one, tail) = rest.split_at_chain(offsets, chain + 1);
-            work(chain, one.into_work());
-            rest = tail;
-        }
-    }
-
     /// The arrays of a single chain.
     fn into_work(self) -> ChainWork<'a> {
         let implicit = if self.diagonal.is_empty() {

@@ -1,24 +1,21 @@
 //! The simulation: a model, settings and solver scratch that advance a [`SimulationState`] one
 //! step at a time, in parallel over chains, detecting failures.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use glam::{Mat3, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::error::{ChainFailure, DynamicsError, FailedQuantity};
 use crate::dynamics::head_motion::angular_velocity;
 use crate::dynamics::integrators::{
-    ChainArrays, ChainConstants, Substep, linear_implicit, position_based, semi_implicit_euler,
+    ChainArrays, ChainConstants, Substep, linear_implicit, semi_implicit_euler,
 };
-use crate::dynamics::lane_batch::{BatchState, BatchStep};
+use crate::dynamics::lane_batch::BatchStep;
 use crate::dynamics::lane_model::LaneModel;
+use crate::dynamics::lane_step::{RunState, step_run_with_retries};
 use crate::dynamics::model::DynamicsModel;
 use crate::dynamics::parallel::{ChainSlices, ChainWork, for_each_batch, for_each_chain};
 use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings};
-use crate::dynamics::position_based_lanes::step_batch;
 use crate::dynamics::state::SimulationState;
-use crate::dynamics::xpbd::{MAX_ADAPTIVE_HALVINGS, XpbdOutcome, xpbd};
 use crate::transform::RigidTransform;
 
 pub use super::environment::Environment;
@@ -61,15 +58,9 @@ pub struct Simulation {
     model: DynamicsModel,
     settings: SimulationSettings,
     scratch: Scratch,
-    /// The model's constants in lane form for the lane-parallel position-based step (laid out
-    /// when the settings first ask for that integrator).
+    /// The model's constants in lane form for the position-based and XPBD steps (laid out when
+    /// the settings first ask for one of them).
     lane_model: Option<LaneModel>,
-    /// Whether the position-based integrator may step chains lane-parallel (tests compare it
-    /// with the one-chain step).
-    lanes: bool,
-    /// Chains that the lane-parallel steps left to the one-chain step, over the simulation's
-    /// life (tests check that the lanes do the work).
-    lane_redos: AtomicUsize,
 }
 
 impl Simulation {
@@ -80,23 +71,9 @@ impl Simulation {
             settings,
             scratch: Scratch::default(),
             lane_model: None,
-            lanes: true,
-            lane_redos: AtomicUsize::new(0),
         };
         simulation.set_settings(settings)?;
         Ok(simulation)
-    }
-
-    /// Turns the lane-parallel position-based step off (every chain takes the one-chain step).
-    #[cfg(test)]
-    pub(crate) fn set_lanes(&mut self, lanes: bool) {
-        self.lanes = lanes;
-    }
-
-    /// How many chains the lane-parallel steps have left to the one-chain step so far.
-    #[cfg(test)]
-    pub(crate) fn lane_redos(&self) -> usize {
-        self.lane_redos.load(Ordering::Relaxed)
     }
 
     /// The model.
@@ -109,17 +86,16 @@ impl Simulation {
         &self.settings
     }
 
-    /// Changes the settings (integrator, step, …), reallocating scratch as needed.
+    /// Changes the settings (integrator, step, …), reallocating scratch as needed. Fails,
+    /// changing nothing, on a setting out of range, or for the position-based and XPBD
+    /// integrators on a chain of more than [`MAX_CHAIN_NODES`](crate::dynamics::MAX_CHAIN_NODES)
+    /// nodes ([`DynamicsError::ChainTooLong`]).
     pub fn set_settings(&mut self, settings: SimulationSettings) -> Result<(), DynamicsError> {
         settings.validate()?;
-        self.settings = settings;
-        if matches!(
-            settings.integrator,
-            IntegratorKind::PositionBased | IntegratorKind::Xpbd
-        ) && self.lane_model.is_none()
-        {
-            self.lane_model = Some(LaneModel::new(&self.model));
+        if settings.integrator.steps_lanes() && self.lane_model.is_none() {
+            self.lane_model = Some(LaneModel::new(&self.model, settings.integrator)?);
         }
+        self.settings = settings;
         let nodes = self.model.node_count();
         let chains = self.model.chain_count();
         let scratch = &mut self.scratch;
@@ -129,10 +105,7 @@ impl Simulation {
         scratch.work.resize(nodes, Vec4::ZERO);
         scratch.backup_positions.resize(nodes, Vec3::ZERO);
         scratch.backup_velocities.resize(nodes, Vec3::ZERO);
-        let implicit_nodes = if matches!(
-            settings.integrator,
-            IntegratorKind::LinearImplicit | IntegratorKind::Xpbd
-        ) {
+        let implicit_nodes = if settings.integrator == IntegratorKind::LinearImplicit {
             nodes
         } else {
             0
@@ -186,7 +159,9 @@ impl Simulation {
     /// After each chain's step its positions and velocities are checked: a non-finite value or a
     /// kinetic energy per unit mass above `½·max_speed²` is a failure. With
     /// [`FailurePolicy::HalveSubstep`] the chain's step is redone from its start with half the
-    /// substep, up to the limit. The XPBD integrator also redoes a chain's step with half the
+    /// substep, up to the limit. The position-based and XPBD integrators step chains in runs
+    /// of up to eight through their lane kernels, the others one chain at a time. The XPBD
+    /// integrator also redoes a chain's step with half the
     /// substep where a first Newton step moves a node by more than two segment lengths (the
     /// substep is too long for that chain's motion), up to five times and while halving shortens
     /// that move, whatever the policy. A failure that remains restores the whole state to its value
@@ -260,18 +235,15 @@ impl Simulation {
             *chain_slices.failure = failure;
             *chain_slices.halvings = halvings;
         };
-        let lane_model = self.lane_model.as_ref().filter(|_| {
-            matches!(
-                settings.integrator,
-                IntegratorKind::PositionBased | IntegratorKind::Xpbd
-            ) && self.lanes
-        });
+        let lane_model = self
+            .lane_model
+            .as_ref()
+            .filter(|_| settings.integrator.steps_lanes());
         let double_buffered = lane_model.is_some();
         if let Some(lane_model) = lane_model {
             // The state stays as it was; the new one is written to the backup arrays and swapped
             // in below when every chain succeeded (so nothing is copied to back it up).
             let batch_step = BatchStep {
-                lanes: lane_model,
                 settings: &settings,
                 environment,
                 head_poses,
@@ -280,49 +252,30 @@ impl Simulation {
                 bending_damping: model.params.bending_damping,
                 time,
             };
+            let offsets = &model.rest.offsets;
             for_each_batch(
-                &model.rest.offsets,
+                offsets,
                 slices,
-                &|first_chain, end_chain, batch: ChainSlices<'_>| {
-                    let failed = step_batch(
-                        &batch_step,
-                        BatchState {
-                            first_chain,
-                            end_chain,
-                            positions: &*batch.positions,
-                            velocities: &*batch.velocities,
-                            collision: batch.collision,
-                            new_positions: &mut *batch.backup_positions,
-                            new_velocities: &mut *batch.backup_velocities,
-                        },
-                    );
-                    // Chains the lanes did not step (or that failed there) take the one-chain
-                    // integrator with the failure policy, from the start state copied into the
-                    // new arrays, with the start state as their backup; the others succeeded.
-                    let redo = failed.unwrap_or(u32::MAX);
-                    if redo == 0 {
-                        batch.failures.fill(None);
-                        batch.halvings.fill(0);
-                        return;
+                &|first_chain, _end_chain, batch: ChainSlices<'_>| {
+                    let base = offsets[first_chain] as usize;
+                    for run in lane_model.runs(first_chain) {
+                        let nodes = offsets[run.first_chain] as usize - base
+                            ..offsets[run.end_chain] as usize - base;
+                        let chains = run.first_chain - first_chain..run.end_chain - first_chain;
+                        step_run_with_retries(
+                            &batch_step,
+                            &run,
+                            RunState {
+                                positions: &batch.positions[nodes.clone()],
+                                velocities: &batch.velocities[nodes.clone()],
+                                collision: &batch.collision[nodes.clone()],
+                                new_positions: &mut batch.backup_positions[nodes.clone()],
+                                new_velocities: &mut batch.backup_velocities[nodes],
+                                failures: &mut batch.failures[chains.clone()],
+                                halvings: &mut batch.halvings[chains],
+                            },
+                        );
                     }
-                    batch.for_each_chain_here(&model.rest.offsets, end_chain, |chain, mut work| {
-                        if redo & (1 << (chain - first_chain)) != 0 {
-                            self.lane_redos.fetch_add(1, Ordering::Relaxed);
-                            std::mem::swap(&mut work.arrays.positions, &mut work.backup_positions);
-                            std::mem::swap(
-                                &mut work.arrays.velocities,
-                                &mut work.backup_velocities,
-                            );
-                            work.arrays.positions.copy_from_slice(work.backup_positions);
-                            work.arrays
-                                .velocities
-                                .copy_from_slice(work.backup_velocities);
-                            step_one_chain(chain, work);
-                        } else {
-                            *work.failure = None;
-                            *work.halvings = 0;
-                        }
-                    });
                 },
             );
         } else {
@@ -367,13 +320,9 @@ impl Simulation {
     }
 }
 
-/// XPBD's adaptive substeps halve again only while a halving shrinks the first Newton move
-/// below this fraction of the last one (a step too long for the motion moves about half as far
-/// at half the substep; a fold moves as far at any substep).
-const SHRINKING_MOVE: f32 = 0.75;
-
-/// Steps one chain through all its substeps, halving on failure where allowed; returns the
-/// failure that remains (the chain restored to its start) and the halvings used.
+/// Steps one chain through all its substeps with the semi-implicit Euler or linear-implicit
+/// integrator, halving on failure where allowed; returns the failure that remains (the chain
+/// restored to its start) and the halvings used.
 #[allow(clippy::too_many_arguments)]
 fn step_chain(
     chain: usize,
@@ -398,18 +347,10 @@ fn step_chain(
         FailurePolicy::HalveSubstep { max_halvings } => max_halvings,
     };
     let mut halvings = 0;
-    // XPBD's adaptive substeps: whether they may still halve, and the largest first Newton
-    // move (over its segment) of the last try that was too long.
-    let mut adapting = true;
-    let mut last_move = f32::INFINITY;
     loop {
         let substeps = (settings.substeps as usize) << halvings;
         let h = settings.time_step / substeps as f32;
         let mut solved = true;
-        // XPBD doubles a chain's substeps where one was too long for its motion (see
-        // `TOO_LONG_MOVE`), whatever the failure policy; the last try is taken as it is.
-        let adaptive = adapting && halvings < MAX_ADAPTIVE_HALVINGS;
-        let mut too_long = None;
         for k in 0..substeps {
             let pose = |index: usize| {
                 if halvings == 0 {
@@ -430,45 +371,24 @@ fn step_chain(
                 gravity: environment.gravity,
                 params,
                 roots: settings.roots,
-                follow_the_leader_damping: settings.follow_the_leader_damping,
             };
             match settings.integrator {
-                IntegratorKind::SemiImplicitEuler => {
-                    semi_implicit_euler(constants, &mut arrays, &step)
-                }
-                IntegratorKind::PositionBased => position_based(constants, &mut arrays, &step),
                 IntegratorKind::LinearImplicit => {
                     if !linear_implicit(constants, &mut arrays, &step) {
                         solved = false;
                         break;
                     }
                 }
-                IntegratorKind::Xpbd => match xpbd(constants, &mut arrays, &step, adaptive) {
-                    XpbdOutcome::Done => {}
-                    XpbdOutcome::Failed => {
-                        solved = false;
-                        break;
-                    }
-                    XpbdOutcome::TooLong(moved) => {
-                        too_long = Some(moved);
-                        break;
-                    }
-                },
+                IntegratorKind::SemiImplicitEuler => {
+                    semi_implicit_euler(constants, &mut arrays, &step)
+                }
+                // Never here: the lane kernels step these (`lane_step`); a failure, not a
+                // wrong step, if it ever were.
+                IntegratorKind::PositionBased | IntegratorKind::Xpbd => {
+                    solved = false;
+                    break;
+                }
             }
-        }
-        if let Some(moved) = too_long {
-            arrays.positions.copy_from_slice(backup_positions);
-            arrays.velocities.copy_from_slice(backup_velocities);
-            if moved < SHRINKING_MOVE * last_move {
-                halvings += 1;
-                last_move = moved;
-            } else {
-                // Halving did not shorten the move: the step is not too long, the chain is in
-                // a configuration where the Newton step is large at any substep (a fold).
-                // Redo this count without adapting.
-                adapting = false;
-            }
-            continue;
         }
         let quantity = if solved {
             check_chain(

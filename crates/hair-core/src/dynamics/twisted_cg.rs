@@ -1,5 +1,5 @@
-//! The XPBD Newton step with the twist's long-range coupling, by conjugate gradients on one
-//! chain: the step's system `(M/h² + H)·Δx = b` with each bend's Jacobian given the turn of its
+//! The XPBD Newton step with the twist's long-range coupling, by conjugate gradients, for
+//! [`LANES`](crate::dynamics::lanes::LANES) chains at once: the step's system `(M/h² + H)·Δx = b` with each bend's Jacobian given the turn of its
 //! parent frame about its tangent, solved by a few iterations of conjugate gradients
 //! preconditioned by the block-pentadiagonal band that the step already factorises.
 //!
@@ -23,282 +23,222 @@
 //! twisted quadratic model over a growing Krylov space, so it is a descent direction of the
 //! objective (`bᵀΔx > ½·Δxᵀ·Ã·Δx > 0`) for the line search.
 
-use std::cell::RefCell;
+//!
+//! **Lanes.** Conjugate gradients run lane-wise, preconditioned by the band that [`LaneSystem`]
+//! factorised, over the unknowns `first..n` (node 0 follows the head where the roots are
+//! attached). A lane whose iteration breaks down (a non-positive curvature `pᵀ·Ã·p` or a
+//! non-finite value) keeps the iterate it had.
 
-use glam::{Mat3, Vec3};
+// Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
+#![allow(clippy::needless_range_loop)]
 
-use crate::dynamics::banded::substitute_block_pentadiagonal;
-use crate::dynamics::forces::{Joint, walk_joints};
-use crate::frame::Frame;
+use crate::dynamics::lane_blocks::LaneSystem;
+use crate::dynamics::lane_model::LaneNode;
+use crate::dynamics::lane_springs::SpringScratch;
+use crate::dynamics::lanes::{LaneVec3, Lanes};
 
 /// Conjugate-gradient iterations of the twisted step (each one product with the twisted matrix
 /// and one substitution with the band's factorisation).
 pub(crate) const CG_ITERATIONS: usize = 4;
 
-/// What the twisted product needs of one joint (node `i ≥ 1`).
-#[derive(Debug, Clone, Copy, Default)]
-struct TwistJoint {
-    /// Unit direction `d_i` and length `l_i` [m] of segment `i`.
-    direction: Vec3,
-    length: f32,
-    /// Unit direction and length [m] of the parent segment (length 0 for node 1).
-    parent_direction: Vec3,
-    parent_length: f32,
-    /// The rest direction `r_i` in the transported parent frame.
-    rest: Vec3,
-    /// `c_i = −t_{i−1} × r_i`: the residual's change per radian of the parent frame's twist.
-    turn: Vec3,
-    /// `hb_i`, half the curvature binormal of the transport into segment `i`.
-    half_binormal: Vec3,
-    /// The spring's stiffness `k_i` [N·m/rad] where its bend is in the step's matrix, else 0.
-    stiffness: f32,
+/// The conjugate-gradient vectors of a batch (on the stack, `N` ≥ the node count).
+pub(crate) struct LaneTwistScratch<const N: usize> {
+    residual: [LaneVec3; N],
+    preconditioned: [LaneVec3; N],
+    direction: [LaneVec3; N],
+    /// `A·p` for the band `A`, by recurrence.
+    band_product: [LaneVec3; N],
+    product: [LaneVec3; N],
+    weights: [Lanes; N],
 }
 
-impl TwistJoint {
-    /// `J_i·v` (`Q·(v_i − v_{i−1}) + S·(v_{i−1} − v_{i−2})`, as in [`Joint`]).
-    #[inline]
-    fn jacobian(&self, v: &[Vec3], i: usize) -> Vec3 {
+impl<const N: usize> LaneTwistScratch<N> {
+    pub(crate) fn new() -> Self {
+        let v = [LaneVec3::default(); N];
+        LaneTwistScratch {
+            residual: v,
+            preconditioned: v,
+            direction: v,
+            band_product: v,
+            product: v,
+            weights: [Lanes::splat(0.0); N],
+        }
+    }
+}
+
+/// Sum over nodes `first..n` of `a_i·b_i`, per lane.
+#[inline(always)]
+fn dot<const N: usize>(a: &[LaneVec3; N], b: &[LaneVec3; N], first: usize, n: usize) -> Lanes {
+    let mut sum = Lanes::splat(0.0);
+    for i in first..n {
+        sum = sum + a[i].dot(b[i]);
+    }
+    sum
+}
+
+/// The twisted step of every lane into `step` (which holds the band's step `A⁻¹·b` on entry),
+/// from the factorised `system`, the right-hand side `rhs` (`b`, kept before the solve), the
+/// joints of the assembly at the linearisation point (`springs`: directions, inverse lengths,
+/// half binormals, rest directions) and the stiffnesses in `constants`, over the unknowns
+/// `first..n` (with free roots the root bend has no spring in the assembly, and none here
+/// either: only bends `i ≥ 2` carry the twist's stiffness terms). Returns 1.0 in the lanes
+/// whose step is finite, 0.0 in the others (their `step` is not usable).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn twisted_step<const N: usize>(
+    system: &LaneSystem<N>,
+    springs: &SpringScratch<N>,
+    constants: &[LaneNode],
+    rhs: &[LaneVec3; N],
+    scratch: &mut LaneTwistScratch<N>,
+    first: usize,
+    n: usize,
+    step: &mut [LaneVec3; N],
+) -> Lanes {
+    let zero = Lanes::splat(0.0);
+    let one = Lanes::splat(1.0);
+    // x = 0, r = b, z = A⁻¹·r (the band's step, given), p = z, A·p = r.
+    for i in first..n {
+        scratch.residual[i] = rhs[i];
+        scratch.preconditioned[i] = step[i];
+        scratch.direction[i] = step[i];
+        scratch.band_product[i] = rhs[i];
+        step[i] = LaneVec3::default();
+    }
+    let mut rz = dot(&scratch.residual, &scratch.preconditioned, first, n);
+    let mut going = one;
+    for iteration in 0..CG_ITERATIONS {
+        twist_product(springs, constants, scratch, first, n);
+        for i in first..n {
+            scratch.product[i] += scratch.band_product[i];
+        }
+        let pq = dot(&scratch.direction, &scratch.product, first, n);
+        // Positive curvature and a finite r·z, else the lane keeps its iterate.
+        let finite_rz = Lanes::zip(rz, rz, |a, _| f32::from(a.is_finite()));
+        going = going * pq.greater(zero) * finite_rz;
+        if !going.any() {
+            break;
+        }
+        let alpha = Lanes::select(going, rz / pq, zero);
+        for i in first..n {
+            step[i] = LaneVec3::select(going, step[i] + scratch.direction[i].scale(alpha), step[i]);
+            scratch.residual[i] = LaneVec3::select(
+                going,
+                scratch.residual[i] - scratch.product[i].scale(alpha),
+                scratch.residual[i],
+            );
+        }
+        if iteration + 1 == CG_ITERATIONS {
+            break;
+        }
+        scratch.preconditioned = scratch.residual;
+        system.substitute(&mut scratch.preconditioned, first, n);
+        let rz_next = dot(&scratch.residual, &scratch.preconditioned, first, n);
+        let beta = rz_next / rz;
+        rz = Lanes::select(going, rz_next, rz);
+        // p = z + β·p, and A·p = r + β·A·p (A·z = r).
+        for i in first..n {
+            scratch.direction[i] = scratch.preconditioned[i] + scratch.direction[i].scale(beta);
+            scratch.band_product[i] = scratch.residual[i] + scratch.band_product[i].scale(beta);
+        }
+    }
+    let mut size = zero;
+    for i in first..n {
+        size = size + step[i].length_squared();
+    }
+    Lanes::zip(size, size, |a, _| f32::from(a.is_finite()))
+}
+
+/// `product = (Ã − A)·direction` lane-wise: the twist's terms of the twisted matrix (module
+/// docs), by a forward prefix sum of the parent frames' twists `τ` and a reverse suffix sum of
+/// the bends' weights.
+#[inline(always)]
+fn twist_product<const N: usize>(
+    springs: &SpringScratch<N>,
+    constants: &[LaneNode],
+    scratch: &mut LaneTwistScratch<N>,
+    first: usize,
+    n: usize,
+) {
+    let zero = Lanes::splat(0.0);
+    let v = &scratch.direction;
+    let product = &mut scratch.product;
+    for i in 0..n {
+        product[i] = LaneVec3::default();
+    }
+    let mut twist = zero; // τ_{i−1}
+    for i in 1..n {
+        let d = springs.directions[i];
+        let il = springs.inverse_lengths[i];
+        let half_binormal = springs.half_binormals[i];
         let u = v[i] - v[i - 1];
-        let mut rate = (u - self.direction * self.direction.dot(u)) / self.length;
-        if self.parent_length > 0.0 {
+        let mut turn_rate = half_binormal.dot(u) * il;
+        scratch.weights[i] = zero;
+        if i >= 2 {
+            let dp = springs.directions[i - 1];
+            let ilp = springs.inverse_lengths[i - 1];
+            let r = springs.rests[i];
+            let k = constants[i].stiffness;
+            let turn = -dp.cross(r);
             let w = v[i - 1] - v[i - 2];
-            rate += self.rest.cross(self.parent_direction.cross(w)) / self.parent_length;
+            let rate = (u - d.scale(d.dot(u))).scale(il) + r.cross(dp.cross(w)).scale(ilp);
+            // J_iᵀ·(k·c_i·τ_{i−1}).
+            let g = turn.scale(k * twist);
+            let qg = (g - d.scale(d.dot(g))).scale(il);
+            let stg = dp.cross(r.cross(g)).scale(ilp);
+            product[i] += qg;
+            product[i - 1] -= qg;
+            product[i - 1] += stg;
+            product[i - 2] -= stg;
+            scratch.weights[i] = k * (turn.dot(rate) + turn.length_squared() * twist);
+            turn_rate = turn_rate + half_binormal.dot(w) * ilp;
         }
-        rate
+        // τ_i = τ_{i−1} − hb_i·(δd_{i−1} + δd_i).
+        twist = twist - turn_rate;
     }
-
-    /// Adds `J_iᵀ·g` to `out` (nodes `i`, `i − 1`, `i − 2`).
-    #[inline]
-    fn add_jacobian_transpose(&self, g: Vec3, out: &mut [Vec3], i: usize) {
-        let qg = (g - self.direction * self.direction.dot(g)) / self.length;
-        out[i] += qg;
-        out[i - 1] -= qg;
-        if self.parent_length > 0.0 {
-            let stg = self.parent_direction.cross(self.rest.cross(g)) / self.parent_length;
-            out[i - 1] += stg;
-            out[i - 2] -= stg;
+    // Σ_i w_i·∇τ_{i−1} = −Σ_m A_m·∇(hb_m·(δd_{m−1} + δd_m)), A_m = Σ_{i > m} w_i.
+    let mut suffix = zero;
+    for m in (1..n).rev() {
+        let pull = springs.half_binormals[m].scale(suffix);
+        let here = pull.scale(springs.inverse_lengths[m]);
+        product[m] -= here;
+        product[m - 1] += here;
+        if m >= 2 {
+            let before = pull.scale(springs.inverse_lengths[m - 1]);
+            product[m - 1] -= before;
+            product[m - 2] += before;
         }
+        suffix = suffix + scratch.weights[m];
     }
-}
-
-/// Per-thread scratch of the twisted step: the right-hand side, the joints and the conjugate-gradient vectors (grown to the longest chain,
-/// then reused: nothing is allocated per step).
-#[derive(Debug, Default)]
-pub(crate) struct TwistScratch {
-    rhs: Vec<Vec3>,
-    joints: Vec<TwistJoint>,
-    residual: Vec<Vec3>,
-    preconditioned: Vec<Vec3>,
-    direction: Vec<Vec3>,
-    /// `A·p` for the band `A` and the search direction `p` (by recurrence, no product).
-    band_product: Vec<Vec3>,
-    product: Vec<Vec3>,
-    twist_weights: Vec<f32>,
-}
-
-thread_local! {
-    static SCRATCH: RefCell<TwistScratch> = RefCell::new(TwistScratch::default());
-}
-
-/// Runs `work` with this thread's twisted-step scratch.
-pub(crate) fn with_scratch<R>(work: impl FnOnce(&mut TwistScratch) -> R) -> R {
-    SCRATCH.with(|scratch| work(&mut scratch.borrow_mut()))
-}
-
-impl TwistScratch {
-    /// Keeps a copy of the step's right-hand side `b` (before the band's solve replaces it).
-    pub(crate) fn keep_rhs(&mut self, rhs: &[Vec3]) {
-        let n = rhs.len();
-        for buffer in [
-            &mut self.rhs,
-            &mut self.residual,
-            &mut self.preconditioned,
-            &mut self.direction,
-            &mut self.band_product,
-            &mut self.product,
-        ] {
-            buffer.resize(n, Vec3::ZERO);
-        }
-        self.joints.resize(n, TwistJoint::default());
-        self.twist_weights.resize(n, 0.0);
-        self.rhs.copy_from_slice(rhs);
-    }
-
-    /// The twisted step (module docs) into `step`, from the band's factorisation (`diagonal`,
-    /// `first`, `second` as [`factorise_block_pentadiagonal`](crate::dynamics::banded::factorise_block_pentadiagonal)
-    /// left them) and the right-hand side [`TwistScratch::keep_rhs`] kept, at `positions` (the step's
-    /// linearisation point). `step` holds the band's step on entry. `active(i)` says whether
-    /// bend `i` is in the matrix with stiffness `stiffness[i]`; with `attached`, node 0 is not an
-    /// unknown. Returns `false` where a value is not finite (`step` then holds the band's step
-    /// again).
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn twisted_step(
-        &mut self,
-        factorised: (&[Mat3], &[Mat3], &[Mat3]),
-        positions: &[Vec3],
-        root_frame: &Frame,
-        rest_local: &[Vec3],
-        stiffness: &[f32],
-        attached: bool,
-        step: &mut [Vec3],
-    ) -> bool {
-        self.linearise(positions, root_frame, rest_local, stiffness, attached);
-        let (d, f, s) = factorised;
-        // x = 0, r = b, z = A⁻¹·r (the band's step, given), p = z, A·p = r.
-        self.residual.copy_from_slice(&self.rhs);
-        self.preconditioned.copy_from_slice(step);
-        self.direction.copy_from_slice(step);
-        self.band_product.copy_from_slice(&self.rhs);
-        step.fill(Vec3::ZERO);
-        let dot = |a: &[Vec3], b: &[Vec3]| a.iter().zip(b).map(|(a, b)| a.dot(*b)).sum::<f32>();
-        let mut rz = dot(&self.residual, &self.preconditioned);
-        for iteration in 0..CG_ITERATIONS {
-            // q = Ã·p = A·p + (Ã − A)·p.
-            self.twist_product(attached);
-            for (q, band) in self.product.iter_mut().zip(&self.band_product) {
-                *q += *band;
-            }
-            let pq = dot(&self.direction, &self.product);
-            if !(pq > 0.0 && rz.is_finite()) {
-                break;
-            }
-            let alpha = rz / pq;
-            for ((x, r), (p, q)) in step
-                .iter_mut()
-                .zip(self.residual.iter_mut())
-                .zip(self.direction.iter().zip(&self.product))
-            {
-                *x += *p * alpha;
-                *r -= *q * alpha;
-            }
-            if iteration + 1 == CG_ITERATIONS {
-                break;
-            }
-            self.preconditioned.copy_from_slice(&self.residual);
-            substitute_block_pentadiagonal(d, f, s, &mut self.preconditioned);
-            let rz_next = dot(&self.residual, &self.preconditioned);
-            let beta = rz_next / rz;
-            rz = rz_next;
-            // p = z + β·p, and A·p = r + β·A·p (A·z = r): the band's product by recurrence.
-            for ((p, band), (z, r)) in self
-                .direction
-                .iter_mut()
-                .zip(self.band_product.iter_mut())
-                .zip(self.preconditioned.iter().zip(&self.residual))
-            {
-                *p = *z + *p * beta;
-                *band = *r + *band * beta;
-            }
-        }
-        if step.iter().all(|v| v.is_finite()) {
-            return true;
-        }
-        step.copy_from_slice(&self.rhs);
-        substitute_block_pentadiagonal(d, f, s, step);
-        false
-    }
-
-    /// The joints of the twisted matrix at `positions` (the step's linearisation point).
-    fn linearise(
-        &mut self,
-        positions: &[Vec3],
-        root_frame: &Frame,
-        rest_local: &[Vec3],
-        stiffness: &[f32],
-        attached: bool,
-    ) {
-        let root_tangent = root_frame.tangent;
-        walk_joints(positions, root_frame, rest_local, |joint: &Joint| {
-            let i = joint.node;
-            let (parent_direction, parent_length) = joint.parent.unwrap_or((root_tangent, 0.0));
-            let k = stiffness[i];
-            self.joints[i] = TwistJoint {
-                direction: joint.direction,
-                length: joint.length,
-                parent_direction,
-                parent_length,
-                rest: joint.rest_direction,
-                turn: -parent_direction.cross(joint.rest_direction),
-                half_binormal: parent_direction.cross(joint.direction)
-                    / (1.0 + parent_direction.dot(joint.direction)).max(1e-6),
-                stiffness: if k > 0.0 && (i >= 2 || attached) {
-                    k
-                } else {
-                    0.0
-                },
-            };
-        });
-    }
-
-    /// `product = (Ã − A)·direction`: the twist's terms of the twisted matrix (module docs).
-    fn twist_product(&mut self, attached: bool) {
-        let n = self.direction.len();
-        let v = &self.direction;
-        self.product.fill(Vec3::ZERO);
-        // Forward: the parent frame's twist τ_{i−1}(v) at each bend; the bends' twist terms
-        // k·(J_iᵀ·c_i·τ + g_i·(c_i·J_i·v + |c_i|²·τ)), the g_i part as weights w_i.
-        let mut twist = 0.0f32; // τ_{i−1}
-        for i in 1..n {
-            let joint = self.joints[i];
-            self.twist_weights[i] = 0.0;
-            if joint.stiffness > 0.0 && i >= 2 {
-                let k = joint.stiffness;
-                let rate = joint.jacobian(v, i);
-                joint.add_jacobian_transpose(joint.turn * (k * twist), &mut self.product, i);
-                self.twist_weights[i] =
-                    k * (joint.turn.dot(rate) + joint.turn.length_squared() * twist);
-            }
-            // τ_i = τ_{i−1} − hb_i·(δd_{i−1} + δd_i).
-            let mut turn = joint.half_binormal.dot(v[i] - v[i - 1]) / joint.length;
-            if joint.parent_length > 0.0 {
-                turn += joint.half_binormal.dot(v[i - 1] - v[i - 2]) / joint.parent_length;
-            }
-            twist -= turn;
-        }
-        // Reverse: Σ_i w_i·∇τ_{i−1} = −Σ_m A_m·∇(hb_m·(δd_{m−1} + δd_m)), A_m = Σ_{i > m} w_i.
-        let mut suffix = 0.0f32;
-        for m in (1..n).rev() {
-            let joint = self.joints[m];
-            let pull = joint.half_binormal * suffix;
-            let here = pull / joint.length;
-            self.product[m] -= here;
-            self.product[m - 1] += here;
-            if joint.parent_length > 0.0 {
-                let before = pull / joint.parent_length;
-                self.product[m - 1] -= before;
-                self.product[m - 2] += before;
-            }
-            suffix += self.twist_weights[m];
-        }
-        if attached {
-            self.product[0] = Vec3::ZERO;
-        }
+    if first == 1 {
+        product[0] = LaneVec3::default();
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use glam::Vec3;
+
     use super::*;
-    use crate::dynamics::forces::rest_local_direction;
+    use crate::dynamics::forces::{rest_local_direction, walk_joints};
+    use crate::dynamics::lane_springs::{LaneFrame, joint};
+    use crate::dynamics::lanes::LANES;
     use crate::dynamics::tests::coiled_positions;
+    use crate::frame::Frame;
     use crate::random::SplitMix64;
 
-    /// A curly chain of 16 nodes (1 cm segments bent by 0.8 rad, the bend plane turning by
-    /// 0.9 rad a node) whose rest directions differ from its shape (every spring loaded), with
-    /// stiffnesses that differ per node.
-    fn curly_chain() -> (Vec<Vec3>, Frame, Vec<Vec3>, Vec<f32>) {
-        let n = 16;
-        let frame = Frame::from_tangent_and_normal(Vec3::new(0.3, -1.0, 0.1), Vec3::Z).unwrap();
-        let lengths: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { 0.01 }).collect();
-        let positions = coiled_positions(&frame, &lengths, 0.8);
-        let rest_local = (0..n)
-            .map(|i| rest_local_direction(0.5, 0.4 * i as f32))
-            .collect();
-        let stiffness = (0..n).map(|i| 1.0 + 0.1 * i as f32).collect();
-        (positions, frame, rest_local, stiffness)
+    const N: usize = 16;
+
+    fn splat(v: Vec3) -> LaneVec3 {
+        LaneVec3 {
+            x: Lanes::splat(v.x),
+            y: Lanes::splat(v.y),
+            z: Lanes::splat(v.z),
+        }
     }
 
-    /// The bends' residuals `d_i − r_i` (nodes `1..n`) at `positions`.
+    /// The bends' residuals `d_i − r_i` (nodes `1..n`) at `positions`, walked by the one-chain
+    /// `walk_joints` (the springs' own definition of the transported frames).
     fn residuals(positions: &[Vec3], frame: &Frame, rest_local: &[Vec3]) -> Vec<Vec3> {
         let mut out = vec![Vec3::ZERO; positions.len()];
         walk_joints(positions, frame, rest_local, |joint| {
@@ -337,44 +277,99 @@ mod tests {
         //   wᵀ·(Ã − A)·v = Σ_i k_i·((J̃_i·w)·(J̃_i·v) − (J_i·w)·(J_i·v)),
         // with J̃_i·v taken by central differences of the walked residuals (ε = 1e-4 m along
         // unit node moves: truncation ~ε²/l² = 1e-4 and f32 rounding ~6e-8/ε = 6e-4 of a rate
-        // |v|/l = 100, so 1e-3 of the sum's scale) and J_i·v by the band's Jacobian. The twist
-        // terms are a large part of the sum on this chain, so a wrong sign or index fails.
-        let (positions, frame, rest_local, stiffness) = curly_chain();
-        let n = positions.len();
+        // |v|/l = 100, so 1e-3 of the sum's scale) and J_i·v by the band's Jacobian
+        // `Q·(v_i − v_{i−1}) + S·(v_{i−1} − v_{i−2})`. The chain: 16 nodes, 1 cm segments bent
+        // by 0.8 rad, the bend plane turning by 0.9 rad a node, rest directions unlike its shape
+        // and stiffnesses that differ per node, so the twist is a large part of the sum and a
+        // wrong sign or index fails. Each lane gets its own random v, w (node 0 fixed).
+        let n = N;
+        let frame = Frame::from_tangent_and_normal(Vec3::new(0.3, -1.0, 0.1), Vec3::Z).unwrap();
+        let lengths: Vec<f32> = (0..n).map(|i| if i == 0 { 0.0 } else { 0.01 }).collect();
+        let positions = coiled_positions(&frame, &lengths, 0.8);
+        let rest_local: Vec<Vec3> = (0..n)
+            .map(|i| rest_local_direction(0.5, 0.4 * i as f32))
+            .collect();
+        let stiffness: Vec<f32> = (0..n).map(|i| 1.0 + 0.1 * i as f32).collect();
+        let mut constants = vec![LaneNode::default(); n];
+        let mut lane_positions = [LaneVec3::default(); N];
+        for i in 0..n {
+            constants[i].stiffness = Lanes::splat(stiffness[i]);
+            constants[i].rest_local = splat(rest_local[i]);
+            lane_positions[i] = splat(positions[i]);
+        }
+        // The joints at the linearisation point, as the assembly stores them.
+        let mut springs = SpringScratch::<N>::new();
+        let mut lane_frame = LaneFrame {
+            normal: splat(frame.normal),
+            binormal: splat(frame.binormal),
+            tangent: splat(frame.tangent),
+        };
+        let mut energy = Lanes::splat(0.0);
+        for i in 1..n {
+            let terms = joint(
+                &mut springs,
+                &lane_positions,
+                constants[i].rest_local,
+                i,
+                constants[i].stiffness,
+                &mut lane_frame,
+                &mut energy,
+            );
+            springs.rests[i] = terms.rest;
+        }
         let mut rng = SplitMix64::new(11);
-        let mut random_moves = || -> Vec<Vec3> {
-            (0..n)
-                .map(|i| {
-                    if i == 0 {
-                        Vec3::ZERO
-                    } else {
-                        Vec3::new(
-                            rng.range(-1.0, 1.0),
-                            rng.range(-1.0, 1.0),
-                            rng.range(-1.0, 1.0),
-                        )
-                    }
+        let mut random_moves = || -> Vec<Vec<Vec3>> {
+            (0..LANES)
+                .map(|_| {
+                    (0..n)
+                        .map(|i| {
+                            if i == 0 {
+                                Vec3::ZERO
+                            } else {
+                                Vec3::new(
+                                    rng.range(-1.0, 1.0),
+                                    rng.range(-1.0, 1.0),
+                                    rng.range(-1.0, 1.0),
+                                )
+                            }
+                        })
+                        .collect()
                 })
                 .collect()
         };
-        let mut scratch = TwistScratch::default();
-        scratch.keep_rhs(&vec![Vec3::ZERO; n]);
-        scratch.linearise(&positions, &frame, &rest_local, &stiffness, true);
-        for _ in 0..4 {
-            let (v, w) = (random_moves(), random_moves());
-            scratch.direction.copy_from_slice(&v);
-            scratch.twist_product(true);
-            let computed: f32 = scratch.product.iter().zip(&w).map(|(p, w)| p.dot(*w)).sum();
+        let (v, w) = (random_moves(), random_moves());
+        let mut scratch = LaneTwistScratch::<N>::new();
+        for lane in 0..LANES {
+            for i in 0..n {
+                scratch.direction[i].set(lane, v[lane][i]);
+            }
+        }
+        twist_product(&springs, &constants, &mut scratch, 1, n);
+        for lane in 0..LANES {
+            let (v, w) = (&v[lane], &w[lane]);
+            let computed: f32 = (0..n).map(|i| scratch.product[i].get(lane).dot(w[i])).sum();
+            let band_rate = |u: &[Vec3], i: usize| {
+                let d = springs.directions[i].get(lane);
+                let il = springs.inverse_lengths[i].0[lane];
+                let step = u[i] - u[i - 1];
+                let mut rate = (step - d * d.dot(step)) * il;
+                if i >= 2 {
+                    let dp = springs.directions[i - 1].get(lane);
+                    let ilp = springs.inverse_lengths[i - 1].0[lane];
+                    let r = springs.rests[i].get(lane);
+                    rate += r.cross(dp.cross(u[i - 1] - u[i - 2])) * ilp;
+                }
+                rate
+            };
             let (rates_v, rates_w) = (
-                twisted_rates(&positions, &frame, &rest_local, &v),
-                twisted_rates(&positions, &frame, &rest_local, &w),
+                twisted_rates(&positions, &frame, &rest_local, v),
+                twisted_rates(&positions, &frame, &rest_local, w),
             );
             let mut expected = 0.0f32;
             let mut scale = 0.0f32;
             let mut twist_part = 0.0f32;
             for i in 1..n {
-                let joint = scratch.joints[i];
-                let band = joint.jacobian(&v, i).dot(joint.jacobian(&w, i));
+                let band = band_rate(v, i).dot(band_rate(w, i));
                 let twisted = rates_v[i].dot(rates_w[i]);
                 expected += stiffness[i] * (twisted - band);
                 twist_part += stiffness[i] * (twisted - band).abs();
@@ -382,11 +377,11 @@ mod tests {
             }
             assert!(
                 twist_part > 0.05 * scale,
-                "the twist is {twist_part} of {scale}: the test chain does not exercise it"
+                "lane {lane}: the twist is {twist_part} of {scale}: the chain does not exercise it"
             );
             assert!(
                 (computed - expected).abs() < 1e-3 * scale,
-                "wᵀ(Ã − A)v = {computed}, by differences {expected} (scale {scale})"
+                "lane {lane}: wᵀ(Ã − A)v = {computed}, by differences {expected} (scale {scale})"
             );
         }
     }

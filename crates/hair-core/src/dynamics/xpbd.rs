@@ -1,6 +1,8 @@
 //! The XPBD integrator with small steps (Macklin, Müller, Chentanez 2016, "XPBD: position-based
 //! simulation of compliant constrained dynamics"; Macklin et al. 2019, "Small steps in physics
-//! simulation"), with each chain's bending constraints solved together: one substep is a
+//! simulation"), for [`LANES`](crate::dynamics::lanes::LANES) chains at once (the only
+//! implementation: a chain alone is a run of one), with each chain's bending constraints solved
+//! together: one substep is a
 //! prediction under the external forces, one Gauss-Newton step of all the chain's compliant
 //! bending constraints (a block-pentadiagonal solve along the chain) with a line search, an exact
 //! projection onto the segment lengths, and a dissipative damping sweep on the velocities.
@@ -67,21 +69,35 @@
 //! of a short substep, `h²·F/m`, is far below the rounding of a position (`~1e-8 m` at 0.3 m from
 //! the origin) and would be lost in it, but not in a displacement.
 
-use glam::{Mat3, Vec3};
+//!
+//! **Lanes.** Every number is widened to one lane per chain, in struct-of-arrays form on the
+//! stack (nothing is allocated). Lanes follow their own control flow under masks: each lane takes
+//! its own Newton steps, line search halvings and length iterations, and a lane that is done keeps
+//! its values while the others go on, so a chain's result does not depend on the other chains of
+//! its run. A lane whose system cannot be factorised even with the Levenberg-Marquardt terms, or
+//! whose state fails the check, is reported, and the caller redoes that chain with half the
+//! substep where its failure policy allows. With attached roots node 0 follows the head; with
+//! free roots it is an unknown like the others and the root bend has no spring. Per step rather
+//! than per substep: the external accelerations (gravity, drag towards the wind sampled at the
+//! step's start, `F_col/m`), the lengths' stiffness κ and the inertia `m·(1 + h·γ)/h²`.
 
-use crate::dynamics::banded::solve_block_pentadiagonal;
-use crate::dynamics::constraints::{follow_the_leader, project_lengths};
-use crate::dynamics::forces::{add_spring_forces, bend_angle_and_factor, walk_joints};
-use crate::dynamics::integrators::{
-    ChainArrays, ChainConstants, Substep, add_length_springs, add_spring_blocks, length_stiffness,
-    root_motion,
+// Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
+#![allow(clippy::needless_range_loop)]
+
+use crate::dynamics::head_motion::angular_velocity;
+use crate::dynamics::integrators::LENGTH_STIFFNESS;
+use crate::dynamics::lane_batch::{
+    Attempt, BatchState, BatchStep, LaneOutcome, carried_roots, check_and_scatter, gather,
 };
-use crate::dynamics::twisted_cg::with_scratch;
-use crate::frame::Frame;
-
-/// Newton iterations of the length projection (it converges quadratically and stops when within
-/// [`LENGTH_TOLERANCE`](crate::dynamics::constraints::LENGTH_TOLERANCE)).
-pub(crate) const LENGTH_ITERATIONS: usize = 3;
+use crate::dynamics::lane_blocks::LaneSystem;
+use crate::dynamics::lane_damping::damp_bending;
+use crate::dynamics::lane_lengths::{follow_the_leader, project_lengths};
+use crate::dynamics::lane_model::{LaneNode, LaneRoots};
+use crate::dynamics::lane_springs::SpringScratch;
+use crate::dynamics::lane_xpbd_system::{LaneChainTerms, assemble, objective};
+use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
+use crate::dynamics::params::RootMode;
+use crate::dynamics::twisted_cg::{self, LaneTwistScratch};
 
 /// Newton steps per substep at most: a second one only where the first moved a node by more than
 /// [`NEWTON_TOLERANCE`] of its segment (large rotations in one substep, where the objective is far
@@ -101,7 +117,7 @@ pub(crate) const NEWTON_TOLERANCE: f32 = 0.03;
 /// [`NEWTON_ITERATIONS`] leave a stiff curly chain looser than its springs, or walk it into
 /// another twisted minimum of the bending energy (measured on the stability map: motion ratios of
 /// 2.2–11.7 at 10× and 100× the curly stiffness at 1/30–1/15 s). Such a chain's step is redone
-/// with twice the substeps ([`XpbdOutcome::TooLong`], up to [`MAX_ADAPTIVE_HALVINGS`] times).
+/// with twice the substeps (up to [`MAX_ADAPTIVE_HALVINGS`] times).
 ///
 /// The value comes from the map (`docs/dynamics.md`, *Adaptive substeps*): at 1.5 the curly test
 /// chain in a 3 rad/s shake at 1/60 s already doubles its substeps (one substep per frame cost
@@ -112,19 +128,6 @@ pub(crate) const TOO_LONG_MOVE: f32 = 2.0;
 /// ([`TOO_LONG_MOVE`]); the last try is taken as it is.
 pub const MAX_ADAPTIVE_HALVINGS: u32 = 5;
 
-/// How one XPBD substep of a chain ended.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum XpbdOutcome {
-    /// The substep is done.
-    Done,
-    /// A value was not finite or the system could not be factorised (the state is not usable).
-    Failed,
-    /// The first Newton step moved a node by more than [`TOO_LONG_MOVE`] segments (by the
-    /// number held, the largest move over its segment): the state is mid-step (not usable) and
-    /// the chain's step should be redone with shorter substeps.
-    TooLong(f32),
-}
-
 /// The relative rounding of `Φ` (sums of a few dozen f32 terms) below which the line search
 /// does not tell a rise from noise.
 pub(crate) const ROUNDING: f32 = 1e-6;
@@ -132,404 +135,395 @@ pub(crate) const ROUNDING: f32 = 1e-6;
 /// How many times the line search halves a bending step before dropping it.
 pub const LINE_SEARCH_HALVINGS: usize = 6;
 
-/// One XPBD substep of one chain (module docs). `arrays.forces` holds `δ = x − x_n` during the
-/// step, `arrays.corrections` the prediction's `δ`. With `adaptive`, a first Newton step that
-/// moves a node by more than [`TOO_LONG_MOVE`] segment lengths stops the substep
-/// ([`XpbdOutcome::TooLong`]).
-pub(crate) fn xpbd(
-    chain: &ChainConstants,
-    arrays: &mut ChainArrays,
-    step: &Substep,
-    adaptive: bool,
-) -> XpbdOutcome {
-    let h = step.h;
-    let params = step.params;
-    let n = arrays.positions.len();
-    let first = step.first_free_node();
-    let attached = step.attached();
-    let gamma = params.air_drag_rate;
-    let drag_divisor = 1.0 / (1.0 + h * gamma);
-    // 1. Prediction: implicit drag towards the wind, gravity and F_col held over the substep;
-    //    δ = h·v_pred.
-    for i in first..n {
-        let acceleration =
-            step.gravity + arrays.wind[i] * gamma + arrays.collision[i] * (1.0 / chain.masses[i]);
-        let velocity = if gamma == 0.0 {
-            arrays.velocities[i] + acceleration * h
-        } else {
-            (arrays.velocities[i] + acceleration * h) * drag_divisor
-        };
-        arrays.forces[i] = velocity * h;
-    }
-    let (root_end, root_velocity) = root_motion(chain, step);
-    if attached {
-        arrays.forces[0] = root_end - arrays.positions[0];
-    }
-    arrays.corrections.copy_from_slice(arrays.forces);
-    // 2. Bending: Newton steps (M/h² + H)·Δx = −∇Φ, linearised at x = x_n + δ (held in the
-    //    velocities meanwhile), each with a line search on Φ.
-    let root_frame = step.head_end.transform_frame(&chain.root_frame);
-    let inverse_h_squared = 1.0 / (h * h);
-    // The inertia of implicit Euler with the drag in it: M·(1 + h·γ)/h² (the prediction already
-    // divides by 1 + h·γ), so that drag slows motion but does not lift a hanging chain.
-    let inertia_scale = (1.0 + h * gamma) * inverse_h_squared;
-    let Some(implicit) = arrays.implicit.as_mut() else {
-        return XpbdOutcome::Failed;
-    };
-    let inertia = |moved: &[Vec3], predicted: &[Vec3]| {
-        (first..n)
-            .map(|i| 0.5 * chain.masses[i] * (moved[i] - predicted[i]).length_squared())
-            .sum::<f32>()
-            * inertia_scale
-    };
-    for iteration in 0..NEWTON_ITERATIONS {
-        for i in 0..n {
-            arrays.velocities[i] = arrays.positions[i] + arrays.forces[i];
-        }
-        if attached {
-            arrays.velocities[0] = root_end;
-        }
-        // Assemble and solve; where f32 cannot factorise the system (stiffness 10⁴× the
-        // inertia's and beyond), again with a Levenberg-Marquardt term μ·I on the diagonal, which
-        // keeps the step a descent direction for the line search.
-        let mut solved = None;
-        for regularization in [0.0f32, 1e-4, 1e-2] {
-            for i in 0..n {
-                implicit.diagonal[i] =
-                    Mat3::from_diagonal(Vec3::splat(chain.masses[i] * inertia_scale));
-                implicit.first[i] = Mat3::ZERO;
-                implicit.second[i] = Mat3::ZERO;
-                implicit.rhs[i] =
-                    (arrays.corrections[i] - arrays.forces[i]) * (chain.masses[i] * inertia_scale);
-            }
-            let here = &*arrays.velocities;
-            let mut energy = add_spring_forces(
-                here,
-                here,
-                &root_frame,
-                Vec3::ZERO,
-                chain.rest_local,
-                chain.stiffness,
-                0.0,
-                !attached,
-                arrays.work,
-                implicit.rhs,
-            );
-            walk_joints(here, &root_frame, chain.rest_local, |joint| {
-                let k = chain.stiffness[joint.node];
-                if k > 0.0 && (joint.node >= 2 || attached) {
-                    add_spring_blocks(joint, k, implicit);
-                }
-            });
-            // The lengths, in the same step, as stiff springs: so that the step bends the chain
-            // instead of stretching it (the exact projection below then has little to do). Left
-            // out, the step and the projection undo each other on curly chains at h·ω ≳ 1.
-            energy += add_length_springs(
-                chain,
-                here,
-                inverse_h_squared,
-                1.0,
-                Some(implicit.rhs),
-                implicit.diagonal,
-                implicit.first,
-            );
-            let objective = energy + inertia(arrays.forces, arrays.corrections);
-            if regularization > 0.0 {
-                let largest = implicit.diagonal[first..n]
-                    .iter()
-                    .map(|block| block.x_axis.x.max(block.y_axis.y).max(block.z_axis.z))
-                    .fold(0.0f32, f32::max);
-                for block in &mut implicit.diagonal[first..n] {
-                    *block += Mat3::from_diagonal(Vec3::splat(regularization * largest));
-                }
-            }
-            if attached {
-                implicit.diagonal[0] = Mat3::IDENTITY;
-                implicit.rhs[0] = Vec3::ZERO;
-                if n > 1 {
-                    implicit.first[1] = Mat3::ZERO;
-                }
-                if n > 2 {
-                    implicit.second[2] = Mat3::ZERO;
-                }
-            }
-            with_scratch(|scratch| scratch.keep_rhs(implicit.rhs));
-            if solve_block_pentadiagonal(
-                implicit.diagonal,
-                implicit.first,
-                implicit.second,
-                implicit.rhs,
-            ) {
-                solved = Some(objective);
-                break;
-            }
-        }
-        let Some(objective) = solved else {
-            return XpbdOutcome::Failed;
-        };
-        // A first step that turns no segment by more than SMALL_STEP rad is taken as it is: there
-        // the objective is quadratic to ~1e-6 of the step, so the line search could only confirm
-        // it (it costs a walk of the chain; a substep at ×32 costs 15 % less). At 0.01 rad a
-        // substep at ×8 cost 18 % less too, but the free swing of a curly chain at 100× stiffness
-        // gained three times the energy (1.8 % of m·g·L in 3 s against 0.55 %).
-        if adaptive && iteration == 0 {
-            let moved = largest_move(chain, first, implicit.rhs);
-            // NaN is not too long: the step goes on and fails as a non-finite value.
-            if moved > TOO_LONG_MOVE {
-                return XpbdOutcome::TooLong(moved);
-            }
-        }
-        let small = iteration == 0 && turns_within(chain, first, implicit.rhs, 1.0, SMALL_STEP);
-        if small {
-            for i in first..n {
-                arrays.forces[i] += implicit.rhs[i];
-            }
-            break;
-        }
-        // Line search: the whole step where Φ does not rise, else halved; the iterate waits in
-        // `work` meanwhile, the trial positions x_n + δ in the velocities (the root stays at its
-        // end position there).
-        for i in 0..n {
-            arrays.work[i] = arrays.forces[i].extend(0.0);
-        }
-        let mut scale = 1.0f32;
-        let mut accepted = false;
-        let mut twisted = false;
-        let mut halvings = 0;
-        loop {
-            for i in first..n {
-                arrays.forces[i] = arrays.work[i].truncate() + implicit.rhs[i] * scale;
-                arrays.velocities[i] = arrays.positions[i] + arrays.forces[i];
-            }
-            let trial = step_energy(
-                chain,
-                arrays.velocities,
-                &root_frame,
-                attached,
-                inverse_h_squared,
-            ) + inertia(arrays.forces, arrays.corrections);
-            // The first step within the rounding of the sums (a relative 1e-6): at short
-            // substeps a whole step changes Φ by less than that, and rounding must not reject it;
-            // later ones (large rotations) must lower Φ.
-            let slack = if iteration == 0 {
-                ROUNDING * (objective.abs() + trial.abs())
-            } else {
-                0.0
-            };
-            if trial <= objective + slack {
-                accepted = true;
-                break;
-            }
-            // The band's whole step raised Φ: next the step with the twist's coupling
-            // (`twisted_cg`), whole, before any halving.
-            if !twisted {
-                twisted = true;
-                for i in first..n {
-                    arrays.velocities[i] = arrays.positions[i] + arrays.work[i].truncate();
-                }
-                let factorised = (&*implicit.diagonal, &*implicit.first, &*implicit.second);
-                let finite = with_scratch(|scratch| {
-                    scratch.twisted_step(
-                        factorised,
-                        arrays.velocities,
-                        &root_frame,
-                        chain.rest_local,
-                        chain.stiffness,
-                        attached,
-                        implicit.rhs,
-                    )
-                });
-                if finite {
-                    continue;
-                }
-            }
-            if halvings == LINE_SEARCH_HALVINGS {
-                break;
-            }
-            halvings += 1;
-            scale *= 0.5;
-        }
-        if !accepted {
-            for i in first..n {
-                arrays.forces[i] = arrays.work[i].truncate();
-            }
-            break;
-        }
-        // Converged when the step moved no node by more than NEWTON_TOLERANCE of its segment
-        // (rotations below ~0.03 rad, where the linearisation's error, of their square, is below
-        // 1e-3 of the step).
-        let converged = turns_within(chain, first, implicit.rhs, scale, NEWTON_TOLERANCE);
-        // A whole step ends the iteration once converged or after a second one (more whole
-        // steps on a curly chain can walk it into another twisted minimum of the bending energy:
-        // measured on the stability map, motion ratios above 2 at 10× stiffness); a shortened
-        // step goes on.
-        if scale == 1.0 && (converged || iteration >= 1) {
-            break;
-        }
-    }
-    // 3. Lengths: exact mass-weighted projection, then follow-the-leader for the rounding, on the
-    //    positions x_n + δ; x_n waits in the velocities meanwhile.
-    let inverse_mass = |i: usize| {
-        if i < first {
-            0.0
-        } else {
-            1.0 / chain.masses[i]
-        }
-    };
-    for i in 0..n {
-        let start = arrays.positions[i];
-        arrays.velocities[i] = start;
-        arrays.positions[i] = start + arrays.forces[i];
-    }
-    if attached {
-        arrays.positions[0] = root_end;
-    }
-    project_lengths(
-        arrays.positions,
-        inverse_mass,
-        chain.rest_lengths,
-        arrays.corrections,
-        arrays.work,
-        LENGTH_ITERATIONS,
-    );
-    follow_the_leader(arrays.positions, chain.rest_lengths);
-    // 4. Velocities: v = (x − x_n)/h = (δ + c)/h, with the lengths' correction
-    //    c = x − (x_n + δ) (the same rounded sum as above, so c is exactly 0 where they did
-    //    nothing).
-    let inverse_h = 1.0 / h;
-    for i in first..n {
-        let before = arrays.velocities[i] + arrays.forces[i];
-        let correction = arrays.positions[i] - before;
-        arrays.velocities[i] = (arrays.forces[i] + correction) * inverse_h;
-    }
-    if attached {
-        arrays.velocities[0] = root_velocity;
-    }
-    // 5. Spring damping on the velocities.
-    if params.bending_damping > 0.0 {
-        damp_bending(
-            arrays.positions,
-            arrays.velocities,
-            &root_frame,
-            step.head_spin,
-            chain,
-            inverse_mass,
-            h * params.bending_damping,
-            attached,
-        );
-    }
-    let finite = arrays
-        .velocities
-        .iter()
-        .chain(arrays.positions.iter())
-        .all(|v| v.is_finite());
-    if finite {
-        XpbdOutcome::Done
-    } else {
-        XpbdOutcome::Failed
-    }
+/// The Levenberg-Marquardt terms, relative to the largest diagonal entry, tried in turn where a
+/// lane's system cannot be factorised.
+const REGULARIZATION: [f32; 3] = [0.0, 1e-4, 1e-2];
+
+/// Per-node arrays of a batch, `N` ≥ the node count.
+struct XpbdLanes<const N: usize> {
+    /// Positions at the substep's start `x_n` [m].
+    positions: [LaneVec3; N],
+    velocities: [LaneVec3; N],
+    /// `h·a_ext` [m/s], the external accelerations held over the step.
+    kicks: [LaneVec3; N],
+    /// The displacements `δ = x − x_n` [m] of the Newton iteration.
+    delta: [LaneVec3; N],
+    /// The prediction's `δ̃` [m].
+    predicted: [LaneVec3; N],
+    /// The iterate before a line search, and the trial displacements.
+    base: [LaneVec3; N],
+    trial: [LaneVec3; N],
+    /// Positions `x_n + δ` [m] at which the system or `Φ` is evaluated; after the Newton
+    /// iteration the new positions.
+    here: [LaneVec3; N],
+    /// The Newton step of the iteration (the band's, or the twisted one) and the system's
+    /// right-hand side `b` before the solve.
+    step: [LaneVec3; N],
+    rhs: [LaneVec3; N],
+    kappa: [Lanes; N],
+    inertia: [Lanes; N],
+    /// `max(l_i, l_{i+1})` [m]: the lever of a node's move in the convergence tests.
+    lever: [Lanes; N],
 }
 
-/// The step's energy [J] of one chain at `positions`: the bending energy `Σ ½·k_i·α_i²`, with
-/// the parent frames parallel-transported along it from `root_frame` (the springs' own
-/// definition), and the lengths' `Σ ½·κ_j·(|x_j − x_{j−1}| − l_j)²` (the step's stiff springs).
-fn step_energy(
-    chain: &ChainConstants,
-    positions: &[Vec3],
-    root_frame: &Frame,
-    attached: bool,
-    inverse_h_squared: f32,
-) -> f32 {
-    let mut energy = 0.0f32;
-    walk_joints(positions, root_frame, chain.rest_local, |joint| {
-        let i = joint.node;
-        let k = chain.stiffness[i];
-        if k > 0.0 && (i >= 2 || attached) {
-            let (angle, _) = bend_angle_and_factor(joint.direction, joint.rest_direction);
-            energy += 0.5 * k * angle * angle;
-        }
-        let stretch = (positions[i] - positions[i - 1]).length() - chain.rest_lengths[i];
-        energy += 0.5 * length_stiffness(chain, i, inverse_h_squared) * stretch * stretch;
-    });
-    energy
+/// `1.0` where `a` and not `b`, per lane (both 1.0 / 0.0 masks).
+#[inline(always)]
+fn and_not(a: Lanes, b: Lanes) -> Lanes {
+    a * (Lanes::splat(1.0) - b)
 }
 
-/// Whether `scale·step` moves no free node (from `first`) by more than `fraction` of the longer
-/// of its two segments: a turn of at most about `fraction` rad.
-fn turns_within(
-    chain: &ChainConstants,
+/// 1.0 in the lanes where `scale·step` moves no node `first..n` by more than `fraction` of its
+/// lever.
+#[inline(always)]
+fn turns_within<const N: usize>(
+    step: &[LaneVec3; N],
+    scale: Lanes,
+    lever: &[Lanes; N],
     first: usize,
-    step: &[Vec3],
-    scale: f32,
+    n: usize,
     fraction: f32,
-) -> bool {
-    (first..step.len()).all(|i| (step[i] * scale).length() <= fraction * lever(chain, i))
+) -> Lanes {
+    let mut outside = Lanes::splat(0.0);
+    let fraction = Lanes::splat(fraction);
+    for i in first..n {
+        let moved = step[i].scale(scale).length_squared().sqrt();
+        outside = outside.max(moved.greater(fraction * lever[i]));
+    }
+    Lanes::splat(1.0) - outside
 }
 
-/// The longer of the two segments node `i` joins [m]: the length its moves are measured in.
-fn lever(chain: &ChainConstants, i: usize) -> f32 {
-    chain.rest_lengths[i].max(chain.rest_lengths.get(i + 1).copied().unwrap_or(0.0))
+/// `x_n + δ` of nodes `0..n` into `here`, an attached root at `root`.
+#[inline(always)]
+fn displaced<const N: usize>(
+    here: &mut [LaneVec3; N],
+    positions: &[LaneVec3; N],
+    delta: &[LaneVec3; N],
+    n: usize,
+    root: Option<LaneVec3>,
+) {
+    for i in 0..n {
+        here[i] = positions[i] + delta[i];
+    }
+    if let Some(root) = root {
+        here[0] = root;
+    }
 }
 
-/// The largest move of a node `first..` in `step`, over its [`lever`] (as [`turns_within`]
-/// measures it).
-fn largest_move(chain: &ChainConstants, first: usize, step: &[Vec3]) -> f32 {
-    (first..step.len())
-        .map(|i| step[i].length() / lever(chain, i))
+/// The largest move of a node `first..n` of lane `lane` of `step`, over its lever (as
+/// [`turns_within`] measures it).
+fn largest_move<const N: usize>(
+    step: &[LaneVec3; N],
+    lever: &[Lanes; N],
+    first: usize,
+    n: usize,
+    lane: usize,
+) -> f32 {
+    (first..n)
+        .map(|i| step[i].get(lane).length() / lever[i].0[lane])
         .fold(0.0, f32::max)
 }
 
-/// The spring damping sweep (module docs): `gain` is `h·β` [s²], `root_spin` the root frame's
-/// angular velocity [rad/s] (it moves `r_1`); with free roots the root bend has no spring.
-#[allow(clippy::too_many_arguments)]
-fn damp_bending(
-    positions: &[Vec3],
-    velocities: &mut [Vec3],
-    root_frame: &Frame,
-    root_spin: Vec3,
-    chain: &ChainConstants,
-    inverse_mass: impl Fn(usize) -> f32,
-    gain: f32,
-    attached: bool,
-) {
-    walk_joints(positions, root_frame, chain.rest_local, |joint| {
-        let i = joint.node;
-        let k = chain.stiffness[i];
-        if k == 0.0 || (i == 1 && !attached) {
-            return;
-        }
-        let (w_node, w_parent) = (inverse_mass(i), inverse_mass(i - 1));
-        let inverse_length_squared = 1.0 / (joint.length * joint.length);
-        // W̄ = Σ w_j·‖J_j‖²_F ≥ ‖J·W·Jᵀ‖: ‖Q‖² = 2/l², ‖S‖² = (1 + (r·d_{i−1})²)/l²_{i−1} ≤ 2/l²_{i−1},
-        // ‖S − Q‖² ≤ 2‖S‖² + 2‖Q‖².
-        let (mut rate, bound) = match joint.parent {
-            Some((_, parent_length)) => {
-                let w_grandparent = inverse_mass(i - 2);
-                let inverse_parent_squared = 1.0 / (parent_length * parent_length);
-                (
-                    joint.q(velocities[i] - velocities[i - 1])
-                        + joint.s(velocities[i - 1] - velocities[i - 2]),
-                    2.0 * w_node * inverse_length_squared
-                        + 4.0 * w_parent * (inverse_length_squared + inverse_parent_squared)
-                        + 2.0 * w_grandparent * inverse_parent_squared,
-                )
+/// Steps a run through all its substeps (see the module docs) as `attempt` asks; returns how
+/// each lane ended (the lanes that pass and are in `attempt.write` are written).
+#[inline(always)]
+pub(crate) fn step_xpbd<const N: usize>(
+    step: &BatchStep,
+    state: BatchState,
+    constants: &[LaneNode],
+    roots: &LaneRoots,
+    attempt: Attempt,
+) -> LaneOutcome {
+    let settings = step.settings;
+    let n = constants.len().min(N);
+    let constants = &constants[..n];
+    let attached = settings.roots == RootMode::Attached;
+    // The first unknown: node 0 follows the head where the roots are attached.
+    let first = usize::from(attached);
+    let (substeps, h) = attempt.substeps(settings);
+    let zero = Lanes::splat(0.0);
+    let one = Lanes::splat(1.0);
+    let mut s = XpbdLanes::<N> {
+        positions: [LaneVec3::default(); N],
+        velocities: [LaneVec3::default(); N],
+        kicks: [LaneVec3::default(); N],
+        delta: [LaneVec3::default(); N],
+        predicted: [LaneVec3::default(); N],
+        base: [LaneVec3::default(); N],
+        trial: [LaneVec3::default(); N],
+        here: [LaneVec3::default(); N],
+        step: [LaneVec3::default(); N],
+        rhs: [LaneVec3::default(); N],
+        kappa: [zero; N],
+        inertia: [zero; N],
+        lever: [zero; N],
+    };
+    // Gather; the kicks hold the collision forces at first.
+    gather(&state, n, &mut s.positions, &mut s.velocities, &mut s.kicks);
+    let gamma = step.air_drag_rate;
+    let gravity = step.environment.gravity;
+    let inverse_h_squared = 1.0 / (h * h);
+    let inertia_scale = Lanes::splat((1.0 + h * gamma) * inverse_h_squared);
+    for i in first..n {
+        let c = &constants[i];
+        // h·(g + γ·w + F_col/m), the wind sampled at the step's start.
+        let wind = step
+            .environment
+            .wind
+            .velocity_at_lanes(&s.positions[i], step.time);
+        let collision = s.kicks[i];
+        let acceleration = LaneVec3 {
+            x: Lanes::splat(gravity.x) + collision.x * c.inverse_mass,
+            y: Lanes::splat(gravity.y) + collision.y * c.inverse_mass,
+            z: Lanes::splat(gravity.z) + collision.z * c.inverse_mass,
+        } + wind.scale(Lanes::splat(gamma));
+        s.kicks[i] = acceleration.scale(Lanes::splat(h));
+    }
+    for i in 0..n {
+        let c = &constants[i];
+        let next = |value: fn(&LaneNode) -> Lanes| {
+            if i + 1 < n {
+                value(&constants[i + 1])
+            } else {
+                zero
             }
-            None => (
-                joint.q(velocities[i] - velocities[i - 1]),
-                2.0 * (w_node + w_parent) * inverse_length_squared,
-            ),
         };
-        if joint.parent.is_none() {
-            rate -= root_spin.cross(joint.rest_direction);
+        if i >= 1 {
+            // κ_i = LENGTH_STIFFNESS·max(m_i/h², max(k_i, k_{i+1})/l_i²) (`length_stiffness`).
+            let bending = c.stiffness.max(next(|c| c.stiffness)) / (c.rest_length * c.rest_length);
+            s.kappa[i] = Lanes::splat(LENGTH_STIFFNESS)
+                * (c.mass * Lanes::splat(inverse_h_squared)).max(bending);
         }
-        let c = gain * k;
-        let mu = rate * (c / (1.0 + c * bound));
-        let q_mu = joint.q(mu);
-        velocities[i] -= q_mu * w_node;
-        let s_mu = joint.s_transpose(mu);
-        velocities[i - 1] -= (s_mu - q_mu) * w_parent;
-        if i >= 2 {
-            velocities[i - 2] += s_mu * inverse_mass(i - 2);
+        s.inertia[i] = c.mass * inertia_scale;
+        s.lever[i] = c.rest_length.max(next(|c| c.rest_length));
+    }
+    // The lanes XPBD's adaptive substeps stopped (a first Newton move too long) and those whose
+    // system could not be factorised: both are done for this try.
+    let mut too_long = [None; LANES];
+    let mut stopped = zero;
+    let mut unsolved = zero;
+    let mut springs = SpringScratch::<N>::new();
+    let mut system = LaneSystem::<N>::new();
+    let mut twist = LaneTwistScratch::<N>::new();
+    let drag_divisor = Lanes::splat(1.0 / (1.0 + h * gamma));
+    let hv = Lanes::splat(h);
+    let inverse_h = Lanes::splat(1.0 / h);
+    let root_weight = if attached {
+        zero
+    } else {
+        constants[0].inverse_mass
+    };
+    let (mut pose_start, rotation) = step.head_pose(attempt.halvings, 0);
+    let (mut root_start, _) = carried_roots(roots, &pose_start, &rotation);
+    for k in 0..substeps {
+        let (pose_end, rotation) = step.head_pose(attempt.halvings, k + 1);
+        let (root_end, root_frame) = carried_roots(roots, &pose_end, &rotation);
+        // 1. Prediction with implicit drag: δ̃ = h·(v + h·a)/(1 + h·γ).
+        for i in first..n {
+            let predicted = (s.velocities[i] + s.kicks[i]).scale(drag_divisor).scale(hv);
+            s.predicted[i] = predicted;
+            s.delta[i] = predicted;
         }
-    });
+        if attached {
+            s.delta[0] = root_end - s.positions[0];
+            s.predicted[0] = s.delta[0];
+        }
+        let terms = LaneChainTerms {
+            constants,
+            first,
+            kappa: &s.kappa,
+            inertia: &s.inertia,
+            predicted: &s.predicted,
+            root_frame,
+        };
+        let root = attached.then_some(root_end);
+        // 2. Newton steps with a line search, each lane until it is done.
+        let mut active = one - stopped.max(unsolved);
+        for iteration in 0..NEWTON_ITERATIONS {
+            if !active.any() {
+                break;
+            }
+            displaced(&mut s.here, &s.positions, &s.delta, n, root);
+            let mut regularization = zero;
+            let mut objective_here = zero;
+            for attempt in 0..REGULARIZATION.len() {
+                objective_here = assemble(&terms, &mut springs, &mut system, &s.here, &s.delta, n);
+                if regularization.any() {
+                    let mut largest = zero;
+                    for i in first..n {
+                        largest = largest.max(system.diagonal[i].largest_diagonal());
+                    }
+                    let term = regularization * largest;
+                    for i in first..n {
+                        system.diagonal[i].add_to_diagonal(term);
+                    }
+                }
+                s.rhs = system.rhs;
+                let solved = system.solve(first, n);
+                let failed = and_not(active, solved);
+                if !failed.any() {
+                    break;
+                }
+                if attempt + 1 == REGULARIZATION.len() {
+                    unsolved = unsolved.max(failed);
+                    active = and_not(active, failed);
+                    break;
+                }
+                regularization = Lanes::select(
+                    failed,
+                    Lanes::splat(REGULARIZATION[attempt + 1]),
+                    regularization,
+                );
+            }
+            s.step = system.rhs;
+            // A first step that moves a node by more than TOO_LONG_MOVE segments: the substep is
+            // too long for that chain, which the caller redoes with more substeps.
+            if iteration == 0 {
+                let adapting = active * attempt.adaptive;
+                let long = and_not(
+                    adapting,
+                    turns_within(&s.step, one, &s.lever, first, n, TOO_LONG_MOVE),
+                );
+                if long.any() {
+                    for (lane, moved) in too_long.iter_mut().enumerate() {
+                        if long.0[lane] > 0.0 {
+                            *moved = Some(largest_move(&s.step, &s.lever, first, n, lane));
+                        }
+                    }
+                    stopped = stopped.max(long);
+                    active = and_not(active, long);
+                    if !active.any() {
+                        break;
+                    }
+                }
+            }
+            // A first step that turns no segment by more than SMALL_STEP rad is taken whole.
+            if iteration == 0 {
+                let small = active * turns_within(&s.step, one, &s.lever, first, n, SMALL_STEP);
+                if small.any() {
+                    for i in first..n {
+                        s.delta[i] = LaneVec3::select(small, s.delta[i] + s.step[i], s.delta[i]);
+                    }
+                    active = and_not(active, small);
+                    if !active.any() {
+                        break;
+                    }
+                }
+            }
+            // Line search on Φ: the whole step where Φ does not rise, then (once) the twisted
+            // step whole, else halved, down to 1/2^LINE_SEARCH_HALVINGS.
+            s.base = s.delta;
+            let mut scale = one;
+            let mut taken = zero;
+            let mut pending = active;
+            let mut dropped = zero;
+            let mut twisted = false;
+            let smallest = Lanes::splat(0.5f32.powi(LINE_SEARCH_HALVINGS as i32));
+            loop {
+                for i in first..n {
+                    s.trial[i] = s.base[i] + s.step[i].scale(scale);
+                    s.here[i] = s.positions[i] + s.trial[i];
+                }
+                let trial = objective(&terms, &s.here, &s.trial, n);
+                let slack = if iteration == 0 {
+                    Lanes::splat(ROUNDING) * (objective_here.abs() + trial.abs())
+                } else {
+                    zero
+                };
+                // `trial ≤ objective + slack` (NaN rejects).
+                let bound = objective_here + slack;
+                let accepted = pending * Lanes::zip(trial, bound, |a, b| f32::from(a <= b));
+                for i in first..n {
+                    s.delta[i] = LaneVec3::select(accepted, s.trial[i], s.delta[i]);
+                }
+                taken = Lanes::select(accepted, scale, taken);
+                pending = and_not(pending, accepted);
+                if !pending.any() {
+                    break;
+                }
+                // The band's whole step raised Φ: next the twisted step (`twisted_cg`), whole,
+                // in the lanes where it is finite.
+                let mut retry = zero;
+                if !twisted {
+                    twisted = true;
+                    let mut twisted_step = s.step;
+                    let finite = twisted_cg::twisted_step(
+                        &system,
+                        &springs,
+                        constants,
+                        &s.rhs,
+                        &mut twist,
+                        first,
+                        n,
+                        &mut twisted_step,
+                    );
+                    retry = pending * finite;
+                    for i in first..n {
+                        s.step[i] = LaneVec3::select(retry, twisted_step[i], s.step[i]);
+                    }
+                }
+                let halving = and_not(pending, retry);
+                let exhausted = halving * (one - scale.greater(smallest));
+                dropped = dropped.max(exhausted);
+                pending = and_not(pending, exhausted);
+                if !pending.any() {
+                    break;
+                }
+                scale = Lanes::select(
+                    and_not(halving, exhausted),
+                    scale * Lanes::splat(0.5),
+                    scale,
+                );
+            }
+            // Lanes whose step was dropped are done (their δ is the iterate before it).
+            active = and_not(active, dropped);
+            // A whole step ends a lane's iteration once converged or after a second one; a
+            // shortened step goes on.
+            let converged = turns_within(&s.step, taken, &s.lever, first, n, NEWTON_TOLERANCE);
+            let whole = Lanes::zip(taken, one, |a, b| f32::from(a == b));
+            let second = if iteration >= 1 { one } else { zero };
+            active = and_not(active, whole * converged.max(second));
+        }
+        // 3. Lengths: exact mass-weighted projection, then follow-the-leader, on x_n + δ.
+        displaced(&mut s.here, &s.positions, &s.delta, n, root);
+        project_lengths(&mut s.here, constants, root_weight, n);
+        follow_the_leader(&mut s.here, constants, n);
+        // 4. v = (δ + c)/h with the lengths' correction c = x − (x_n + δ).
+        for i in first..n {
+            let before = s.positions[i] + s.delta[i];
+            let correction = s.here[i] - before;
+            s.velocities[i] = (s.delta[i] + correction).scale(inverse_h);
+        }
+        if attached {
+            s.velocities[0] = (root_end - root_start).scale(inverse_h);
+        }
+        // 5. Spring damping on the velocities.
+        if step.bending_damping > 0.0 {
+            let spin = angular_velocity(pose_start.rotation, pose_end.rotation, h);
+            damp_bending(
+                &s.here,
+                &mut s.velocities,
+                constants,
+                first,
+                root_weight,
+                n,
+                root_frame,
+                spin,
+                Lanes::splat(h * step.bending_damping),
+            );
+        }
+        s.positions = s.here;
+        root_start = root_end;
+        pose_start = pose_end;
+    }
+    // Check every lane (solved, not stopped) and write the ones that pass.
+    check_and_scatter(
+        state,
+        constants,
+        &s.positions,
+        &s.velocities,
+        settings.max_speed,
+        unsolved,
+        too_long,
+        attempt.write,
+    )
 }

@@ -67,7 +67,9 @@ pub struct Smoothness {
     pub max_segment_length: f32,
     /// Largest turn of the direction per segment [rad].
     pub max_turn_per_segment: f32,
-    /// Most nodes a skeleton may have (≥ 4).
+    /// Most nodes a skeleton may have (≥ 4). The position-based and XPBD integrators step
+    /// chains of at most [`MAX_CHAIN_NODES`](crate::dynamics::MAX_CHAIN_NODES) (64, the
+    /// default); more is for the other integrators.
     pub max_nodes: usize,
 }
 

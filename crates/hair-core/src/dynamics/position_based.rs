@@ -1,121 +1,44 @@
-//! The position-based integrator for [`LANES`] chains at once: the step of
-//! [`position_based`](crate::dynamics::integrators) with every number widened to one lane per
-//! chain, in struct-of-arrays form on the stack, so that the compiler vectorises across chains.
+//! The position-based integrator (Müller, Kim, Chentanez 2012, with dynamic follow-the-leader)
+//! for [`LANES`] chains at once: every number is widened to one lane per chain, in struct-of-arrays form on the
+//! stack, so that the compiler vectorises across chains. It is the only implementation of the
+//! step: a chain alone is a run of one.
 //!
-//! A batch is stepped this way when its chains have the same node count (2 to
-//! [`MAX_LANE_NODES`]); lanes past the batch's last chain repeat that chain and are discarded.
-//! The constants come laid out in lane form
+//! One substep:
+//! 1. Verlet prediction under the external forces: `v ← v + h·F/m`, `p = x + h·v`.
+//! 2. The angular springs as one shape target per chain: the chain's bending energy `E` as an
+//!    XPBD constraint `C = √(2E)` (Macklin et al. 2016) with compliance `1` (the stiffnesses are
+//!    inside `E`): `Δx_j = w_j·F_j / (Σ w|F|²/(2E) + 1/h²)` with `F = −∇E` the exact spring forces
+//!    and `w = 1/m` (0 at an attached root). For small `h` this is the springs' own displacement
+//!    `h²·F/m`; for large `h` it is the Gauss-Newton step onto the rest shape, which can neither
+//!    overshoot nor be unstable.
+//! 3. Follow-the-leader lengths, recording each node's correction `c_i`.
+//! 4. `v_i = (p_i − x_i)/h − s_damping·c_{i+1}/h`, with `p − x = h·v_pred + Δshape + c` summed
+//!    from its small parts rather than subtracted from rounded positions (which quantises `v` to
+//!    `ulp(x)/h`).
+//!
+//! A run's chains have the same node count (2 to [`MAX_CHAIN_NODES`]); lanes past the run's last
+//! chain repeat that chain and are discarded. The constants come laid out in lane form
 //! ([`LaneModel`](crate::dynamics::lane_model::LaneModel)); the state is gathered once per step,
 //! stepped through all substeps, checked, and scattered into the new state's arrays (the
-//! simulation swaps them in when every chain succeeded, so nothing is copied to back it up). Per step, not per substep: the external velocity kick `h·F_ext/m`, and
-//! the head's rotation matrices (the roots are rotated lane-wise). A chain that fails the check
-//! (a non-finite value, an energy blow-up, or a segment turned back on its parent, where the fast
-//! frame transport is undefined) is not written but reported, and the caller redoes it with the
-//! one-chain integrator and its failure policy.
+//! simulation swaps them in when every chain succeeded, so nothing is copied to back it up). Per
+//! step, not per substep: the external velocity kick `h·F_ext/m`, and the head's rotation matrices
+//! (the roots are rotated lane-wise). A chain that fails the check (a non-finite value, an energy
+//! blow-up) is not written but reported, and the caller redoes it with half the substep where its
+//! failure policy allows.
 
 // Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
 #![allow(clippy::needless_range_loop)]
 
 use crate::dynamics::constraints::LENGTH_TOLERANCE;
-use crate::dynamics::integrators::shape_target_scale;
 use crate::dynamics::lane_batch::{
-    BatchState, BatchStep, carried_roots, check_and_scatter, gather,
+    Attempt, BatchState, BatchStep, LaneOutcome, carried_roots, check_and_scatter, gather,
 };
+#[cfg(doc)]
+use crate::dynamics::lane_model::MAX_CHAIN_NODES;
 use crate::dynamics::lane_model::{LaneNode, LaneRoots};
 use crate::dynamics::lane_springs::{LaneFrame, SpringScratch, spring_forces};
 use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
-use crate::dynamics::params::{IntegratorKind, RootMode};
-use crate::dynamics::xpbd_lanes::step_xpbd_lanes;
-
-use crate::dynamics::lane_model::MAX_LANE_NODES;
-
-/// Steps a batch if it can; returns `None` when it cannot (unequal, too short or too long
-/// chains; nothing is written then), else a bit mask of the chains (bit `c − first_chain`) that
-/// failed and whose new state was not written.
-// The one `unsafe` of the workspace (`unsafe_code` is denied in the root Cargo.toml): calling the
-// AVX2 instance after checking at run time that the CPU has AVX2.
-#[allow(unsafe_code)]
-pub(crate) fn step_batch(step: &BatchStep, state: BatchState) -> Option<u32> {
-    let (nodes, roots) = step.lanes.batch(state.first_chain)?;
-    // The XPBD lanes take attached roots only (node 0 is not an unknown of their system).
-    if step.settings.integrator == IntegratorKind::Xpbd && step.settings.roots != RootMode::Attached
-    {
-        return None;
-    }
-    let xpbd = step.settings.integrator == IntegratorKind::Xpbd;
-    let n = nodes.len();
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return Some(unsafe {
-                match (xpbd, n <= 16, n <= 32) {
-                    (true, true, _) => kernel_avx2::<16, true>(step, state, nodes, roots),
-                    (true, false, true) => kernel_avx2::<32, true>(step, state, nodes, roots),
-                    (true, false, false) => {
-                        kernel_avx2::<MAX_LANE_NODES, true>(step, state, nodes, roots)
-                    }
-                    (false, true, _) => kernel_avx2::<16, false>(step, state, nodes, roots),
-                    (false, false, true) => kernel_avx2::<32, false>(step, state, nodes, roots),
-                    (false, false, false) => {
-                        kernel_avx2::<MAX_LANE_NODES, false>(step, state, nodes, roots)
-                    }
-                }
-            });
-        }
-    }
-    Some(match (xpbd, n <= 16, n <= 32) {
-        (true, true, _) => kernel::<16, true>(step, state, nodes, roots),
-        (true, false, true) => kernel::<32, true>(step, state, nodes, roots),
-        (true, false, false) => kernel::<MAX_LANE_NODES, true>(step, state, nodes, roots),
-        (false, true, _) => kernel::<16, false>(step, state, nodes, roots),
-        (false, false, true) => kernel::<32, false>(step, state, nodes, roots),
-        (false, false, false) => kernel::<MAX_LANE_NODES, false>(step, state, nodes, roots),
-    })
-}
-
-/// One instance of the batch kernels: chains of at most `N` nodes, XPBD or the position-based
-/// step. Each instance is a function of its own (never inlined into [`step_batch`]), so a
-/// batch's stack frame holds one instance's scratch (up to about 80 KiB of lane arrays), not
-/// all six: nested rayon jobs can stack several batch frames on one worker thread, and with the
-/// six instances in one frame a crowd of 100 small characters overflowed the 2 MiB worker
-/// stacks.
-#[inline(never)]
-fn kernel<const N: usize, const XPBD: bool>(
-    step: &BatchStep,
-    state: BatchState,
-    nodes: &[LaneNode],
-    roots: &LaneRoots,
-) -> u32 {
-    kernel_body::<N, XPBD>(step, state, nodes, roots)
-}
-
-/// [`kernel`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline(never)]
-fn kernel_avx2<const N: usize, const XPBD: bool>(
-    step: &BatchStep,
-    state: BatchState,
-    nodes: &[LaneNode],
-    roots: &LaneRoots,
-) -> u32 {
-    kernel_body::<N, XPBD>(step, state, nodes, roots)
-}
-
-#[inline(always)]
-fn kernel_body<const N: usize, const XPBD: bool>(
-    step: &BatchStep,
-    state: BatchState,
-    nodes: &[LaneNode],
-    roots: &LaneRoots,
-) -> u32 {
-    if XPBD {
-        step_xpbd_lanes::<N>(step, state, nodes, roots)
-    } else {
-        step_lanes::<N>(step, state, nodes, roots)
-    }
-}
+use crate::dynamics::params::RootMode;
 
 /// The state of a batch, `N` ≥ the node count.
 struct LaneState<const N: usize> {
@@ -126,19 +49,22 @@ struct LaneState<const N: usize> {
     kicks: [LaneVec3; N],
 }
 
+/// Steps a run through all its substeps as `attempt` asks (its `adaptive` mask is XPBD's and
+/// unused here); returns how each lane ended (the lanes that pass and are in `attempt.write`
+/// are written).
 #[inline(always)]
-fn step_lanes<const N: usize>(
+pub(crate) fn step_position_based<const N: usize>(
     step: &BatchStep,
     state: BatchState,
     constants: &[LaneNode],
     roots: &LaneRoots,
-) -> u32 {
+    attempt: Attempt,
+) -> LaneOutcome {
     let settings = step.settings;
     let n = constants.len().min(N);
     let constants = &constants[..n];
     let attached = settings.roots == RootMode::Attached;
-    let substeps = settings.substeps as usize;
-    let h = settings.substep();
+    let (substeps, h) = attempt.substeps(settings);
     let hv = Lanes::splat(h);
     let mut s = LaneState::<N> {
         positions: [LaneVec3::default(); N],
@@ -166,12 +92,12 @@ fn step_lanes<const N: usize>(
         s.kicks[i] = force.scale(hv * c.inverse_mass);
     }
     let mut springs = SpringScratch::<N>::new();
-    let mut degenerate = Lanes::splat(0.0);
     let inverse_h = Lanes::splat(1.0 / h);
-    let (mut root_start, _) = carried_roots(roots, &step.head_poses[0], &step.head_rotations[0]);
+    let (pose, rotation) = step.head_pose(attempt.halvings, 0);
+    let (mut root_start, _) = carried_roots(roots, &pose, &rotation);
     for k in 0..substeps {
-        let (root_end, root_frame) =
-            carried_roots(roots, &step.head_poses[k + 1], &step.head_rotations[k + 1]);
+        let (pose, rotation) = step.head_pose(attempt.halvings, k + 1);
+        let (root_end, root_frame) = carried_roots(roots, &pose, &rotation);
         let root = attached.then_some(root_end);
         substep(
             &mut s,
@@ -183,21 +109,22 @@ fn step_lanes<const N: usize>(
             settings.follow_the_leader_damping,
             root,
             root_frame,
-            &mut degenerate,
         );
         if attached {
             s.velocities[0] = (root_end - root_start).scale(inverse_h);
         }
         root_start = root_end;
     }
-    // Check every lane (transport defined) and write the ones that pass.
+    // Check every lane and write the ones that pass.
     check_and_scatter(
         state,
         constants,
         &s.positions,
         &s.velocities,
         settings.max_speed,
-        &[degenerate],
+        Lanes::splat(0.0),
+        [None; LANES],
+        attempt.write,
     )
 }
 
@@ -215,7 +142,6 @@ fn substep<const N: usize>(
     follow_the_leader_damping: f32,
     root_end: Option<LaneVec3>,
     root_frame: LaneFrame,
-    degenerate: &mut Lanes,
 ) {
     let first = usize::from(root_end.is_some());
     let hv = Lanes::splat(h);
@@ -248,14 +174,13 @@ fn substep<const N: usize>(
         },
         |i| constants[i].inverse_mass,
         root_frame,
-        degenerate,
     );
     let mut scale = zero;
     for lane in 0..LANES {
         scale.0[lane] = shape_target_scale(energy.0[lane], weighted.0[lane], h);
     }
     // 3. The shape target's displacement, follow-the-leader with the corrections c_i, and
-    // 4. v += (Δshape + c_i)/h − s·c_{i+1}/h (see the one-chain integrator), one node behind.
+    // 4. v += (Δshape + c_i)/h − s·c_{i+1}/h, one node behind.
     let tolerance = Lanes::splat(LENGTH_TOLERANCE);
     let tiny = Lanes::splat(1e-12);
     let one = Lanes::splat(1.0);
@@ -286,4 +211,15 @@ fn substep<const N: usize>(
     if n > first {
         s.velocities[n - 1] += motion.scale(inverse_h);
     }
+}
+
+/// The XPBD step size `1 / (Σ w|F|²/(2E) + 1/h²)` of the shape target for bending energy `E` [J],
+/// `Σ w|F|²` = `weighted` [N²/kg] and substep `h` [s]; 0 where the chain is at rest (`E` ≤ 1e-30
+/// J) or a value is not a number.
+#[inline(always)]
+pub(crate) fn shape_target_scale(energy: f32, weighted: f32, h: f32) -> f32 {
+    if energy.is_nan() || energy <= 1e-30 || weighted.is_nan() || weighted <= 0.0 {
+        return 0.0;
+    }
+    1.0 / (weighted / (2.0 * energy) + 1.0 / (h * h))
 }
