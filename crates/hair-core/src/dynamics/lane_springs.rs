@@ -80,23 +80,31 @@ impl LaneFrame {
         }
     }
 
+    /// [`transported`](Self::transported) without the check for a segment turned back on its
+    /// parent: that lane's frame is then not usable, and the caller, which collects
+    /// [`LaneSegment::reversed`], redoes the walk with the checked transport.
+    #[inline(always)]
+    pub(crate) fn transported_unchecked(&self, segment: &LaneSegment) -> LaneFrame {
+        let direction = segment.direction;
+        let sum = self.tangent + direction;
+        let normal = self.normal - sum.scale(sum.dot(self.normal) * segment.inverse_one_plus_cos);
+        LaneFrame {
+            binormal: direction.cross(normal),
+            normal,
+            tangent: direction,
+        }
+    }
+
     /// This frame transported to `segment`'s direction: the rotation taking `t` to `d`, as two
     /// reflections (see `forces::transport`; the term `2(t·n)·d` is 0 for an orthonormal frame),
     /// the normal not re-orthonormalised; in the lanes where the segment is turned back on its
     /// parent, by [`Frame::transported_to`].
     #[inline(always)]
     pub(crate) fn transported(&self, segment: &LaneSegment) -> LaneFrame {
-        let direction = segment.direction;
-        let sum = self.tangent + direction;
-        let normal = self.normal - sum.scale(sum.dot(self.normal) * segment.inverse_one_plus_cos);
-        let mut frame = LaneFrame {
-            binormal: direction.cross(normal),
-            normal,
-            tangent: direction,
-        };
-        let reversed = Lanes::splat(REVERSED).greater(segment.one_plus_cos);
+        let mut frame = self.transported_unchecked(segment);
+        let reversed = segment.reversed();
         if reversed.any() {
-            self.transport_reversed(&mut frame, reversed, direction);
+            self.transport_reversed(&mut frame, reversed, segment.direction);
         }
         frame
     }
@@ -119,6 +127,15 @@ impl LaneFrame {
                 frame.tangent.set(lane, carried.tangent);
             }
         }
+    }
+}
+
+impl LaneSegment {
+    /// 1.0 in the lanes where the segment is turned back on its parent (`1 + t·d` below
+    /// [`REVERSED`]), 0.0 elsewhere.
+    #[inline(always)]
+    pub(crate) fn reversed(&self) -> Lanes {
+        Lanes::splat(REVERSED).greater(self.one_plus_cos)
     }
 }
 
@@ -167,7 +184,8 @@ pub(crate) struct JointTerms {
 
 /// The joint ending at node `i` (≥ 1) with stiffness `k`: stores the segment's direction, inverse
 /// length, half binormal and twist torque, adds its energy, and carries `frame` (the parent frame,
-/// on return segment `i`'s) along.
+/// on return segment `i`'s) along: with the checked transport where `reversed` is `None`, else
+/// with the unchecked one, the lanes it leaves unusable added to `reversed`.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn joint<const N: usize>(
@@ -178,6 +196,7 @@ pub(crate) fn joint<const N: usize>(
     k: Lanes,
     frame: &mut LaneFrame,
     energy: &mut Lanes,
+    reversed: Option<&mut Lanes>,
 ) -> JointTerms {
     let seg = frame.segment(positions[i - 1], positions[i], rest_local);
     let (direction, rest, inverse_length) = (seg.direction, seg.rest, seg.inverse_length);
@@ -201,7 +220,13 @@ pub(crate) fn joint<const N: usize>(
     let g = (direction - rest).scale(scaled);
     let qg = (g - direction.scale(direction.dot(g))).scale(inverse_length);
     // Transport the frame to d.
-    *frame = frame.transported(&seg);
+    *frame = match reversed {
+        None => frame.transported(&seg),
+        Some(reversed) => {
+            *reversed = reversed.max(seg.reversed());
+            frame.transported_unchecked(&seg)
+        }
+    };
     JointTerms {
         qg,
         torque,
@@ -214,6 +239,9 @@ pub(crate) fn joint<const N: usize>(
 /// bending energies [J] and `Σ w_i·|F_i|²` over nodes `first..n` [N²/kg]. `rest_local(i)`,
 /// `stiffness(i)` and `weight(i)` are node `i`'s rest direction (local), spring stiffness
 /// [N·m/rad] and inverse mass [1/kg].
+///
+/// The walk transports the frames unchecked (the position-based step's hot loop); where some
+/// lane has a segment turned back on its parent, it is walked again with the checked transport.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn spring_forces<const N: usize>(
@@ -225,6 +253,48 @@ pub(crate) fn spring_forces<const N: usize>(
     stiffness: impl Fn(usize) -> Lanes,
     weight: impl Fn(usize) -> Lanes,
     root_frame: LaneFrame,
+) -> (Lanes, Lanes) {
+    let mut reversed = Lanes::splat(0.0);
+    let fast = spring_walk(
+        s,
+        positions,
+        n,
+        first,
+        &rest_local,
+        &stiffness,
+        &weight,
+        root_frame,
+        Some(&mut reversed),
+    );
+    if !reversed.any() {
+        return fast;
+    }
+    spring_walk(
+        s,
+        positions,
+        n,
+        first,
+        &rest_local,
+        &stiffness,
+        &weight,
+        root_frame,
+        None,
+    )
+}
+
+/// [`spring_forces`]' walk, its transport checked where `reversed` is `None`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn spring_walk<const N: usize>(
+    s: &mut SpringScratch<N>,
+    positions: &[LaneVec3; N],
+    n: usize,
+    first: usize,
+    rest_local: &impl Fn(usize) -> LaneVec3,
+    stiffness: &impl Fn(usize) -> Lanes,
+    weight: &impl Fn(usize) -> Lanes,
+    root_frame: LaneFrame,
+    mut reversed: Option<&mut Lanes>,
 ) -> (Lanes, Lanes) {
     let n = n.clamp(2, N);
     let mut energy = Lanes::splat(0.0);
@@ -239,6 +309,7 @@ pub(crate) fn spring_forces<const N: usize>(
         stiffness(1),
         &mut frame,
         &mut energy,
+        reversed.as_deref_mut(),
     );
     let mut before = root_joint.qg;
     let mut last = -root_joint.qg;
@@ -253,6 +324,7 @@ pub(crate) fn spring_forces<const N: usize>(
             stiffness(i),
             &mut frame,
             &mut energy,
+            reversed.as_deref_mut(),
         );
         // Sᵀ·g = d_{i−1} × (r × g)/l_{i−1} = −m with m = d_{i−1} × torque/l_{i−1} (r × g =
         // −torque).

@@ -101,7 +101,16 @@ pub(crate) fn assemble<const N: usize>(
         system.first[i] = MatLanes::default();
         system.second[i] = MatLanes::default();
         let parent = (i >= 2).then(|| (springs.directions[i - 1], springs.inverse_lengths[i - 1]));
-        let joint_terms = joint(springs, here, c.rest_local, i, k, &mut frame, &mut bend);
+        let joint_terms = joint(
+            springs,
+            here,
+            c.rest_local,
+            i,
+            k,
+            &mut frame,
+            &mut bend,
+            None,
+        );
         springs.rests[i] = joint_terms.rest;
         let d = springs.directions[i];
         let il = springs.inverse_lengths[i];

@@ -314,6 +314,7 @@ mod tests {
                 constants[i].stiffness,
                 &mut lane_frame,
                 &mut energy,
+                None,
             );
             springs.rests[i] = terms.rest;
         }
