@@ -254,32 +254,22 @@ pub(crate) fn spring_forces<const N: usize>(
     weight: impl Fn(usize) -> Lanes,
     root_frame: LaneFrame,
 ) -> (Lanes, Lanes) {
+    let mut walk = |reversed: Option<&mut Lanes>| {
+        spring_walk(
+            s,
+            positions,
+            n,
+            first,
+            &rest_local,
+            &stiffness,
+            &weight,
+            root_frame,
+            reversed,
+        )
+    };
     let mut reversed = Lanes::splat(0.0);
-    let fast = spring_walk(
-        s,
-        positions,
-        n,
-        first,
-        &rest_local,
-        &stiffness,
-        &weight,
-        root_frame,
-        Some(&mut reversed),
-    );
-    if !reversed.any() {
-        return fast;
-    }
-    spring_walk(
-        s,
-        positions,
-        n,
-        first,
-        &rest_local,
-        &stiffness,
-        &weight,
-        root_frame,
-        None,
-    )
+    let fast = walk(Some(&mut reversed));
+    if reversed.any() { walk(None) } else { fast }
 }
 
 /// [`spring_forces`]' walk, its transport checked where `reversed` is `None`.
