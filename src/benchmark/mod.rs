@@ -9,10 +9,12 @@ use hair_core::Level;
 use hair_core::lod::LodSettings;
 
 mod budget;
+mod costs;
 pub mod coverage;
 mod paper;
 
 pub use budget::{BudgetedRun, run_budgeted};
+pub use costs::{LevelCost, SimulationCosts};
 pub use paper::{
     AgainstStrands, BudgetedAgainstStrands, PaperOptions, PaperRun, PaperRunError, PaperRuns,
     run_budgeted_against, run_paper_tables,

@@ -66,6 +66,14 @@ pub struct FrameReport {
     /// Skeleton nodes simulated in each level's block.
     #[serde(default)]
     pub level_nodes: [usize; 3],
+    /// Dynamics time of each level's block [s] (patch, clusters, strand groups): the
+    /// integrator's step.
+    #[serde(default)]
+    pub level_dynamics: [f64; 3],
+    /// Collision time of each level's block [s]: contacts, response and friction before the
+    /// step, the positional guarantee after it.
+    #[serde(default)]
+    pub level_collision: [f64; 3],
     /// Hair segments found touching the head.
     pub contacts: usize,
     /// The largest relative segment-length error the collision projection left this frame
@@ -106,6 +114,8 @@ impl FrameReport {
             self.pixels_at[level] += other.pixels_at[level];
             self.level_seconds[level] += other.level_seconds[level];
             self.level_nodes[level] += other.level_nodes[level];
+            self.level_dynamics[level] += other.level_dynamics[level];
+            self.level_collision[level] += other.level_collision[level];
         }
         self.visible_sections += other.visible_sections;
         self.level_changes += other.level_changes;

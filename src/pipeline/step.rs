@@ -46,6 +46,8 @@ impl BlockStepped {
         report.contacts += self.contacts;
         report.max_stretch = report.max_stretch.max(self.max_stretch);
         report.level_seconds[self.level as usize] += self.dynamics + self.collision;
+        report.level_dynamics[self.level as usize] += self.dynamics;
+        report.level_collision[self.level as usize] += self.collision;
     }
 }
 
@@ -134,7 +136,12 @@ pub(crate) fn charge_wall_time(report: &mut FrameReport, wall: f64) {
     let scale = wall / busy;
     report.times.dynamics *= scale;
     report.times.collision *= scale;
-    for seconds in &mut report.level_seconds {
+    for seconds in report
+        .level_seconds
+        .iter_mut()
+        .chain(&mut report.level_dynamics)
+        .chain(&mut report.level_collision)
+    {
         *seconds *= scale;
     }
 }

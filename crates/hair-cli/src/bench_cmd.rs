@@ -9,8 +9,8 @@ use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use hairlod::Scene;
 use hairlod::benchmark::{
-    AgainstStrands, BudgetedAgainstStrands, PaperOptions, PaperRun, PaperRuns, paper_figures,
-    run_budgeted_against, run_paper_tables,
+    AgainstStrands, BudgetedAgainstStrands, PaperOptions, PaperRun, PaperRuns, SimulationCosts,
+    paper_figures, run_budgeted_against, run_paper_tables,
 };
 use hairlod::core::lod::{BudgetMethod, BudgetSettings, ErrorModel, LodSettings};
 use hairlod::pipeline::PipelineRenderer;
@@ -150,6 +150,9 @@ struct PaperReport<'a> {
     mean_pixel_error_against_strands: AgainstStrands,
     paper_seconds_per_frame: Option<[[f64; 4]; 3]>,
     budgeted: Vec<BudgetedAgainstStrands>,
+    /// Per mode, the simulation's cost per level: nodes, dynamics and collision per frame, and
+    /// nanoseconds per node.
+    simulation_costs: Vec<SimulationCosts>,
 }
 
 /// Runs `hairlod bench`.
@@ -298,6 +301,8 @@ pub fn paper_tables(
         crate::report::thinning_label(&lod)
     );
     print_drawn(&modes);
+    let simulation_costs: Vec<SimulationCosts> = modes.iter().map(SimulationCosts::of).collect();
+    crate::report::print_simulation_costs(&simulation_costs);
     print_where_lods_sit(
         &modes,
         &instant_run,
@@ -354,6 +359,7 @@ pub fn paper_tables(
         mean_pixel_error_against_strands: mean_pixels,
         paper_seconds_per_frame: paper,
         budgeted,
+        simulation_costs,
     };
     Ok(serde_json::to_value(&report)?)
 }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use hairlod::benchmark::paper_modes;
+use hairlod::benchmark::{SimulationCosts, paper_modes};
 use hairlod::core::lod::{BudgetMethod, BudgetReport, BudgetSettings};
 use hairlod::crowd::{Crowd, CrowdModel, CrowdRenderer, run_crowd};
 use hairlod::metrics::{luma, luma_difference, ssim};
@@ -150,6 +150,8 @@ struct CrowdReport<'a> {
     modes: &'a [ModeRun],
     against_strands: &'a [AgainstStrands],
     budgets: Vec<(BudgetReport, AgainstStrands)>,
+    /// Per mode, the simulation's cost per level (nodes, dynamics, collision, ns per node).
+    simulation_costs: Vec<SimulationCosts>,
 }
 
 /// Mean cost per frame [s] of a run, all stages.
@@ -190,6 +192,8 @@ pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result
     runs.swap(0, 1);
     let (modes, against): (Vec<ModeRun>, Vec<AgainstStrands>) = runs.into_iter().unzip();
     print_table("The crowd in each mode", &modes, None, shot);
+    let simulation_costs: Vec<SimulationCosts> = modes.iter().map(SimulationCosts::of).collect();
+    crate::report::print_simulation_costs(&simulation_costs);
     println!();
     println!(
         "{:<28}{:>12}{:>12}{:>12}{:>14}",
@@ -270,6 +274,7 @@ pub fn bench(shot: &Shot, budget_ms: Option<f64>, json: Option<&Path>) -> Result
             modes: &modes,
             against_strands: &against,
             budgets,
+            simulation_costs,
         };
         write_json(path, &serde_json::to_value(&report)?)?;
     }

@@ -4,7 +4,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use hairlod::benchmark::{paper_shot, resized};
+use hairlod::benchmark::{SimulationCosts, paper_shot, resized};
 use hairlod::collide::BroadPhase;
 use hairlod::pipeline::DrawnAs;
 use hairlod::run::ModeRun;
@@ -165,5 +165,48 @@ pub(crate) fn thinning_label(lod: &hairlod::core::lod::LodSettings) -> String {
         (false, _) => String::new(),
         (true, false) => format!(" thinned {}/px", lod.strands_per_pixel),
         (true, true) => format!(" thinned {}/px, widened", lod.strands_per_pixel),
+    }
+}
+
+/// Prints each mode's simulation cost per level (means per frame): nodes, dynamics and
+/// collision [ms], nanoseconds per node, and the modes' dynamics plus collision against the
+/// first all-strands mode's.
+pub fn print_simulation_costs(costs: &[SimulationCosts]) {
+    println!(
+        "simulation cost per level, mean per frame (nodes | dynamics ms | collision ms | ns per node):"
+    );
+    let cell = |c: &hairlod::benchmark::LevelCost| {
+        if c.nodes > 0.0 {
+            format!(
+                "{:>7.0} | {:>6.2} | {:>6.2} | {:>6.0}",
+                c.nodes, c.dynamics_ms, c.collision_ms, c.ns_per_node
+            )
+        } else {
+            format!("{:>7} | {:>6} | {:>6} | {:>6}", "-", "-", "-", "-")
+        }
+    };
+    println!(
+        "  {:<12} {:<33} {:<33} {:<33} all",
+        "mode", "patches", "clusters", "strand groups"
+    );
+    let strands = costs
+        .iter()
+        .find(|c| c.mode == "Strands")
+        .map(|c| c.all.total_ms());
+    for c in costs {
+        let against = match strands {
+            Some(s) if c.all.total_ms() > 0.0 => {
+                format!("  (Strands / this: {:.2}×)", s / c.all.total_ms())
+            }
+            _ => String::new(),
+        };
+        println!(
+            "  {:<12} {}   {}   {}   {}{against}",
+            c.mode,
+            cell(&c.levels[0]),
+            cell(&c.levels[1]),
+            cell(&c.levels[2]),
+            cell(&c.all)
+        );
     }
 }

@@ -101,6 +101,10 @@ fn benches(c: &mut Criterion) {
             let volumes = full.hierarchy().unwrap().volumes();
             b.iter(|| query_body_near(volumes, &fixture.head, &mut contacts))
         });
+        group.bench_function(format!("query/{name}/volumes"), |b| {
+            let volumes = full.hierarchy().unwrap().volumes();
+            b.iter(|| hair_collide::query_body_volumes(volumes, &fixture.head, &mut contacts))
+        });
         group.bench_function(format!("query/{name}/bvh_subset"), |b| {
             b.iter(|| query_body(part.hierarchy().unwrap(), &fixture.head, &mut contacts))
         });

@@ -9,10 +9,12 @@ hair_core::named_enum! {
     /// only.
     #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
     pub enum BroadPhase {
-        /// The paper's hierarchies (§5.3, the default): the hair's swept-sphere tree refitted
-        /// every step and descended together with the body's triangle tree. Measured faster than
-        /// the field on hair that lies on the head (`docs/collision.md`): the exact tests of the
-        /// segments near the surface dominate, and the trees cull the far hair by whole subtrees.
+        /// The paper's hierarchies (§5.3, the default): each of the hair's swept-sphere volumes
+        /// descends the body's triangle tree ([`query_body_volumes`](crate::query_body_volumes)),
+        /// in chunks side by side on the cores; the hair's own tree is refitted only for hair–hair
+        /// contact. Measured faster than the field on hair that lies on the head
+        /// (`docs/collision.md`): the exact tests of the segments near the surface dominate, and
+        /// the field adds lookups on top of them.
         #[default]
         Hierarchies = "hierarchies",
         /// The body's [`DistanceField`](crate::DistanceField) clears the segments and nodes that

@@ -30,7 +30,8 @@ pub(crate) struct ActiveHair {
     pub is_root: Vec<bool>,
     /// Gathered node positions \[m\].
     pub positions: Vec<Vec3>,
-    /// Gathered node frames.
+    /// Gathered node frames (computed for clusters and patches only, whose control points
+    /// follow them; a strand group's entries are left as they are).
     pub frames: Vec<Frame>,
     /// Control points \[m\] of clusters (4 per node) and patches (2 per node), chain order.
     pub control_points: Vec<Vec3>,
@@ -99,11 +100,15 @@ impl ActiveHair {
         let mut control = 0;
         for (index, chain) in self.chains.iter().enumerate() {
             let nodes = self.chain_offsets[index] as usize..self.chain_offsets[index + 1] as usize;
+            let count = nodes.len() * chain.shape.volume().control_points_per_node();
+            if count == 0 {
+                // A strand group's volumes are its segments' own capsules: no frames needed.
+                continue;
+            }
             let positions = &self.positions[nodes.clone()];
             let frames = &mut self.frames[nodes.clone()];
             let root = rest.world_root_frame(chain.chain as usize, &RigidTransform::IDENTITY);
             node_frames(&root, positions, frames);
-            let count = nodes.len() * chain.shape.volume().control_points_per_node();
             let out = &mut self.control_points[control..control + count];
             match chain.shape {
                 ChainShape::StrandGroup { .. } => {}

@@ -50,7 +50,9 @@ pub use hair_hair::{HairHairSettings, add_repulsion_forces};
 pub use layout::{
     ChainShape, CollisionChain, groom_active_chains, groom_chain, groom_level_chains,
 };
-pub use query::{SegmentContacts, query_body, query_body_brute_force, query_body_near};
+pub use query::{
+    SegmentContacts, query_body, query_body_brute_force, query_body_near, query_body_volumes,
+};
 pub use sight::LineOfSight;
 pub use solver::{
     CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,

@@ -23,7 +23,7 @@ use crate::hair_hair::{HairHairSettings, add_repulsion_forces};
 use crate::layout::CollisionChain;
 use crate::other_forces::external_force;
 use crate::projection::{Projection, project_out, restore_length};
-use crate::query::{SegmentContacts, query_body, query_body_near};
+use crate::query::{SegmentContacts, query_body_near, query_body_volumes};
 use crate::response::{
     approach_speed, average_normal, friction_force, response_force, rigid_point_velocity,
 };
@@ -295,7 +295,8 @@ impl CollisionSolver {
     }
 
     /// The hair hierarchy of the last step, in head space (the bodies' own frame, where
-    /// [`query_body`] takes it); `None` before the first.
+    /// [`query_body`](crate::query_body) takes it); `None` before the first. Its tree is refitted
+    /// only with hair–hair contact on; its volumes are always the step's.
     pub fn hierarchy(&self) -> Option<&HairBvh> {
         self.hierarchy.as_ref()
     }
@@ -326,11 +327,13 @@ impl CollisionSolver {
         self.hair
             .gather(&model.rest, &state.node_positions, &head)?;
         let mut report = ContactReport::default();
-        let near_only = self.settings.broad_phase == BroadPhase::DistanceField
-            && self.settings.hair_hair.is_none();
+        // The bodies are queried volume by volume through their own trees
+        // (`query_body_volumes`): the hair's tree is refitted only for hair–hair contact.
+        let volumes_only = self.settings.hair_hair.is_none();
+        let use_field = self.settings.broad_phase == BroadPhase::DistanceField;
         let hierarchy = match self.hierarchy.as_mut() {
             Some(hierarchy) if !self.layout_changed => {
-                if near_only {
+                if volumes_only {
                     hierarchy.update_volumes(&self.hair.positions, &self.hair.control_points)?;
                 } else {
                     hierarchy.refit(&self.hair.positions, &self.hair.control_points)?;
@@ -359,10 +362,10 @@ impl CollisionSolver {
         let respond = self.settings.response || self.settings.friction > 0.0;
         self.node_normals.fill(Vec3::ZERO);
         for body in bodies.iter() {
-            if near_only {
+            if use_field {
                 query_body_near(hierarchy.volumes(), body, &mut self.contacts);
             } else {
-                query_body(hierarchy, body, &mut self.contacts);
+                query_body_volumes(hierarchy.volumes(), body, &mut self.contacts);
             }
             report.contact_segments += self.contacts.segment_count();
             report.contact_pairs += self.contacts.pair_count();

@@ -1,13 +1,14 @@
 //! The paper's benchmark groom (paper-curly: 91 sections, 37,765 strands) on the procedural head
 //! (12,096 triangles): the BVH query returns exactly the brute-force contact set at every level
 //! (patches: RSS; clusters: LSS around 8 control points; strand groups: LSS of the group's
-//! radius), at rest and after the head has shaken the hair, and so does the query through the
-//! head's distance field; the hierarchy is refitted from the
+//! radius), at rest and after the head has shaken the hair, and so do the per-volume query
+//! through the head's tree and the query through the head's distance field; the hierarchy is refitted from the
 //! node positions each step and rebuilt only when the layout (a section's level) changes.
 
 use hair_collide::{
-    CollisionBody, CollisionSettings, CollisionSolver, SegmentContacts, groom_active_chains,
-    groom_level_chains, query_body, query_body_brute_force, query_body_near,
+    CollisionBody, CollisionSettings, CollisionSolver, HairHairSettings, SegmentContacts,
+    groom_active_chains, groom_level_chains, query_body, query_body_brute_force, query_body_near,
+    query_body_volumes,
 };
 use hair_core::dynamics::{
     DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, Simulation,
@@ -25,6 +26,12 @@ fn assert_bvh_equals_brute_force(
     query_body(hair, body, &mut fast);
     query_body_brute_force(hair, body, &mut slow);
     assert_eq!(fast, slow, "{what}: BVH and brute force disagree");
+    let mut volumes = SegmentContacts::new();
+    query_body_volumes(hair.volumes(), body, &mut volumes);
+    assert_eq!(
+        volumes, slow,
+        "{what}: the per-volume query and brute force disagree"
+    );
     let mut near = SegmentContacts::new();
     query_body_near(hair.volumes(), body, &mut near);
     assert_eq!(
@@ -51,7 +58,13 @@ fn paper_curly_bvh_equals_brute_force_at_every_level_and_after_motion() {
     };
     let mut state = simulation.rest_state(&environment, 0.0);
     let mut body = CollisionBody::from_mesh(&scene.head.mesh).unwrap();
-    let mut solver = CollisionSolver::new(CollisionSettings::default()).unwrap();
+    // Hair–hair contact on, so that the solver refits the hair's tree every step and the
+    // simultaneous descent of both trees is checked on moved hair too.
+    let mut solver = CollisionSolver::new(CollisionSettings {
+        hair_hair: Some(HairHairSettings::default()),
+        ..CollisionSettings::default()
+    })
+    .unwrap();
 
     // Each level at rest: a new layout, so a rebuild.
     for (k, level) in Level::ALL.into_iter().enumerate() {

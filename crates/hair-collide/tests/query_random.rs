@@ -7,7 +7,7 @@ mod support;
 use glam::{Quat, Vec3};
 use hair_collide::{
     ChainVolume, CollideError, CollisionBody, HairBvh, SegmentContacts, query_body,
-    query_body_brute_force,
+    query_body_brute_force, query_body_volumes,
 };
 use hair_core::mesh::MeshError;
 use support::{Rng, uv_sphere};
@@ -89,6 +89,13 @@ fn both_queries(hair: &HairBvh, body: &CollisionBody) -> SegmentContacts {
     query_body(hair, body, &mut fast);
     query_body_brute_force(hair, body, &mut brute);
     assert_eq!(fast, brute, "BVH and brute force disagree");
+    // Volume by volume through the body's tree, in chunks of 256 side by side.
+    let mut volumes = SegmentContacts::new();
+    query_body_volumes(hair.volumes(), body, &mut volumes);
+    assert_eq!(
+        volumes, brute,
+        "the per-volume query and brute force disagree"
+    );
     fast
 }
 
