@@ -210,7 +210,11 @@ fn query_volumes(
                     {
                         continue;
                     }
-                    for triangle in body.bvh().intersect_aabb(&aabb) {
+                    let query = BvhNode::leaf(aabb, 0);
+                    let reaches = |node: &BvhNode| {
+                        node.intersects(&query) && volume.may_touch_box(&node.aabb(), padding)
+                    };
+                    for triangle in body.bvh().leaves(reaches) {
                         if volume.intersects_triangle(&triangles[triangle as usize]) {
                             pairs.push((segment as u32, triangle));
                         }

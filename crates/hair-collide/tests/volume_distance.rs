@@ -365,3 +365,66 @@ fn volume_triangle_distances_against_sampled_triangle() {
         }
     }
 }
+
+/// The leaf test's quick rejects (separating slabs along the triangle's normal, the segment's
+/// axis, the triangle's edge normals within its plane and the axes across the segment and each
+/// edge) never reject a pair that touches: volumes around small scalp-sized triangles, each
+/// given a radius just above its core's exact distance to the triangle (must touch) and just
+/// below it (must not). The core distance is `triangle_distance + radius`; 0.1 % either side
+/// is far beyond the f32 rounding of these millimetre configurations (`ROUNDING`-scaled).
+#[test]
+fn quick_rejects_keep_every_touching_pair_near_the_boundary() {
+    let mut rng = Rng::new(11);
+    let mut touching = 0;
+    for case in 0..4000 {
+        // A 5 mm triangle 10 cm from the origin (a scalp triangle), hair within a centimetre.
+        let at = Vec3::new(0.0, 0.1, 0.0) + rng.vec3(0.01);
+        let a = at + rng.vec3(0.005);
+        let triangle = Triangle::new(a, a + rng.vec3(0.005), a + rng.vec3(0.005));
+        let near = |rng: &mut Rng| at + rng.vec3(0.01);
+        let core = |radius: f32, rng: &mut Rng| -> SweptSphere {
+            match case % 3 {
+                0 => Pss {
+                    center: near(rng),
+                    radius,
+                }
+                .into(),
+                1 => {
+                    let start = near(rng);
+                    Lss {
+                        start,
+                        end: start + rng.vec3(0.01),
+                        radius,
+                    }
+                    .into()
+                }
+                _ => {
+                    let mut r = random_rectangle(rng);
+                    r.center = near(rng);
+                    r.half_extents = r.half_extents.map(|e| e * 0.01);
+                    Rss::new(r, radius).into()
+                }
+            }
+        };
+        let bare = core(0.0, &mut rng);
+        let distance = bare.triangle_distance(&triangle);
+        if distance < 1e-4 {
+            continue; // the core touches or nearly: no radius below it to test.
+        }
+        for (factor, touches) in [(1.001, true), (0.999, false)] {
+            let radius = distance * factor;
+            let volume: SweptSphere = match bare {
+                SweptSphere::Point(v) => Pss { radius, ..v }.into(),
+                SweptSphere::Line(v) => Lss { radius, ..v }.into(),
+                SweptSphere::Rectangle(v) => Rss::new(v.rectangle, radius).into(),
+            };
+            assert_eq!(
+                volume.intersects_triangle(&triangle),
+                touches,
+                "case {case}: {volume:?} vs {triangle:?}, core distance {distance}"
+            );
+        }
+        touching += 1;
+    }
+    assert!(touching > 2000, "{touching} cases tested");
+}
