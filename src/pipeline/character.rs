@@ -108,7 +108,7 @@ pub(crate) fn build_character(
         (true, Some(body)) => Some(body.clone()),
         (true, None) => Some(CollisionBody::from_mesh(&model.scene.head.mesh)?),
     };
-    if settings.broad_phase == BroadPhase::DistanceField
+    if settings.broad_phase != BroadPhase::Hierarchies
         && let Some(body) = &body
     {
         // Built with the character (once per mesh, shared by its copies), not in the first

@@ -86,9 +86,9 @@ pub struct PipelineSettings {
     pub dynamics: SimulationSettings,
     /// Hair-head collision (response, friction and the positional guarantee) on.
     pub collision: bool,
-    /// How the collision stage finds the hair near the head: the paper's hierarchies (the
-    /// default) or the head's distance field. The contacts are the same either way; only the cost
-    /// differs.
+    /// How the collision stage finds the hair near the head: contacts from the head's distance
+    /// field (the default), or the exact triangle tests through the paper's hierarchies or
+    /// culled by the field (see [`BroadPhase`]).
     pub broad_phase: BroadPhase,
 }
 
@@ -112,7 +112,7 @@ impl PipelineSettings {
 impl Default for PipelineSettings {
     /// Automatic levels with default settings, each drawn as itself, the default integrator
     /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on
-    /// through the paper's hierarchies.
+    /// with contacts from the head's distance field.
     fn default() -> Self {
         PipelineSettings {
             lod: LodMode::Auto(LodSettings::default()),

@@ -378,8 +378,9 @@ pub struct DynamicsTable {
     pub substeps: Option<u32>,
     /// Hair–head collision on (default true).
     pub collision: Option<bool>,
-    /// How collision finds the hair near the head: `hierarchies` (the paper's §5.3, default) or
-    /// `distance-field`. The same contacts either way; only the cost differs.
+    /// How collision finds the hair near the head: `field-contacts` (the default: contacts from
+    /// the head's distance field), `hierarchies` (the paper's §5.3: exact triangle tests) or
+    /// `distance-field` (the same exact tests, culled by the field).
     pub collision_broad_phase: Option<BroadPhase>,
     /// Settling at full detail under gravity before frame 0 [s], 0..=60 (default 0 for a
     /// hanging groom, which is at rest already, and 1 for a grown one).

@@ -130,7 +130,8 @@ struct PaperReport<'a> {
     /// The LODs again with instant switching (the paper's transitions; `blend_time` 0), timed
     /// like the four modes.
     lods_instant_switching: &'a ModeRun,
-    /// How collision found the hair near the head (`distance-field` or `hierarchies`).
+    /// How collision found the hair near the head (`field-contacts`, `hierarchies` or
+    /// `distance-field`).
     broad_phase: hairlod::collide::BroadPhase,
     /// How the levels were drawn (`level`: each as itself; `strands`: all as strands).
     drawn_as: hairlod::pipeline::DrawnAs,

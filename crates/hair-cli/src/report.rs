@@ -24,8 +24,9 @@ pub struct PaperShotArgs {
     /// Image size WIDTHxHEIGHT [pixels].
     #[arg(long, default_value = "1280x720", value_parser = crate::cli_args::size)]
     pub size: (u32, u32),
-    /// How collision finds the hair near the head: `hierarchies` (the paper's §5.3, the
-    /// library's default) or `distance-field`. The same contacts either way; only the cost differs.
+    /// How collision finds the hair near the head: `field-contacts` (the library's default:
+    /// contacts from the head's distance field), `hierarchies` (the paper's §5.3: exact triangle
+    /// tests) or `distance-field` (the same exact tests, culled by the field).
     #[arg(long, default_value_t = BroadPhase::default())]
     pub broad_phase: BroadPhase,
     /// How the levels are drawn: `level` (each as itself, the paper's Tables) or `strands`

@@ -12,6 +12,7 @@
 //!   which let a query skip the hair that is clear of it.
 //! - [`attach`]: [`attach_roots`], roots attached to a body's closest triangle (barycentric).
 //! - [`query`]: [`query_body`] and its brute-force reference [`query_body_brute_force`].
+//! - [`field_contacts`]: [`query_body_field`], contacts from a body's distance field.
 //! - [`sight`]: [`LineOfSight`], whether a body hides a point from an eye.
 //!
 //! Units are metres; vectors are `glam::Vec3` (the same type parry3d 0.31 uses).
@@ -24,6 +25,7 @@ mod clearance;
 pub mod closest;
 pub mod distance_field;
 pub mod error;
+pub mod field_contacts;
 pub mod fit;
 mod gather;
 pub mod geometry;
@@ -36,6 +38,7 @@ pub mod query;
 pub mod response;
 pub mod sight;
 pub mod solver;
+mod solver_settings;
 pub mod surface;
 pub mod volume;
 
@@ -45,6 +48,7 @@ pub use broad_phase::BroadPhase;
 pub use bvh::{ChainVolume, HairBvh, aabb_padding};
 pub use distance_field::DistanceField;
 pub use error::{CollideError, Result};
+pub use field_contacts::{FieldContacts, query_body_field};
 pub use geometry::{Rectangle, Triangle};
 pub use hair_hair::{HairHairSettings, add_repulsion_forces};
 pub use layout::{

@@ -31,7 +31,7 @@ pub struct SegmentContacts {
 
 /// Segment volumes per parallel task of a query: fixed, so the chunks (and, after the sort,
 /// the contacts) are the same whatever the thread count.
-const CHUNK: usize = 256;
+pub(crate) const CHUNK: usize = 256;
 
 impl PartialEq for SegmentContacts {
     fn eq(&self, other: &Self) -> bool {
@@ -98,12 +98,12 @@ impl SegmentContacts {
 }
 
 /// Rounding allowance \[m\] of the cull by a body's ball: a few ulps at the ball's scale.
-fn ball_padding(bound: &Pss) -> f32 {
+pub(crate) fn ball_padding(bound: &Pss) -> f32 {
     64.0 * f32::EPSILON * (1.0 + bound.center.abs().max_element() + bound.radius)
 }
 
 /// Whether an AABB touches a ball grown by a rounding padding (conservative).
-fn aabb_touches_ball(aabb: &Aabb, ball: &Pss, padding: f32) -> bool {
+pub(crate) fn aabb_touches_ball(aabb: &Aabb, ball: &Pss, padding: f32) -> bool {
     let closest = ball.center.clamp(aabb.mins, aabb.maxs);
     let reach = ball.radius + padding;
     closest.distance_squared(ball.center) <= reach * reach
@@ -192,7 +192,6 @@ fn query_volumes(
         let bound = body.local_bounding_volume();
         let bound_padding = ball_padding(&bound);
         let field = use_field.then(|| body.distance_field());
-        let triangles = body.local_triangles();
         let chunks = volumes.len().div_ceil(CHUNK);
         contacts.chunk_pairs.resize_with(chunks, Vec::new);
         contacts.chunk_pairs[..chunks]
@@ -210,15 +209,9 @@ fn query_volumes(
                     {
                         continue;
                     }
-                    let query = BvhNode::leaf(aabb, 0);
-                    let reaches = |node: &BvhNode| {
-                        node.intersects(&query) && volume.may_touch_box(&node.aabb(), padding)
-                    };
-                    for triangle in body.bvh().leaves(reaches) {
-                        if volume.intersects_triangle(&triangles[triangle as usize]) {
-                            pairs.push((segment as u32, triangle));
-                        }
-                    }
+                    for_each_touched(volume, body, |triangle| {
+                        pairs.push((segment as u32, triangle))
+                    });
                 }
                 // Chunks hold ascending segment ranges: sorted chunks concatenate sorted.
                 pairs.sort_unstable();
@@ -228,6 +221,26 @@ fn query_volumes(
         }
     }
     contacts.finish(true);
+}
+
+/// Calls `touched` with each triangle (ascending within the tree's order, not sorted) that
+/// `volume` (body frame) touches: the body's tree descended with the volume's padded AABB (and,
+/// for a rectangle, its slab, [`SweptSphere::may_touch_box`]), then the exact test.
+pub(crate) fn for_each_touched(
+    volume: &SweptSphere,
+    body: &CollisionBody,
+    mut touched: impl FnMut(u32),
+) {
+    let padding = aabb_padding(volume);
+    let query = BvhNode::leaf(volume.aabb(padding), 0);
+    let reaches =
+        |node: &BvhNode| node.intersects(&query) && volume.may_touch_box(&node.aabb(), padding);
+    let triangles = body.local_triangles();
+    for triangle in body.bvh().leaves(reaches) {
+        if volume.intersects_triangle(&triangles[triangle as usize]) {
+            touched(triangle);
+        }
+    }
 }
 
 /// Hair against body by testing every segment volume against every triangle with the exact test

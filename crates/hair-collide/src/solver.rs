@@ -11,15 +11,16 @@
 //! rigidly with `environment.head`.
 
 use glam::Vec3;
-use hair_core::dynamics::{Environment, RootMode, Simulation, SimulationState, StepReport};
+use hair_core::dynamics::{Environment, RootMode, Simulation, SimulationState};
 
 use crate::body::CollisionBody;
 use crate::broad_phase::BroadPhase;
 use crate::bvh::HairBvh;
 use crate::clearance::{CLEARANCE_ROUNDING, Clearance, carry_clearances};
 use crate::error::{CollideError, Result};
+use crate::field_contacts::{FieldContacts, query_body_field};
 use crate::gather::ActiveHair;
-use crate::hair_hair::{HairHairSettings, add_repulsion_forces};
+use crate::hair_hair::add_repulsion_forces;
 use crate::layout::CollisionChain;
 use crate::other_forces::external_force;
 use crate::projection::{Projection, project_out, restore_length};
@@ -27,126 +28,10 @@ use crate::query::{SegmentContacts, query_body_near, query_body_volumes};
 use crate::response::{
     approach_speed, average_normal, friction_force, response_force, rigid_point_velocity,
 };
-
-/// The positional guarantee \[m\]: after [`CollisionSolver::after_step`] no simulated node (other
-/// than an attached root, which the head carries) is deeper than this inside a closed body.
-/// Projection puts nodes [`CollisionSettings::skin`] outside; this allows for f32 rounding
-/// at head scale (~10⁻⁸ m) and for creases where the projection of one face lands near another.
-pub const PENETRATION_TOLERANCE: f32 = 1.0e-4;
-
-/// How the collision stage responds.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CollisionSettings {
-    /// Response forces of §5.4 (cancel each touching node's approach over the step).
-    pub response: bool,
-    /// Friction coefficient μ in `[0, 1]` (§5.4: `−μ ×` the tangential part of the node's
-    /// other forces); 0 turns friction off.
-    pub friction: f32,
-    /// The positional guarantee: project nodes that end a step inside a body back out.
-    pub project_positions: bool,
-    /// Distance \[m\] outside the surface where projected nodes are placed, in
-    /// `[0, PENETRATION_TOLERANCE]`.
-    pub skin: f32,
-    /// Hair–hair repulsion between sections (beyond the paper); `None` (the default) is off.
-    pub hair_hair: Option<HairHairSettings>,
-    /// How the hair near a body is found (the same contacts either way).
-    pub broad_phase: BroadPhase,
-}
-
-impl Default for CollisionSettings {
-    /// Response on, μ = 0.3, projection on with a 10 µm skin, hair–hair off, the paper's
-    /// hierarchies as the broad phase.
-    fn default() -> Self {
-        CollisionSettings {
-            response: true,
-            friction: 0.3,
-            project_positions: true,
-            skin: 1.0e-5,
-            hair_hair: None,
-            broad_phase: BroadPhase::default(),
-        }
-    }
-}
-
-impl CollisionSettings {
-    /// Checks every setting, naming the first one out of range.
-    pub fn validate(&self) -> Result<()> {
-        if !(0.0..=1.0).contains(&self.friction) {
-            return Err(CollideError::InvalidParameter {
-                name: "friction",
-                value: self.friction.to_string(),
-                allowed: "0..=1 (a larger coefficient would reverse the pull)",
-            });
-        }
-        if !(0.0..=PENETRATION_TOLERANCE).contains(&self.skin) {
-            return Err(CollideError::InvalidParameter {
-                name: "skin",
-                value: self.skin.to_string(),
-                allowed: "0..=1e-4 m",
-            });
-        }
-        if let Some(hair_hair) = &self.hair_hair {
-            hair_hair.validate()?;
-        }
-        Ok(())
-    }
-}
-
-/// What [`CollisionSolver::before_step`] found.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ContactReport {
-    /// Segments touching a body (summed over bodies).
-    pub contact_segments: usize,
-    /// `(segment, triangle)` pairs touching (summed over bodies).
-    pub contact_pairs: usize,
-    /// Nodes that received a response or friction force.
-    pub contact_nodes: usize,
-    /// Overlapping segment pairs of different sections (0 when hair–hair is off).
-    pub hair_hair_pairs: usize,
-    /// Whether the hierarchy was rebuilt (layout changed) rather than refitted.
-    pub rebuilt: bool,
-}
-
-/// What [`CollisionSolver::after_step`] did.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ProjectionReport {
-    /// Nodes found inside a body and projected out.
-    pub projected_nodes: usize,
-    /// The deepest penetration found \[m\] (0 when none).
-    pub max_depth: f32,
-    /// The largest relative length error `|ℓ − ℓ₀| / ℓ₀` of a segment whose lower end was
-    /// projected, after the projection (0 when none). A projected segment is turned about its
-    /// parent to keep its length; only where no direction at that length is outside (its parent
-    /// itself inside: a root set in the scalp) does the position win and the segment stretch,
-    /// which a large value reports (see [`STRETCH_WARNING`]).
-    pub max_stretch: f32,
-}
-
-/// A segment stretched beyond this fraction by the projection (5 %) means the step was too
-/// coarse for the hair's motion near the head: front ends warn about it.
-pub const STRETCH_WARNING: f32 = 0.05;
-
-/// Both reports of one [`CollisionSolver::step`], and the dynamics'.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CollisionStepReport {
-    /// Contacts and forces before the step.
-    pub contacts: ContactReport,
-    /// The dynamics step.
-    pub dynamics: StepReport,
-    /// Projection after the step.
-    pub projection: ProjectionReport,
-}
-
-/// What the collision response remembers between steps: the node positions [m] at the last
-/// [`CollisionSolver::before_step`] and its time [s] (`None` before the first), from which it
-/// takes node velocities by finite differences.
-#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct VelocityMemory {
-    /// Node positions [m] at the last step, one per model node.
-    pub positions: Vec<Vec3>,
-    /// Time of the last step [s].
-    pub time: Option<f64>,
-}
+pub use crate::solver_settings::{
+    CollisionSettings, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE, ProjectionReport,
+    STRETCH_WARNING, VelocityMemory,
+};
 
 /// The collision stage of one set of active chains: their hierarchy, the velocity memory of the
 /// response and all scratch (nothing is allocated per step once the layout is set, except when
@@ -161,6 +46,9 @@ pub struct CollisionSolver {
     layout_changed: bool,
     rebuild_count: u64,
     contacts: SegmentContacts,
+    field_contacts: FieldContacts,
+    /// Per touching segment of the body being answered: `(segment, normal in the body's frame)`.
+    segment_normals: Vec<(u32, Vec3)>,
     chain_sections: Vec<u32>,
     /// Per gathered node: sum of the unit normals of its touching segments.
     node_normals: Vec<Vec3>,
@@ -197,6 +85,8 @@ impl CollisionSolver {
             layout_changed: true,
             rebuild_count: 0,
             contacts: SegmentContacts::new(),
+            field_contacts: FieldContacts::new(),
+            segment_normals: Vec::new(),
             chain_sections: Vec::new(),
             node_normals: Vec::new(),
             gathered_forces: Vec::new(),
@@ -362,21 +252,30 @@ impl CollisionSolver {
         let respond = self.settings.response || self.settings.friction > 0.0;
         self.node_normals.fill(Vec3::ZERO);
         for body in bodies.iter() {
-            if use_field {
-                query_body_near(hierarchy.volumes(), body, &mut self.contacts);
+            self.segment_normals.clear();
+            if self.settings.broad_phase == BroadPhase::FieldContacts {
+                query_body_field(hierarchy.volumes(), body, &mut self.field_contacts);
+                report.contact_segments += self.field_contacts.contacts.len();
+                report.exact_fallbacks += self.field_contacts.exact_fallbacks;
+                self.segment_normals
+                    .extend_from_slice(&self.field_contacts.contacts);
             } else {
-                query_body_volumes(hierarchy.volumes(), body, &mut self.contacts);
+                if use_field {
+                    query_body_near(hierarchy.volumes(), body, &mut self.contacts);
+                } else {
+                    query_body_volumes(hierarchy.volumes(), body, &mut self.contacts);
+                }
+                report.contact_segments += self.contacts.segment_count();
+                report.contact_pairs += self.contacts.pair_count();
+                let triangles = body.local_triangles();
+                self.segment_normals.extend(self.contacts.iter().filter_map(
+                    |(segment, touched)| Some((segment, average_normal(triangles, touched)?)),
+                ));
             }
-            report.contact_segments += self.contacts.segment_count();
-            report.contact_pairs += self.contacts.pair_count();
             if !respond {
                 continue;
             }
-            let triangles = body.local_triangles();
-            for (segment, touched) in self.contacts.iter() {
-                let Some(local_normal) = average_normal(triangles, touched) else {
-                    continue;
-                };
+            for &(segment, local_normal) in &self.segment_normals {
                 let normal = head.rotation * local_normal;
                 let top = hierarchy.segment_top_nodes()[segment as usize] as usize;
                 for node in [top, top + 1] {
@@ -485,7 +384,8 @@ impl CollisionSolver {
         let to_head = head.inverse();
         let lengths = &simulation.model().rest.segment_rest_lengths;
         let body_count = bodies.len();
-        let use_field = self.settings.broad_phase == BroadPhase::DistanceField;
+        // The field's certified bounds skip the nodes clear of a body (both field modes).
+        let use_field = self.settings.broad_phase != BroadPhase::Hierarchies;
         for index in 0..self.hair.chains.len() {
             let gathered = self.hair.chain_offsets[index] as usize
                 ..self.hair.chain_offsets[index + 1] as usize;

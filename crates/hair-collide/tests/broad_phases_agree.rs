@@ -1,4 +1,4 @@
-//! The two broad phases are one method at two costs: the curly groom at mixed levels (every
+//! The two broad phases that visit triangles are one method at two costs: the curly groom at mixed levels (every
 //! volume kind) on the procedural head shaking at 6 rad/s, stepped with the distance field and
 //! with the paper's hierarchies, gives the same contacts, the same projections and the same
 //! state, bit for bit, at every step.
@@ -25,7 +25,7 @@ fn the_distance_field_and_the_hierarchies_step_the_same_state() {
         ..Environment::default()
     };
     let body = CollisionBody::from_mesh(&scene.head.mesh).unwrap();
-    let mut runs = BroadPhase::ALL.map(|broad_phase| {
+    let mut runs = [BroadPhase::Hierarchies, BroadPhase::DistanceField].map(|broad_phase| {
         let simulation = Simulation::new(model.clone(), settings).unwrap();
         let state = simulation.rest_state(&environment, 0.0);
         let mut solver = CollisionSolver::new(CollisionSettings {

@@ -14,7 +14,9 @@
 //! margin for the head not being a sphere and for contact being found a step late.
 
 use glam::{Quat, Vec3};
-use hair_collide::{ChainShape, CollisionBody, CollisionChain, CollisionSettings, CollisionSolver};
+use hair_collide::{
+    BroadPhase, ChainShape, CollisionBody, CollisionChain, CollisionSettings, CollisionSolver,
+};
 use hair_core::dynamics::{
     DynamicsModel, DynamicsParams, Environment, IntegratorKind, RootMode, Simulation,
     SimulationSettings,
@@ -65,8 +67,12 @@ fn slide(head: &Head, kind: IntegratorKind, mu: f32) -> f32 {
     let mut state = simulation.rest_state(&environment, 0.0);
     let start = state.node_positions.clone();
     let mut body = CollisionBody::from_mesh(&head.mesh).unwrap();
+    // The exact triangle contacts: a zero-radius rope lying on the mesh touches it by
+    // micrometres, where the distance field's interpolation (BroadPhase::FieldContacts, the
+    // default) errs by as much and may miss a step.
     let collision = CollisionSettings {
         friction: mu,
+        broad_phase: BroadPhase::Hierarchies,
         ..CollisionSettings::default()
     };
     let mut solver = CollisionSolver::new(collision).unwrap();
