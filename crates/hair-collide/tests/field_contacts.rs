@@ -8,14 +8,14 @@
 //!   below `−δ`) is always a field contact, a field contact is never clearly apart (above `δ`),
 //!   and the field's normal agrees with the touched triangles' mean normal.
 
+mod support;
+
 use glam::Vec3;
 use hair_collide::{
     BroadPhase, CollisionBody, CollisionSettings, CollisionSolver, FieldContacts,
     groom_level_chains, query_body_field,
 };
-use hair_core::dynamics::{
-    DynamicsModel, DynamicsParams, Environment, IntegratorKind, Simulation, SimulationSettings,
-};
+use hair_core::dynamics::Environment;
 use hair_core::{Level, Scene};
 
 /// How far the field's distance may be from the exact one [m], at the field's cell `h`, on a
@@ -115,16 +115,7 @@ fn field_distance_and_gradient_match_the_exact_ones_near_the_scalp() {
 fn field_contacts_match_the_exact_contacts_of_the_paper_groom() {
     let (scene, mut body) = head();
     let groom = &scene.groom;
-    let model = DynamicsModel::new(
-        groom.skeletons.clone(),
-        DynamicsParams::for_style(&groom.params.style),
-    )
-    .unwrap();
-    let simulation = Simulation::new(
-        model,
-        SimulationSettings::recommended(IntegratorKind::PositionBased),
-    )
-    .unwrap();
+    let simulation = support::groom_simulation(groom);
     let environment = Environment::default();
     let mut state = simulation.rest_state(&environment, 0.0);
     let triangles = body.local_triangles().to_vec();

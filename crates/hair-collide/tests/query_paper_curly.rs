@@ -5,15 +5,14 @@
 //! through the head's tree and the query through the head's distance field; the hierarchy is refitted from the
 //! node positions each step and rebuilt only when the layout (a section's level) changes.
 
+mod support;
+
 use hair_collide::{
     CollisionBody, CollisionSettings, CollisionSolver, HairHairSettings, SegmentContacts,
     groom_active_chains, groom_level_chains, query_body, query_body_brute_force, query_body_near,
     query_body_volumes,
 };
-use hair_core::dynamics::{
-    DynamicsModel, DynamicsParams, Environment, HeadMotion, IntegratorKind, Simulation,
-    SimulationSettings,
-};
+use hair_core::dynamics::{Environment, HeadMotion};
 use hair_core::{Level, Scene};
 
 fn assert_bvh_equals_brute_force(
@@ -45,13 +44,7 @@ fn assert_bvh_equals_brute_force(
 fn paper_curly_bvh_equals_brute_force_at_every_level_and_after_motion() {
     let scene = Scene::preset("paper-curly").unwrap();
     let groom = &scene.groom;
-    let model = DynamicsModel::new(
-        groom.skeletons.clone(),
-        DynamicsParams::for_style(&groom.params.style),
-    )
-    .unwrap();
-    let settings = SimulationSettings::recommended(IntegratorKind::PositionBased);
-    let mut simulation = Simulation::new(model, settings).unwrap();
+    let mut simulation = support::groom_simulation(groom);
     let environment = Environment {
         head: HeadMotion::shake(0.6, 6.0),
         ..Environment::default()

@@ -200,3 +200,21 @@ pub fn mixed_levels(
     }
     (rest, chains)
 }
+
+/// A position-based simulation of every skeleton of `groom` (all three levels), with the
+/// dynamics parameters of its style at the integrator's recommended settings.
+pub fn groom_simulation(groom: &hair_core::Groom) -> hair_core::dynamics::Simulation {
+    use hair_core::dynamics::{
+        DynamicsModel, DynamicsParams, IntegratorKind, Simulation, SimulationSettings,
+    };
+    let model = DynamicsModel::new(
+        groom.skeletons.clone(),
+        DynamicsParams::for_style(&groom.params.style),
+    )
+    .unwrap();
+    Simulation::new(
+        model,
+        SimulationSettings::recommended(IntegratorKind::PositionBased),
+    )
+    .unwrap()
+}
