@@ -17,7 +17,7 @@ fn an_empty_file_is_the_defaults() {
     assert_eq!(shot.groom, GroomParams::preset("paper-curly").unwrap());
     assert!(matches!(shot.settings.lod, LodMode::Auto(_)));
     assert!(shot.settings.collision);
-    assert_eq!(shot.settings.broad_phase, BroadPhase::Hierarchies);
+    assert_eq!(shot.settings.broad_phase, BroadPhase::FieldContacts);
     // 60 Hz: the integrator's own recommendation.
     assert_eq!(
         shot.settings.dynamics,
