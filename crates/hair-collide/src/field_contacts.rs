@@ -58,20 +58,21 @@ enum Verdict {
     Undecided,
 }
 
-/// The lowest interpolated distance over `points` and the gradient there (`None` when no point
-/// is in an exact cell), or `Err(())` when a point outside the exact cells may lie within
-/// `radius` \[m\] of the surface, so that the samples cannot decide. A point outside the exact
-/// cells lies farther than [`DistanceField::exact_reach`] from the surface (inside the grid;
-/// beyond it, the certified bound says how far): where that exceeds the radius, it cannot make
-/// the volume touch, and is left out.
+/// The lowest interpolated distance over `samples` (each point with its
+/// [`DistanceField::sample`]) and the gradient there (`None` when no point is in an exact cell),
+/// or `Err(())` when a point outside the exact cells may lie within `radius` \[m\] of the
+/// surface, so that the samples cannot decide. A point outside the exact cells lies farther than
+/// [`DistanceField::exact_reach`] from the surface (inside the grid; beyond it, the certified
+/// bound says how far): where that exceeds the radius, it cannot make the volume touch, and is
+/// left out.
 fn lowest(
     field: &DistanceField,
     radius: f32,
-    points: impl IntoIterator<Item = Vec3>,
+    samples: impl IntoIterator<Item = (Vec3, Option<(f32, Vec3)>)>,
 ) -> Result<Option<(f32, Vec3)>, ()> {
     let mut best: Option<(f32, Vec3)> = None;
-    for p in points {
-        match field.sample(p) {
+    for (p, sample) in samples {
+        match sample {
             Some((d, g)) => {
                 if best.is_none_or(|(b, _)| d < b) {
                     best = Some((d, g));
@@ -87,24 +88,25 @@ fn lowest(
 /// The field's verdict on `volume` (body frame).
 fn verdict(field: &DistanceField, volume: &SweptSphere) -> Verdict {
     let radius = volume.radius();
+    let sampled_at = |p: Vec3| (p, field.sample(p));
     let sampled = match volume {
-        SweptSphere::Point(v) => lowest(field, radius, [v.center]),
+        SweptSphere::Point(v) => lowest(field, radius, [sampled_at(v.center)]),
         SweptSphere::Line(v) => {
             let axis = v.end - v.start;
-            let points = [v.start, v.start + axis * 0.5, v.end];
-            lowest(field, radius, points).map(|best| {
+            let samples = [v.start, v.start + axis * 0.5, v.end].map(sampled_at);
+            lowest(field, radius, samples).map(|best| {
                 let (d, g) = best?;
                 // The parabola through the three distances (all exact): its vertex, where inside.
-                let [d0, d1, d2] = points.map(|p| field.sample(p).map(|(d, _)| d));
-                if let (Some(d0), Some(d1), Some(d2)) = (d0, d1, d2) {
+                if let [(_, Some((d0, _))), (_, Some((d1, _))), (_, Some((d2, _)))] = samples {
                     let a = 2.0 * (d0 - 2.0 * d1 + d2);
                     let t = -(d2 - d0 - a) / (2.0 * a);
-                    if a > 0.0 && t > 0.0 && t < 1.0 {
-                        if let Some((dt, gt)) = field.sample(v.start + axis * t) {
-                            if dt < d {
-                                return Some((dt, gt));
-                            }
-                        }
+                    if a > 0.0
+                        && t > 0.0
+                        && t < 1.0
+                        && let Some((dt, gt)) = field.sample(v.start + axis * t)
+                        && dt < d
+                    {
+                        return Some((dt, gt));
                     }
                 }
                 Some((d, g))
@@ -118,7 +120,7 @@ fn verdict(field: &DistanceField, volume: &SweptSphere) -> Verdict {
                 field,
                 radius,
                 grid.into_iter()
-                    .flat_map(|a| grid.map(|b| r.center + u * a + w * b)),
+                    .flat_map(|a| grid.map(|b| sampled_at(r.center + u * a + w * b))),
             )
         }
     };
