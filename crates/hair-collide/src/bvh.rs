@@ -9,9 +9,13 @@
 use glam::Vec3;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 
+use crate::chain_blocks::{ChainSlice, for_chain_blocks};
 use crate::error::{CollideError, Result, require_finite_points, require_len};
 use crate::fit::{cluster_segment, patch_segment, strand_group_segment};
-use crate::volume::SweptSphere;
+use crate::volume::{Pss, SweptSphere};
+
+/// Chains per task when the segment volumes are computed side by side.
+const CHAINS_PER_TASK: usize = 32;
 
 /// How the segments of one chain are bounded, after its hair representation (§5.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -226,32 +230,51 @@ impl HairBvh {
         require_finite_points("node_positions", node_positions)?;
         require_finite_points("control_points", control_points)?;
 
-        self.volumes.clear();
-        for (chain, volume) in self.chain_volumes.iter().enumerate() {
-            let begin = self.chain_offsets[chain] as usize;
-            let end = self.chain_offsets[chain + 1] as usize;
-            let nodes = &node_positions[begin..end];
-            let controls =
-                &control_points[self.control_offsets[chain]..self.control_offsets[chain + 1]];
-            for (i, pair) in nodes.windows(2).enumerate() {
-                let segment_volume: SweptSphere = match volume {
-                    ChainVolume::StrandGroup { thickness } => {
-                        strand_group_segment(pair[0], pair[1], *thickness).into()
+        let segment_count = *self.segment_offsets.last().unwrap_or(&0) as usize;
+        let placeholder = SweptSphere::Point(Pss {
+            center: Vec3::ZERO,
+            radius: 0.0,
+        });
+        self.volumes.resize(segment_count, placeholder);
+        let (chain_offsets, control_offsets) = (&self.chain_offsets, &self.control_offsets);
+        let chain_volumes = &self.chain_volumes;
+        let segment_offsets = &self.segment_offsets;
+        let volumes = ChainSlice {
+            items: &mut self.volumes[..],
+            first: |c: usize| segment_offsets[c] as usize,
+        };
+        for_chain_blocks(
+            0..chain_volumes.len(),
+            CHAINS_PER_TASK,
+            volumes,
+            &|block, volumes| {
+                let first = segment_offsets[block.start] as usize;
+                for chain in block {
+                    let nodes = &node_positions
+                        [chain_offsets[chain] as usize..chain_offsets[chain + 1] as usize];
+                    let controls =
+                        &control_points[control_offsets[chain]..control_offsets[chain + 1]];
+                    let out = &mut volumes.items[segment_offsets[chain] as usize - first..];
+                    for (i, (pair, out)) in nodes.windows(2).zip(out).enumerate() {
+                        *out = match chain_volumes[chain] {
+                            ChainVolume::StrandGroup { thickness } => {
+                                strand_group_segment(pair[0], pair[1], thickness).into()
+                            }
+                            ChainVolume::Cluster => {
+                                let mut points = [Vec3::ZERO; 8];
+                                points.copy_from_slice(&controls[4 * i..4 * i + 8]);
+                                cluster_segment(pair[0], pair[1], &points).into()
+                            }
+                            ChainVolume::Patch => {
+                                let mut points = [Vec3::ZERO; 4];
+                                points.copy_from_slice(&controls[2 * i..2 * i + 4]);
+                                patch_segment(&points).into()
+                            }
+                        };
                     }
-                    ChainVolume::Cluster => {
-                        let mut points = [Vec3::ZERO; 8];
-                        points.copy_from_slice(&controls[4 * i..4 * i + 8]);
-                        cluster_segment(pair[0], pair[1], &points).into()
-                    }
-                    ChainVolume::Patch => {
-                        let mut points = [Vec3::ZERO; 4];
-                        points.copy_from_slice(&controls[2 * i..2 * i + 4]);
-                        patch_segment(&points).into()
-                    }
-                };
-                self.volumes.push(segment_volume);
-            }
-        }
+                }
+            },
+        );
         Ok(())
     }
 

@@ -67,6 +67,8 @@ pub struct DistanceField {
     origin: Vec3,
     /// Cell size \[m\].
     cell: f32,
+    /// `1 / cell` \[1/m\].
+    inverse_cell: f32,
     /// Vertices along x, y, z (each at least 2).
     dims: [usize; 3],
     /// Per vertex, x fastest: a signed (closed mesh) or unsigned (open mesh) bound \[m\], exact
@@ -78,8 +80,10 @@ pub struct DistanceField {
     bounds: (Vec3, Vec3),
     /// Grid vertices within `seed_reach` of the surface, whose values are exact.
     seeds: usize,
-    /// Per vertex, whether it is a seed (its value exact).
-    exact: Vec<bool>,
+    /// Per cell, indexed as its lowest corner's vertex: whether all eight corners are seeds
+    /// (their values exact), so that [`DistanceField::sample`] interpolates it; false on the
+    /// grid's last layers, which start no cell.
+    exact_cells: Vec<bool>,
 }
 
 impl DistanceField {
@@ -186,12 +190,13 @@ impl DistanceField {
         DistanceField {
             origin,
             cell: h,
+            inverse_cell: 1.0 / h,
             dims,
             values,
             signed,
             bounds: (low, high),
             seeds,
-            exact: is_seed,
+            exact_cells: exact_cells(&is_seed, dims),
         }
     }
 
@@ -228,7 +233,7 @@ impl DistanceField {
 
     /// Bytes the grid holds.
     pub fn memory_bytes(&self) -> usize {
-        self.values.len() * std::mem::size_of::<f32>()
+        self.values.len() * std::mem::size_of::<f32>() + self.exact_cells.len()
     }
 
     /// The value of vertex `(i, j, k)` and its position \[m\].
@@ -290,28 +295,24 @@ impl DistanceField {
         if !self.signed || !p.is_finite() {
             return None;
         }
-        let t = (p - self.origin) / self.cell;
+        let t = (p - self.origin) * self.inverse_cell;
         if t.min_element() < 0.0 {
             return None;
         }
-        let base = t.floor();
-        let [i, j, k] = [base.x as usize, base.y as usize, base.z as usize];
+        // Truncation is the floor of these non-negative coordinates (and saturates at the top).
+        let [i, j, k] = [t.x as usize, t.y as usize, t.z as usize];
+        let base = Vec3::new(i as f32, j as f32, k as f32);
         if i + 1 >= self.dims[0] || j + 1 >= self.dims[1] || k + 1 >= self.dims[2] {
             return None;
         }
         let f = t - base;
         let (nx, nxy) = (self.dims[0], self.dims[0] * self.dims[1]);
         let at = i + nx * j + nxy * k;
-        let corners = [at, at + 1, at + nx, at + nx + 1].map(|c| [c, c + nxy]);
-        let mut c = [[0.0f32; 2]; 4];
-        for (value, index) in c.iter_mut().zip(corners) {
-            for (v, at) in value.iter_mut().zip(index) {
-                if !self.exact[at] {
-                    return None;
-                }
-                *v = self.values[at];
-            }
+        if !self.exact_cells[at] {
+            return None;
         }
+        let corners = [at, at + 1, at + nx, at + nx + 1].map(|c| [c, c + nxy]);
+        let c = corners.map(|[low, high]| [self.values[low], self.values[high]]);
         // c[y·2 + x][z]: interpolate along x, then y, then z.
         let lerp = |a: f32, b: f32, w: f32| a + (b - a) * w;
         let along_x = |y: usize, z: usize| lerp(c[2 * y][z], c[2 * y + 1][z], f.x);
@@ -327,7 +328,7 @@ impl DistanceField {
             ),
             lerp(c10 - c00, c11 - c01, f.z),
             c1 - c0,
-        ) / self.cell;
+        ) * self.inverse_cell;
         Some((distance, gradient))
     }
 
@@ -389,6 +390,24 @@ impl DistanceField {
             }
         }
     }
+}
+
+/// Per vertex of a grid of `dims` vertices (x fastest), whether the cell it is the lowest corner
+/// of has all eight corners in `exact`.
+fn exact_cells(exact: &[bool], dims: [usize; 3]) -> Vec<bool> {
+    let (nx, nxy) = (dims[0], dims[0] * dims[1]);
+    let mut cells = vec![false; exact.len()];
+    for k in 0..dims[2] - 1 {
+        for j in 0..dims[1] - 1 {
+            for i in 0..dims[0] - 1 {
+                let at = i + nx * j + nxy * k;
+                cells[at] = [at, at + 1, at + nx, at + nx + 1]
+                    .into_iter()
+                    .all(|c| exact[c] && exact[c + nxy]);
+            }
+        }
+    }
+    cells
 }
 
 /// Per vertex, the squared distance (in cells²) to the nearest seed: the exact Euclidean

@@ -5,6 +5,7 @@
 use glam::Vec3;
 
 use crate::body::CollisionBody;
+use crate::surface::SurfacePoint;
 
 /// Gives the segment `pair[0] → pair[1]` its rest `length` [m] with `pair[1]` outside `body`.
 /// First alternates giving the segment its length (moving `pair[1]` along it) and projecting
@@ -92,6 +93,33 @@ const LENGTH_KEPT: f32 = 1e-6;
 /// then found within 2⁻²⁰, about 1e-6 rad).
 const TURN_BISECTIONS: usize = 20;
 
+/// Where a point lies against a body.
+pub(crate) enum Probe {
+    /// Outside, at least `clearance` \[m\] from the surface.
+    Outside { clearance: f32 },
+    /// Inside: the closest surface point.
+    Inside(SurfacePoint),
+}
+
+/// Where `position` (world) lies against `body`, without moving it: points outside the body's
+/// bounding ball are outside without a search (their clearance is the distance to the ball).
+pub(crate) fn probe(body: &CollisionBody, position: Vec3) -> Probe {
+    let bound = body.bounding_volume();
+    let from_centre = position.distance(bound.center);
+    if from_centre > bound.radius {
+        return Probe::Outside {
+            clearance: from_centre - bound.radius,
+        };
+    }
+    match body.closest_surface_point(position) {
+        None => Probe::Outside { clearance: 0.0 },
+        Some(surface) if surface.signed_distance >= 0.0 => Probe::Outside {
+            clearance: surface.signed_distance,
+        },
+        Some(surface) => Probe::Inside(surface),
+    }
+}
+
 /// What [`project_out`] found.
 pub(crate) enum Projection {
     /// The point is outside, at least `clearance` \[m\] from the surface.
@@ -102,8 +130,7 @@ pub(crate) enum Projection {
 
 /// Moves `position` out of `body` when it is inside (to the closest surface point plus `skin`
 /// along the way out) and removes the inward normal part of `velocity` relative to the surface
-/// velocity `surface_velocity(p)`. Points outside the body's bounding ball are outside without a
-/// search (their clearance is the distance to the ball).
+/// velocity `surface_velocity(p)`; where it is outside, see [`probe`].
 pub(crate) fn project_out(
     body: &CollisionBody,
     position: &mut Vec3,
@@ -111,21 +138,10 @@ pub(crate) fn project_out(
     skin: f32,
     surface_velocity: impl Fn(Vec3) -> Vec3,
 ) -> Projection {
-    let bound = body.bounding_volume();
-    let from_centre = position.distance(bound.center);
-    if from_centre > bound.radius {
-        return Projection::Outside {
-            clearance: from_centre - bound.radius,
-        };
-    }
-    let Some(surface) = body.closest_surface_point(*position) else {
-        return Projection::Outside { clearance: 0.0 };
+    let surface = match probe(body, *position) {
+        Probe::Outside { clearance } => return Projection::Outside { clearance },
+        Probe::Inside(surface) => surface,
     };
-    if surface.signed_distance >= 0.0 {
-        return Projection::Outside {
-            clearance: surface.signed_distance,
-        };
-    }
     let depth = -surface.signed_distance;
     let outward = (surface.point - *position)
         .try_normalize()

@@ -16,14 +16,14 @@ use hair_core::dynamics::{Environment, RootMode, Simulation, SimulationState};
 use crate::body::CollisionBody;
 use crate::broad_phase::BroadPhase;
 use crate::bvh::HairBvh;
-use crate::clearance::{CLEARANCE_ROUNDING, Clearance, carry_clearances};
+use crate::clearance::{Clearance, carry_clearances};
 use crate::error::{CollideError, Result};
 use crate::field_contacts::{FieldContacts, query_body_field};
 use crate::gather::ActiveHair;
 use crate::hair_hair::add_repulsion_forces;
 use crate::layout::CollisionChain;
 use crate::other_forces::external_force;
-use crate::projection::{Projection, project_out, restore_length};
+use crate::projection_pass::ProjectionPass;
 use crate::query::{SegmentContacts, query_body_near, query_body_volumes};
 use crate::response::{
     approach_speed, average_normal, friction_force, response_force, rigid_point_velocity,
@@ -59,6 +59,8 @@ pub struct CollisionSolver {
     previous_time: Option<f64>,
     /// Per gathered node and body (node-major): the clearance cache of the projection.
     clearances: Vec<Clearance>,
+    /// Per active chain: whether the projection's first pass found every node clear.
+    all_clear: Vec<bool>,
 }
 
 impl std::fmt::Debug for CollisionSolver {
@@ -93,6 +95,7 @@ impl CollisionSolver {
             previous_positions: Vec::new(),
             previous_time: None,
             clearances: Vec::new(),
+            all_clear: Vec::new(),
         })
     }
 
@@ -366,9 +369,8 @@ impl CollisionSolver {
         state: &mut SimulationState,
         environment: &Environment,
     ) -> Result<ProjectionReport> {
-        let mut report = ProjectionReport::default();
         if !self.settings.project_positions {
-            return Ok(report);
+            return Ok(ProjectionReport::default());
         }
         check_state(state, simulation.model().node_count())?;
         let time_step = simulation.settings().time_step;
@@ -381,81 +383,27 @@ impl CollisionSolver {
             body.set_pose(head.rotation, head.translation)?;
         }
         self.use_bodies(bodies.len());
-        let to_head = head.inverse();
-        let lengths = &simulation.model().rest.segment_rest_lengths;
-        let body_count = bodies.len();
-        // The field's certified bounds skip the nodes clear of a body (both field modes).
-        let use_field = self.settings.broad_phase != BroadPhase::Hierarchies;
-        for index in 0..self.hair.chains.len() {
-            let gathered = self.hair.chain_offsets[index] as usize
-                ..self.hair.chain_offsets[index + 1] as usize;
-            let mut dragged = false;
-            for node in gathered.clone() {
-                let m = self.hair.model_nodes[node] as usize;
-                if dragged && node > gathered.start {
-                    // Follow the leader behind a projected node: keep the segment's length.
-                    let parent = state.node_positions[m - 1];
-                    if let Some(direction) = (state.node_positions[m] - parent).try_normalize() {
-                        state.node_positions[m] = parent + direction * lengths[m];
-                    }
-                }
-                if attached && self.hair.is_root[node] {
-                    continue;
-                }
-                for (b, body) in bodies.iter().enumerate() {
-                    let cache = &mut self.clearances[node * body_count + b];
-                    let local = to_head.transform_point(state.node_positions[m]);
-                    if local.distance(cache.local_position) + CLEARANCE_ROUNDING < cache.clearance {
-                        continue;
-                    }
-                    if use_field
-                        && body
-                            .distance_field()
-                            .outside_clearance(local, CLEARANCE_ROUNDING)
-                            .is_some()
-                    {
-                        continue;
-                    }
-                    let outcome = project_out(
-                        body,
-                        &mut state.node_positions[m],
-                        &mut state.node_velocities[m],
-                        self.settings.skin,
-                        |p| rigid_point_velocity(&head_before, &head, p, time_step),
-                    );
-                    match outcome {
-                        Projection::Outside { clearance } => {
-                            *cache = Clearance {
-                                local_position: local,
-                                clearance,
-                            }
-                        }
-                        Projection::Moved { depth } => {
-                            *cache = Clearance::default();
-                            dragged = true;
-                            report.projected_nodes += 1;
-                            report.max_depth = report.max_depth.max(depth);
-                            if node > gathered.start {
-                                restore_length(
-                                    body,
-                                    &mut state.node_positions[m - 1..=m],
-                                    &mut state.node_velocities[m],
-                                    lengths[m],
-                                    self.settings.skin,
-                                    |p| rigid_point_velocity(&head_before, &head, p, time_step),
-                                );
-                                let length =
-                                    state.node_positions[m].distance(state.node_positions[m - 1]);
-                                if lengths[m] > 0.0 {
-                                    let stretch = (length - lengths[m]).abs() / lengths[m];
-                                    report.max_stretch = report.max_stretch.max(stretch);
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
+        let pass = ProjectionPass {
+            bodies,
+            to_head: head.inverse(),
+            head_before,
+            head,
+            time_step,
+            skin: self.settings.skin,
+            // The field's certified bounds skip the nodes clear of a body (both field modes).
+            use_field: self.settings.broad_phase != BroadPhase::Hierarchies,
+            attached,
+            chain_offsets: &self.hair.chain_offsets,
+            model_nodes: &self.hair.model_nodes,
+            is_root: &self.hair.is_root,
+            lengths: &simulation.model().rest.segment_rest_lengths,
+        };
+        let report = pass.run(
+            &mut state.node_positions,
+            &mut state.node_velocities,
+            &mut self.clearances,
+            &mut self.all_clear,
+        );
         Ok(report)
     }
 

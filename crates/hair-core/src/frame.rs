@@ -72,22 +72,27 @@ impl Frame {
     /// The frame rotated by the smallest rotation that takes its tangent to `new_tangent` (unit):
     /// discrete parallel transport, so the frame does not twist about the hair.
     pub fn transported_to(&self, new_tangent: Vec3) -> Frame {
-        let rotation = Quat::from_rotation_arc(self.tangent, new_tangent);
-        self.rotated(rotation, new_tangent)
+        let normal = arc_rotated(self.tangent, new_tangent, self.normal);
+        Frame::orthonormalised(normal, new_tangent)
     }
 
     /// The frame halfway between this one and its transport to `next_tangent`: the frame at a node
     /// between two segments (its tangent bisects the bend).
     pub fn halfway_to(&self, next_tangent: Vec3) -> Frame {
-        let rotation = Quat::from_rotation_arc(self.tangent, next_tangent);
-        let half = Quat::IDENTITY.slerp(rotation, 0.5);
-        self.rotated(half, half * self.tangent)
+        // Half the least rotation from a to b is the least rotation from a to their bisector.
+        let Some(bisector) = (self.tangent + next_tangent).try_normalize() else {
+            let rotation = Quat::from_rotation_arc(self.tangent, next_tangent);
+            let half = Quat::IDENTITY.slerp(rotation, 0.5);
+            return Frame::orthonormalised(half * self.normal, half * self.tangent);
+        };
+        let normal = arc_rotated(self.tangent, bisector, self.normal);
+        Frame::orthonormalised(normal, bisector)
     }
 
-    /// Rotates the frame, re-orthonormalising so that errors do not accumulate along long chains.
-    fn rotated(&self, rotation: Quat, tangent: Vec3) -> Frame {
+    /// The frame of `tangent` with `normal` made orthonormal to it, so that errors do not
+    /// accumulate along long chains.
+    fn orthonormalised(normal: Vec3, tangent: Vec3) -> Frame {
         let tangent = tangent.normalize();
-        let normal = rotation * self.normal;
         let normal = (normal - tangent * normal.dot(tangent)).normalize();
         Frame {
             normal,
@@ -114,6 +119,20 @@ impl Frame {
     pub fn to_mat3(&self) -> Mat3 {
         Mat3::from_cols(self.normal, self.binormal, self.tangent)
     }
+}
+
+/// `v` turned by the least rotation that takes the unit vector `a` to the unit vector `b`:
+/// `R v = v + k × v + k × (k × v) / (1 + a·b)` with `k = a × b` (Rodrigues' formula with
+/// `sin θ · axis = k` and `1 − cos θ = |k|² / (1 + cos θ)`). Where `a` and `b` are nearly opposite
+/// (within about 8°) the rotation's axis is ill-conditioned and glam's `from_rotation_arc` picks it.
+fn arc_rotated(a: Vec3, b: Vec3, v: Vec3) -> Vec3 {
+    let c = a.dot(b);
+    if c < -0.99 {
+        return Quat::from_rotation_arc(a, b) * v;
+    }
+    let k = a.cross(b);
+    let kv = k.cross(v);
+    v + kv + k.cross(kv) / (1.0 + c)
 }
 
 #[cfg(test)]
@@ -145,6 +164,47 @@ mod tests {
         let (polar, azimuth) = frame.angles_of(frame.tangent);
         assert!(polar.abs() < 1e-6);
         assert_eq!(azimuth, 0.0);
+    }
+
+    /// The transport and the halfway frame are the rotations about `a × b` by the bend angle
+    /// `atan2(|a × b|, a · b)` and by half of it (a reference built independently of the
+    /// formula, from an axis and an angle), within f32 rounding of a few operations, for bends
+    /// from 0.006° to 179°. (glam's `from_rotation_arc` returns the identity below about 7e-4 rad,
+    /// so it is no reference for the small bends.)
+    #[test]
+    fn transport_matches_the_rotation_about_the_bend_axis() {
+        let frame = tilted_frame();
+        let mut random = crate::random::SplitMix64::new(7);
+        for case in 0..2000 {
+            let polar = match case % 4 {
+                0 => 1.0e-4,
+                1 => 3.12,
+                _ => random.next_f32() * 3.12,
+            };
+            let azimuth = random.next_f32() * std::f32::consts::TAU;
+            let next = frame.direction(polar, azimuth);
+            let k = frame.tangent.cross(next);
+            let angle = k.length().atan2(frame.tangent.dot(next));
+            let axis = k.normalize();
+            let rotation = Quat::from_axis_angle(axis, angle);
+            let moved = frame.transported_to(next);
+            assert!(
+                (moved.normal - rotation * frame.normal).length() < 1e-5,
+                "{case}"
+            );
+            assert!((moved.tangent - next).length() < 1e-6, "{case}");
+            let half = Quat::from_axis_angle(axis, 0.5 * angle);
+            let middle = frame.halfway_to(next);
+            assert!(
+                (middle.normal - half * frame.normal).length() < 1e-5,
+                "{case}"
+            );
+            assert!(
+                (middle.tangent - half * frame.tangent).length() < 1e-5,
+                "{case}"
+            );
+            assert!((middle.normal.cross(middle.binormal) - middle.tangent).length() < 1e-6);
+        }
     }
 
     #[test]

@@ -1,0 +1,221 @@
+//! The positional guarantee over the active chains, after each step
+//! ([`CollisionSolver::after_step`](crate::CollisionSolver::after_step)): every node that ends
+//! inside a body is projected out and its chain's following nodes are dragged behind it at their
+//! segment lengths.
+//!
+//! Two passes. The first, side by side over blocks of chains, only reads the positions: a node is
+//! *clear* when its clearance cache, the body's distance field (certified bounds) or a
+//! closest-point search shows it outside every body, and each chain learns whether all its nodes
+//! are. Those chains are done. The second pass walks the other chains one by one, in order, as the
+//! projection always did. Clear nodes are left exactly as they were, and every clearance is a
+//! fact about a region of head space, so the result is the one-pass walk's, bit for bit,
+//! whatever the thread count.
+
+use std::ops::Range;
+
+use glam::Vec3;
+use hair_core::RigidTransform;
+
+use crate::body::CollisionBody;
+use crate::chain_blocks::{ChainSlice, for_chain_blocks};
+use crate::clearance::{CLEARANCE_ROUNDING, Clearance};
+use crate::projection::{Probe, Projection, probe, project_out, restore_length};
+use crate::response::rigid_point_velocity;
+use crate::solver_settings::ProjectionReport;
+
+/// Chains per task of the first pass.
+const CHAINS_PER_TASK: usize = 64;
+
+/// What one step's projection reads.
+pub(crate) struct ProjectionPass<'a> {
+    /// The bodies, posed for the end of the step (world).
+    pub bodies: &'a [CollisionBody],
+    /// World to head space at the end of the step.
+    pub to_head: RigidTransform,
+    /// The head at the start and the end of the step (for the surface's velocity).
+    pub head_before: RigidTransform,
+    pub head: RigidTransform,
+    /// The step \[s\].
+    pub time_step: f32,
+    /// The depth \[m\] a projected node ends outside.
+    pub skin: f32,
+    /// Whether the bodies' distance fields may certify clear nodes.
+    pub use_field: bool,
+    /// Whether roots are attached (then never projected).
+    pub attached: bool,
+    /// Gathered node offsets per chain (chain count + 1).
+    pub chain_offsets: &'a [u32],
+    /// Per gathered node, its index in the state.
+    pub model_nodes: &'a [u32],
+    /// Per gathered node, whether it is its chain's root.
+    pub is_root: &'a [bool],
+    /// Rest length \[m\] of the segment ending at each model node.
+    pub lengths: &'a [f32],
+}
+
+impl ProjectionPass<'_> {
+    /// Whether `position` (world) is certified outside `body` by its clearance cache, the
+    /// body's distance field or a closest-point search; the cache learns what was found.
+    fn clear_of(&self, body: &CollisionBody, position: Vec3, cache: &mut Clearance) -> bool {
+        let local = self.to_head.transform_point(position);
+        if local.distance(cache.local_position) + CLEARANCE_ROUNDING < cache.clearance {
+            return true;
+        }
+        let certified = if self.use_field {
+            body.distance_field()
+                .outside_clearance(local, CLEARANCE_ROUNDING)
+        } else {
+            None
+        };
+        let clearance = match certified {
+            Some(clearance) => clearance,
+            None => match probe(body, position) {
+                Probe::Outside { clearance } => clearance,
+                Probe::Inside(_) => return false,
+            },
+        };
+        *cache = Clearance {
+            local_position: local,
+            clearance,
+        };
+        true
+    }
+
+    /// Whether every node of the chains `chains` that may be projected is clear of every body,
+    /// into `all_clear` (one per chain); `caches` are those chains' clearances (node-major).
+    fn certify(
+        &self,
+        positions: &[Vec3],
+        chains: Range<usize>,
+        caches: &mut [Clearance],
+        all_clear: &mut [bool],
+    ) {
+        let body_count = self.bodies.len();
+        let first = self.chain_offsets[chains.start] as usize;
+        for (chain, clear) in chains.zip(all_clear.iter_mut()) {
+            let nodes = self.chain_offsets[chain] as usize..self.chain_offsets[chain + 1] as usize;
+            *clear = nodes.into_iter().all(|node| {
+                if self.attached && self.is_root[node] {
+                    return true;
+                }
+                let position = positions[self.model_nodes[node] as usize];
+                let node_caches = &mut caches[(node - first) * body_count..][..body_count];
+                self.bodies
+                    .iter()
+                    .zip(node_caches)
+                    .all(|(body, cache)| self.clear_of(body, position, cache))
+            });
+        }
+    }
+
+    /// Projects the chains out of the bodies: `all_clear` is scratch (one per chain), `caches`
+    /// the clearances (node-major, all chains).
+    pub fn run(
+        &self,
+        positions: &mut [Vec3],
+        velocities: &mut [Vec3],
+        caches: &mut [Clearance],
+        all_clear: &mut Vec<bool>,
+    ) -> ProjectionReport {
+        let chain_count = self.chain_offsets.len().saturating_sub(1);
+        all_clear.clear();
+        all_clear.resize(chain_count, false);
+        let body_count = self.bodies.len();
+        let offsets = self.chain_offsets;
+        let parts = (
+            ChainSlice {
+                items: &mut caches[..],
+                first: |c: usize| offsets[c] as usize * body_count,
+            },
+            ChainSlice {
+                items: &mut all_clear[..],
+                first: |c: usize| c,
+            },
+        );
+        let read: &[Vec3] = positions;
+        for_chain_blocks(0..chain_count, CHAINS_PER_TASK, parts, &|block,
+                                                                   (
+            caches,
+            clear,
+        )| {
+            self.certify(read, block, caches.items, clear.items)
+        });
+        let mut report = ProjectionReport::default();
+        for chain in (0..chain_count).filter(|&chain| !all_clear[chain]) {
+            self.project_chain(chain, positions, velocities, caches, &mut report);
+        }
+        report
+    }
+
+    /// The walk along one chain: projects each node inside a body out, drags the nodes behind a
+    /// projected one at their segment lengths, and gives a projected segment back its length.
+    fn project_chain(
+        &self,
+        chain: usize,
+        positions: &mut [Vec3],
+        velocities: &mut [Vec3],
+        caches: &mut [Clearance],
+        report: &mut ProjectionReport,
+    ) {
+        let body_count = self.bodies.len();
+        let nodes = self.chain_offsets[chain] as usize..self.chain_offsets[chain + 1] as usize;
+        let surface_velocity =
+            |p| rigid_point_velocity(&self.head_before, &self.head, p, self.time_step);
+        let mut dragged = false;
+        for node in nodes.clone() {
+            let m = self.model_nodes[node] as usize;
+            if dragged && node > nodes.start {
+                // Follow the leader behind a projected node: keep the segment's length.
+                let parent = positions[m - 1];
+                if let Some(direction) = (positions[m] - parent).try_normalize() {
+                    positions[m] = parent + direction * self.lengths[m];
+                }
+            }
+            if self.attached && self.is_root[node] {
+                continue;
+            }
+            for (b, body) in self.bodies.iter().enumerate() {
+                let cache = &mut caches[node * body_count + b];
+                if self.clear_of(body, positions[m], cache) {
+                    continue;
+                }
+                match project_out(
+                    body,
+                    &mut positions[m],
+                    &mut velocities[m],
+                    self.skin,
+                    surface_velocity,
+                ) {
+                    Projection::Outside { clearance } => {
+                        *cache = Clearance {
+                            local_position: self.to_head.transform_point(positions[m]),
+                            clearance,
+                        }
+                    }
+                    Projection::Moved { depth } => {
+                        *cache = Clearance::default();
+                        dragged = true;
+                        report.projected_nodes += 1;
+                        report.max_depth = report.max_depth.max(depth);
+                        if node > nodes.start {
+                            let length = self.lengths[m];
+                            restore_length(
+                                body,
+                                &mut positions[m - 1..=m],
+                                &mut velocities[m],
+                                length,
+                                self.skin,
+                                surface_velocity,
+                            );
+                            let reached = positions[m].distance(positions[m - 1]);
+                            if length > 0.0 {
+                                let stretch = (reached - length).abs() / length;
+                                report.max_stretch = report.max_stretch.max(stretch);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
