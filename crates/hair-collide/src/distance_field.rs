@@ -32,6 +32,7 @@ use std::collections::VecDeque;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::field_bricks::ExactBricks;
 use crate::geometry::Triangle;
 use crate::volume::SweptSphere;
 
@@ -80,10 +81,9 @@ pub struct DistanceField {
     bounds: (Vec3, Vec3),
     /// Grid vertices within `seed_reach` of the surface, whose values are exact.
     seeds: usize,
-    /// Per cell, indexed as its lowest corner's vertex: whether all eight corners are seeds
-    /// (their values exact), so that [`DistanceField::sample`] interpolates it; false on the
-    /// grid's last layers, which start no cell.
-    exact_cells: Vec<bool>,
+    /// The cells whose eight corners are seeds (their values exact), which
+    /// [`DistanceField::sample`] interpolates, stored apart in bricks.
+    bricks: ExactBricks,
 }
 
 impl DistanceField {
@@ -187,6 +187,7 @@ impl DistanceField {
         if signed {
             spread_signs(&mut values, &is_seed, dims);
         }
+        let bricks = ExactBricks::new(&values, &is_seed, dims);
         DistanceField {
             origin,
             cell: h,
@@ -196,7 +197,7 @@ impl DistanceField {
             signed,
             bounds: (low, high),
             seeds,
-            exact_cells: exact_cells(&is_seed, dims),
+            bricks,
         }
     }
 
@@ -233,7 +234,7 @@ impl DistanceField {
 
     /// Bytes the grid holds.
     pub fn memory_bytes(&self) -> usize {
-        self.values.len() * std::mem::size_of::<f32>() + self.exact_cells.len()
+        self.values.len() * std::mem::size_of::<f32>() + self.bricks.memory_bytes()
     }
 
     /// The value of vertex `(i, j, k)` and its position \[m\].
@@ -302,17 +303,12 @@ impl DistanceField {
         // Truncation is the floor of these non-negative coordinates (and saturates at the top).
         let [i, j, k] = [t.x as usize, t.y as usize, t.z as usize];
         let base = Vec3::new(i as f32, j as f32, k as f32);
-        if i + 1 >= self.dims[0] || j + 1 >= self.dims[1] || k + 1 >= self.dims[2] {
+        // (Dims are at least 2; a far point's index saturates, so no `+ 1` here.)
+        if i >= self.dims[0] - 1 || j >= self.dims[1] - 1 || k >= self.dims[2] - 1 {
             return None;
         }
         let f = t - base;
-        let (nx, nxy) = (self.dims[0], self.dims[0] * self.dims[1]);
-        let at = i + nx * j + nxy * k;
-        if !self.exact_cells[at] {
-            return None;
-        }
-        let corners = [at, at + 1, at + nx, at + nx + 1].map(|c| [c, c + nxy]);
-        let c = corners.map(|[low, high]| [self.values[low], self.values[high]]);
+        let c = self.bricks.corners(i, j, k)?;
         // c[y·2 + x][z]: interpolate along x, then y, then z.
         let lerp = |a: f32, b: f32, w: f32| a + (b - a) * w;
         let along_x = |y: usize, z: usize| lerp(c[2 * y][z], c[2 * y + 1][z], f.x);
@@ -390,24 +386,6 @@ impl DistanceField {
             }
         }
     }
-}
-
-/// Per vertex of a grid of `dims` vertices (x fastest), whether the cell it is the lowest corner
-/// of has all eight corners in `exact`.
-fn exact_cells(exact: &[bool], dims: [usize; 3]) -> Vec<bool> {
-    let (nx, nxy) = (dims[0], dims[0] * dims[1]);
-    let mut cells = vec![false; exact.len()];
-    for k in 0..dims[2] - 1 {
-        for j in 0..dims[1] - 1 {
-            for i in 0..dims[0] - 1 {
-                let at = i + nx * j + nxy * k;
-                cells[at] = [at, at + 1, at + nx, at + nx + 1]
-                    .into_iter()
-                    .all(|c| exact[c] && exact[c + nxy]);
-            }
-        }
-    }
-    cells
 }
 
 /// Per vertex, the squared distance (in cells²) to the nearest seed: the exact Euclidean

@@ -26,6 +26,7 @@ mod clearance;
 pub mod closest;
 pub mod distance_field;
 pub mod error;
+mod field_bricks;
 pub mod field_contacts;
 pub mod fit;
 mod gather;

@@ -73,6 +73,18 @@ fn a_closed_body_gets_certified_signed_bounds_within_two_cell_diagonals() {
         inside > 100 && outside > 1000,
         "{inside} inside, {outside} outside"
     );
+    // Far, huge and non-finite points sample nothing and bound nothing inside, without a panic
+    // (a huge coordinate's cell index saturates).
+    for p in [
+        Vec3::splat(1.0e30),
+        Vec3::new(center.x, center.y, 1.0e30),
+        Vec3::splat(-1.0e30),
+        Vec3::splat(f32::NAN),
+        Vec3::new(f32::INFINITY, 0.0, 0.0),
+    ] {
+        assert_eq!(field.sample(p), None, "{p}");
+        assert!(field.bound(p).1 >= 0.0, "{p}");
+    }
 }
 
 #[test]
