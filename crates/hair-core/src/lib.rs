@@ -19,6 +19,7 @@ pub mod head;
 pub mod level;
 pub mod lod;
 pub mod mesh;
+pub mod mesh_sequence;
 pub mod named;
 pub mod nurbs;
 pub mod per_level;
@@ -41,6 +42,7 @@ pub use groom::{
 pub use head::{Head, HeadParams, ScalpRoot};
 pub use level::Level;
 pub use mesh::TriangleMesh;
+pub use mesh_sequence::{MeshSequence, MeshSequenceError};
 pub use named::{Named, UnknownName};
 pub use per_level::PerLevel;
 pub use scene::Scene;
