@@ -25,6 +25,7 @@ pub mod accuracy;
 pub mod benchmark;
 pub mod cache;
 pub mod crowd;
+pub mod framing;
 pub mod head_levels;
 pub mod loaded;
 pub mod metrics;

@@ -41,6 +41,15 @@ pub struct CameraKeyframe {
     pub target: Vec3,
 }
 
+/// How a camera path is framed on the scene once it is built
+/// ([`Shot::frame_scene`](crate::framing)).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FrameAll {
+    /// The zoom-out's last distance as the scene gives it [m]; `None`: 4 × the framed
+    /// distance.
+    pub end_distance: Option<f32>,
+}
+
 /// The camera path of a shot.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CameraPath {
@@ -58,6 +67,10 @@ pub struct CameraPath {
     pub elevation: f32,
     /// Vertical field of view [rad].
     pub fov: f32,
+    /// Frame the scene once it is built ([`Shot::frame_scene`]): `target` and `distance` are
+    /// then placeholders. Set where a scene reads a groom file and names no camera target,
+    /// distance or keyframes.
+    pub frame_all: Option<FrameAll>,
 }
 
 impl CameraPath {
@@ -341,6 +354,7 @@ mod tests {
             azimuth: 0.0,
             elevation: 0.0,
             fov: 35f32.to_radians(),
+            frame_all: None,
         };
         for (frame, time) in [(0, 0.0), (1, 0.2), (2, 0.4)] {
             let camera = path.camera(frame, 3, time);

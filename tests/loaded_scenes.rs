@@ -7,6 +7,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use glam::Vec3;
+
 use hairlod::core::dynamics::{Environment, HeadMotion, WindField};
 use hairlod::loaded::{LevelRestErrors, LoadedScene, MAX_MEDIAN_ROOT_DISTANCE, rest_errors};
 use hairlod::pipeline::LodMode;
@@ -84,6 +86,8 @@ fn example_scenes_load_and_run_with_collision_and_automatic_levels() {
             scene.groom.strands.strand_count(),
             loaded.curves.curve_count()
         );
+        // Both samples are grooms, not guides: no children grown by default.
+        assert_eq!(loaded.report.grown_children, None, "{example}");
         if shot.body_file.is_some() {
             assert!(!scene.head.is_procedural());
             let roots = loaded
@@ -333,10 +337,9 @@ fn loaded_rest_poses_fit_their_files() {
 #[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
 fn mohawk_as_guides_fits_much_closer_than_fifty_strands_per_section() {
     let text = with_samples(&std::fs::read_to_string(repo("scenes/tressfx-ratboy.toml")).unwrap());
-    let guides = text.replace(
-        "strands_per_section = 50",
-        "strands_per_section = 5\nchildren_per_strand = 8",
-    );
+    let guides = text
+        .replace("strands_per_section = 50", "strands_per_section = 5")
+        .replace("children_per_strand = 0", "children_per_strand = 8");
     // The example scene as shipped (built once for this file), then as guides.
     assert_eq!(EXAMPLES[0], "scenes/tressfx-ratboy.toml");
     let (_, scene, loaded) = built(EXAMPLES[0]);
@@ -347,4 +350,75 @@ fn mohawk_as_guides_fits_much_closer_than_fifty_strands_per_section() {
     assert_eq!(strands, 9 * curves, "guides");
     let means = [shipped, as_guides].map(|errors| errors.levels[Level::StrandGroup].mean);
     assert!(means[1] < 0.5 * means[0], "{means:?}");
+}
+
+/// The mohawk thinned to every 25th strand (89 guides, as a DCC export of guides would hold) on
+/// its body, in a scene with no `[camera]`: children are grown by default, and the camera frames
+/// the whole body (every corner of the body's and groom's bounds in the first frame), where the
+/// procedural head's default camera (0.8 m from the origin) sees the body's middle only.
+#[test]
+#[ignore = "needs the TressFX samples (HAIRLOD_DATA, or ../shared/data beside the repository); .ci/run runs it"]
+fn the_mohawk_as_guides_grows_children_and_its_body_is_framed() {
+    let dir = data_dir();
+    let mohawk = hairlod::formats::read_curves_file(
+        format!("{dir}/tressfx/ratboy_mohawk.tfx"),
+        &hairlod::formats::ImportOptions::default(),
+    )
+    .unwrap();
+    let mut guides = hairlod::core::Curves {
+        offsets: vec![0],
+        ..Default::default()
+    };
+    for curve in (0..mohawk.curve_count()).step_by(25) {
+        let range = mohawk.offsets[curve] as usize..mohawk.offsets[curve + 1] as usize;
+        guides.points.extend_from_slice(&mohawk.points[range]);
+        guides.offsets.push(guides.points.len() as u32);
+    }
+    let out = std::env::temp_dir().join(format!("hairlod-guides-{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    let file = out.join("mohawk-guides.hair");
+    hairlod::formats::write_hair(&file, &guides).unwrap();
+    let text = format!(
+        "[groom]\nfile = \"{}\"\npreset = \"curly\"\nstrands_per_section = 5\n\
+         [body]\nfile = \"{dir}/tressfx/ratboy_body.tfxmesh\"\n[frames]\nsize = \"640x360\"\n",
+        file.display()
+    );
+    let mut shot = SceneFile::parse(&text).unwrap().resolve().unwrap();
+    let unframed = shot.camera(0);
+    let (scene, loaded, framing) = shot.build_framed_scene().unwrap();
+    let loaded = loaded.unwrap();
+    let grown = loaded.report.grown_children.expect("guides are sparse");
+    assert!(grown.per_strand >= 1, "{grown:?}");
+    let loaded = loaded.curves.curve_count();
+    assert!(loaded <= guides.curve_count());
+    assert_eq!(
+        scene.groom.strands.strand_count(),
+        loaded * (grown.per_strand + 1)
+    );
+    let framing = framing.expect("no [camera]: framed");
+    let camera = shot.camera(0);
+    let aspect = 640.0 / 360.0;
+    let corners: Vec<Vec3> = (0..8)
+        .map(|c| {
+            let pick = |bit: usize, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
+            Vec3::new(
+                pick(1, framing.min.x, framing.max.x),
+                pick(2, framing.min.y, framing.max.y),
+                pick(4, framing.min.z, framing.max.z),
+            )
+        })
+        .collect();
+    assert!(
+        corners
+            .iter()
+            .all(|&p| camera.sphere_in_frustum(p, 0.0, aspect))
+    );
+    // The default camera did not see the whole body.
+    assert!(
+        !corners
+            .iter()
+            .all(|&p| unframed.sphere_in_frustum(p, 0.0, aspect))
+    );
+    eprintln!("{grown:?}; {framing:?}");
+    std::fs::remove_dir_all(&out).unwrap();
 }

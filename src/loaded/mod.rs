@@ -13,6 +13,7 @@
 
 mod occluders;
 mod rest_error;
+mod sparse;
 
 use std::path::PathBuf;
 
@@ -29,6 +30,10 @@ use serde::Serialize;
 
 pub use occluders::{OccluderSettings, occluder_boxes};
 pub use rest_error::{LevelRestErrors, rest_errors};
+pub use sparse::{
+    CHILD_TARGET_STRANDS_PER_M2, DENSE_STRAND_COUNT, GrownChildren, MAX_GROWN_STRANDS,
+    SPARSE_STRANDS_PER_M2, auto_children, root_density,
+};
 
 use crate::pipeline::Result;
 
@@ -88,9 +93,17 @@ pub struct GroomFile {
     pub section_size_slack: f32,
     /// Seed of the fit's clustering.
     pub seed: u64,
-    /// Child strands grown around each file strand (none by default; for grooms of guides).
+    /// Child strands grown around each file strand. With [`GroomFile::auto_children`] its count
+    /// (and, with [`GroomFile::auto_child_spread`], its spread) is chosen at load time instead.
     #[serde(skip)]
     pub children: ChildStrands,
+    /// Grow children around a sparse groom's strands by [`auto_children`] (the default). A
+    /// scene's `groom.children_per_strand` sets `children.per_strand` and turns this off (0: the
+    /// file's strands only).
+    pub auto_children: bool,
+    /// With [`GroomFile::auto_children`], spread the children over the disc each guide stands
+    /// for (the default); `groom.child_spread` sets `children.spread` and turns this off.
+    pub auto_child_spread: bool,
 }
 
 impl GroomFile {
@@ -106,6 +119,8 @@ impl GroomFile {
             section_size_slack: fit.section_size_slack,
             seed: fit.seed,
             children: ChildStrands::default(),
+            auto_children: true,
+            auto_child_spread: true,
         }
     }
 
@@ -150,6 +165,8 @@ pub struct LoadReport {
     pub roots: Option<AttachmentReport>,
     /// Occluder boxes found inside the body (with a body file).
     pub occluder_boxes: usize,
+    /// The children grown by default around a sparse groom's strands ([`auto_children`]).
+    pub grown_children: Option<GrownChildren>,
 }
 
 /// A scene loaded from files, with what was measured and the inputs kept for measuring it again.
@@ -265,7 +282,8 @@ pub fn load_scene(
     check_section_count(&curves, groom, first)?;
     let fit = fit_hierarchy(&curves, &groom.fit_settings())
         .map_err(|error| file_error("fitting groom.file", first, error))?;
-    let mut groom_model = Groom::from_fit_with_children(&fit, &curves, params, &groom.children)
+    let (children, grown_children) = children_of(groom, &curves);
+    let mut groom_model = Groom::from_fit_with_children(&fit, &curves, params, &children)
         .map_err(|error| file_error("fitting groom.file", first, error))?;
     bind_profiles(&mut groom_model, &fit, &curves)
         .map_err(|error| file_error("fitting groom.file", first, error))?;
@@ -308,6 +326,7 @@ pub fn load_scene(
         fit: fit.report.clone(),
         roots,
         occluder_boxes: boxes,
+        grown_children,
     };
     Ok(LoadedScene {
         scene: Scene {
@@ -318,6 +337,29 @@ pub fn load_scene(
         fit,
         report,
     })
+}
+
+/// The children `groom` gets on `curves`: its own, or with [`GroomFile::auto_children`] those
+/// [`auto_children`] grows on a sparse groom (none on a dense one).
+fn children_of(groom: &GroomFile, curves: &Curves) -> (ChildStrands, Option<GrownChildren>) {
+    if !groom.auto_children {
+        return (groom.children, None);
+    }
+    let roots: Vec<Vec3> = curves.offsets[..curves.curve_count()]
+        .iter()
+        .map(|&start| curves.points[start as usize])
+        .collect();
+    let spread = (!groom.auto_child_spread).then_some(groom.children.spread);
+    match auto_children(&roots, spread, &groom.children) {
+        Some((children, grown)) => (children, Some(grown)),
+        None => (
+            ChildStrands {
+                per_strand: 0,
+                ..groom.children
+            },
+            None,
+        ),
+    }
 }
 
 /// The bounding box `(min, max)` of the curves' points [m].

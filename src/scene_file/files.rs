@@ -138,9 +138,11 @@ impl SceneFile {
         }
         if let Some(n) = table.children_per_strand {
             groom.children.per_strand = count("groom.children_per_strand", n, 0, 1000)?;
+            groom.auto_children = false;
         }
         if let Some(v) = table.child_spread {
             groom.children.spread = within("groom.child_spread", v, 0.0, 1.0, "metres in 0..=1")?;
+            groom.auto_child_spread = false;
         }
         if let Some(v) = table.child_clump {
             groom.children.clump = within("groom.child_clump", v, 0.0, 1.0, "a fraction in 0..=1")?;

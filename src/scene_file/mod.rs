@@ -162,11 +162,14 @@ pub struct GroomTable {
     /// 0..=10 (default 0.25; 0 with `strands_per_section = 5` gives every strand group one file
     /// strand).
     pub section_size_slack: Option<f32>,
-    /// With `file`: child strands grown around each file strand, 0..=1000 (default 0; for a
-    /// groom of guides, with few strands per strand group).
+    /// With `file`: child strands grown around each file strand, 0..=1000. Default: none on a
+    /// dense groom; on a sparse one (fewer than 2 strands per cm² of scalp, a set of guides)
+    /// enough to reach 20 per cm², at most 40,000 strands in all (`hairlod::loaded::auto_children`).
+    /// 0 turns them off.
     pub children_per_strand: Option<usize>,
     /// With `file`: radius [m] of the disc around its guide a child's root is drawn in, ≥ 0
-    /// (default 0.002).
+    /// (default 0.002; for the children grown by default on a sparse groom, the disc each guide
+    /// stands for, `√(1/(π·density))`).
     pub child_spread: Option<f32>,
     /// With `file`: a child's offset at the tip as a fraction of that at the root, 0..=1
     /// (default 0.5; smaller gathers children to their guide's skeleton).

@@ -13,7 +13,7 @@ use super::choices::{CameraPathKind, MotionKind};
 use super::{SCENE_FILE_VERSION, SceneFile, SceneFileError};
 use crate::pipeline::{LodMode, PipelineSettings};
 use crate::rest_pose::RestPose;
-use crate::shot::{CameraKeyframe, CameraMotion, CameraPath, Outputs, Shot};
+use crate::shot::{CameraKeyframe, CameraMotion, CameraPath, FrameAll, Outputs, Shot};
 
 type Result<T> = std::result::Result<T, SceneFileError>;
 
@@ -33,6 +33,7 @@ impl SceneFile {
             )));
         }
         let groom_file = self.groom_file()?;
+        let camera = self.camera_path(groom_file.is_some())?;
         let body_file = self.body_file(groom_file.is_some())?;
         let groom = self.groom_params(groom_file.is_some())?;
         let frames = &self.frames;
@@ -127,7 +128,7 @@ impl SceneFile {
             environment,
             settings,
             budget,
-            camera: self.camera_path()?,
+            camera,
             frames: frame_count,
             fps,
             width,
@@ -357,8 +358,18 @@ impl SceneFile {
         })
     }
 
-    fn camera_path(&self) -> Result<CameraPath> {
+    /// The camera path; with `from_files` (a groom file) and no target, distance or keyframes,
+    /// framed on the scene once it is built ([`CameraPath::frame_all`]).
+    fn camera_path(&self, from_files: bool) -> Result<CameraPath> {
         let table = &self.camera;
+        let frame_all = (from_files
+            && self.character.is_empty()
+            && table.target.is_none()
+            && table.distance.is_none()
+            && table.keyframes.is_empty())
+        .then_some(FrameAll {
+            end_distance: table.end_distance,
+        });
         let path = table.path.unwrap_or_default();
         let distance =
             super::bounds::camera_distance("camera.distance", table.distance.unwrap_or(0.8))?;
@@ -439,6 +450,7 @@ impl SceneFile {
                 "degrees in 1..=170",
             )?
             .to_radians(),
+            frame_all,
         })
     }
 

@@ -227,7 +227,9 @@ pub fn paper_tables(
     pixel_tolerance: f32,
     extras: &PaperExtras,
 ) -> Result<serde_json::Value> {
-    let scene = shot.build_scene()?;
+    let mut shot = shot.clone();
+    let scene = crate::scene_build::build_scene(&mut shot)?;
+    let shot = &shot;
     let options = RendererOptions::from_env()?;
     let lod = extras.options.lod(shot, pixel_tolerance)?;
     let budgets = extras.options.budgets(shot, &lod)?;

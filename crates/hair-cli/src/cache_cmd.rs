@@ -53,7 +53,7 @@ pub struct SimulateArgs {
 /// Runs `hairlod simulate`.
 pub fn run(args: &SimulateArgs) -> Result<()> {
     let file = args.run.scene_file(args.scene.as_deref(), args.frames)?;
-    let shot = file
+    let mut shot = file
         .resolve()
         .context("the scene with the command-line flags")?;
     let frames = frames_of(&shot, args.chunk, args.frames)?;
@@ -72,7 +72,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         };
         simulate_into(&shot, crowd, frames, &cache, started, |c| c.checkpoint())?
     } else {
-        let scene = shot.build_scene().context("could not build the groom")?;
+        let scene = crate::scene_build::build_scene(&mut shot)?;
         let character = CharacterModel::new(Arc::new(scene.clone()), shot.environment.clone());
         let cache = SimulationCache::create(&args.cache, run_fingerprint(&shot, &[character]))?;
         let resume = resume_from(&cache, frames.start, args.chunk)?;
@@ -228,7 +228,9 @@ pub fn render(job: CacheRender<'_>) -> Result<()> {
         renderer.set_style(job.style);
         play(shot, &mut renderer, cache, frames, &views, &mut writer)?
     } else {
-        let scene = shot.build_scene().context("could not build the groom")?;
+        let mut framed = shot.clone();
+        let scene = crate::scene_build::build_scene(&mut framed)?;
+        let shot = &framed;
         let character = CharacterModel::new(Arc::new(scene.clone()), shot.environment.clone());
         let cache = SimulationCache::open(job.cache, run_fingerprint(shot, &[character]))?;
         let mut renderer = PipelineRenderer::new(&job.options, &scene)?;

@@ -23,6 +23,7 @@ mod pareto;
 mod render_cmd;
 mod report;
 mod scene_args;
+mod scene_build;
 mod stability_cmd;
 mod view_cmd;
 mod viewer;

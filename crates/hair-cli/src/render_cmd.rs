@@ -213,7 +213,7 @@ fn groom_name(shot: &hairlod::Shot, preset: Option<GroomPreset>) -> String {
 pub fn run(args: &RenderArgs) -> Result<()> {
     let setup_start = Instant::now();
     let file = args.scene_file()?;
-    let shot = file.resolve()?;
+    let mut shot = file.resolve()?;
     let json = args
         .json
         .clone()
@@ -263,7 +263,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             frames,
         );
     }
-    let scene = shot.build_scene().context("could not build the groom")?;
+    let scene = crate::scene_build::build_scene(&mut shot)?;
     let views = View::of_outputs(&shot.outputs);
     let mut writer = FrameWriter::new(
         &args.out,

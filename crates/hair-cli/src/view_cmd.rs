@@ -105,7 +105,7 @@ impl ViewArgs {
 /// Runs `hairlod view`.
 pub fn run(args: &ViewArgs) -> Result<()> {
     let file = args.scene_file()?;
-    let shot = file.resolve()?;
+    let mut shot = file.resolve()?;
     anyhow::ensure!(
         !shot.is_crowd(),
         "the viewer shows one character; crowd scenes ([[character]] tables) run in `hairlod \
@@ -139,7 +139,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
              which writes the same frames as PNG files"
         )
     })?;
-    let scene = shot.build_scene().context("could not build the groom")?;
+    let scene = crate::scene_build::build_scene(&mut shot)?;
     let counts = scene.groom.counts();
     eprintln!(
         "viewing `{}` ({} sections, {} strands) at {}x{}, {}",
