@@ -10,21 +10,21 @@ use glam::{Mat3, Vec3};
 
 use crate::dynamics::environment::Environment;
 use crate::dynamics::error::FailedQuantity;
+use crate::dynamics::head_motion::angular_velocity;
 use crate::dynamics::lane_model::LaneNode;
 use crate::dynamics::lane_model::{LaneRoots, rotate_lanes};
 use crate::dynamics::lane_springs::LaneFrame;
 use crate::dynamics::lanes::{LANES, LaneVec3, Lanes};
 use crate::dynamics::params::SimulationSettings;
+use crate::dynamics::root_motion::RootPoses;
 use crate::transform::RigidTransform;
 
 /// What the batch step needs besides the state.
 pub(crate) struct BatchStep<'a> {
     pub settings: &'a SimulationSettings,
     pub environment: &'a Environment,
-    /// Head poses at the substep boundaries (`substeps + 1`).
-    pub head_poses: &'a [RigidTransform],
-    /// Their rotations as matrices.
-    pub head_rotations: &'a [Mat3],
+    /// The roots' poses at the substep boundaries: the head's, or each chain's own.
+    pub roots: RootPoses<'a>,
     /// Air drag rate γ [1/s].
     pub air_drag_rate: f32,
     /// Spring damping β [s] (the XPBD step's damping sweep).
@@ -34,20 +34,70 @@ pub(crate) struct BatchStep<'a> {
 }
 
 impl BatchStep<'_> {
-    /// The head pose [m] and its rotation matrix at substep boundary `k` of a step split into
-    /// `substeps << halvings` substeps: the precomputed ones without halvings, else sampled at
-    /// `time + k·h` as the precomputed ones are.
+    /// The root poses of chains `first_chain..end_chain` (one per lane; lanes past the last
+    /// chain repeat it) at substep boundary `k` of a step split into `substeps << halvings`
+    /// substeps ([`RootPoses::pose`]): one shared pose without a carrier.
     #[inline]
-    pub(crate) fn head_pose(&self, halvings: u32, k: usize) -> (RigidTransform, Mat3) {
-        if halvings == 0 {
-            return (self.head_poses[k], self.head_rotations[k]);
+    pub(crate) fn root_poses(
+        &self,
+        first_chain: usize,
+        end_chain: usize,
+        halvings: u32,
+        k: usize,
+    ) -> LanePoses {
+        if self.roots.shared() {
+            let (pose, rotation) = self.roots.pose(first_chain, halvings, k);
+            return LanePoses::Shared(pose, rotation);
         }
-        let (_, h) = substeps_halved(self.settings, halvings);
-        let pose = self
-            .environment
-            .head
-            .transform_at(self.time + k as f64 * h as f64);
-        (pose, Mat3::from_quat(pose.rotation))
+        let mut poses = [RigidTransform::IDENTITY; LANES];
+        let mut rotations = [Mat3::IDENTITY; LANES];
+        for lane in 0..LANES {
+            let chain = (first_chain + lane).min(end_chain - 1);
+            (poses[lane], rotations[lane]) = self.roots.pose(chain, halvings, k);
+        }
+        LanePoses::PerLane(poses, rotations)
+    }
+}
+
+/// The root poses of a run's lanes at one substep boundary: one for every lane (the head's), or
+/// one per lane (a deforming body's carry after the head's).
+#[derive(Debug, Clone, Copy)]
+// Lives on the lane kernels' stack: boxing the large variant would allocate every substep.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum LanePoses {
+    /// Every lane's, with its rotation matrix.
+    Shared(RigidTransform, Mat3),
+    /// Each lane's, with their rotation matrices.
+    PerLane([RigidTransform; LANES], [Mat3; LANES]),
+}
+
+impl LanePoses {
+    /// The roots' angular velocity [rad/s] per lane from `self` to `end` over `h` [s]
+    /// ([`angular_velocity`]).
+    #[inline]
+    pub(crate) fn spin_to(&self, end: &LanePoses, h: f32) -> LaneVec3 {
+        match (self, end) {
+            (LanePoses::Shared(start, _), LanePoses::Shared(end, _)) => {
+                LaneVec3::splat(angular_velocity(start.rotation, end.rotation, h))
+            }
+            _ => {
+                let mut spin = LaneVec3::default();
+                for lane in 0..LANES {
+                    let w = angular_velocity(self.lane(lane).rotation, end.lane(lane).rotation, h);
+                    spin.set(lane, w);
+                }
+                spin
+            }
+        }
+    }
+
+    /// Lane `lane`'s pose.
+    #[inline]
+    fn lane(&self, lane: usize) -> RigidTransform {
+        match self {
+            LanePoses::Shared(pose, _) => *pose,
+            LanePoses::PerLane(poses, _) => poses[lane],
+        }
     }
 }
 
@@ -103,13 +153,33 @@ pub(crate) struct BatchState<'a> {
     pub new_velocities: &'a mut [Vec3],
 }
 
-/// A head pose applied to every lane's root: position [m] and frame.
+/// The lanes' root poses applied to their rest roots: position [m] and frame.
 #[inline(always)]
-pub(crate) fn carried_roots(
-    roots: &LaneRoots,
-    pose: &RigidTransform,
-    rotation: &Mat3,
-) -> (LaneVec3, LaneFrame) {
+pub(crate) fn carried_roots(roots: &LaneRoots, poses: &LanePoses) -> (LaneVec3, LaneFrame) {
+    let (pose, rotation) = match poses {
+        LanePoses::Shared(pose, rotation) => (pose, rotation),
+        LanePoses::PerLane(poses, rotations) => {
+            let mut position = LaneVec3::default();
+            let mut frame = LaneFrame {
+                normal: LaneVec3::default(),
+                binormal: LaneVec3::default(),
+                tangent: LaneVec3::default(),
+            };
+            for lane in 0..LANES {
+                let (pose, rotation) = (&poses[lane], &rotations[lane]);
+                position.set(
+                    lane,
+                    *rotation * roots.position.get(lane) + pose.translation,
+                );
+                frame.normal.set(lane, *rotation * roots.normal.get(lane));
+                frame
+                    .binormal
+                    .set(lane, *rotation * roots.binormal.get(lane));
+                frame.tangent.set(lane, *rotation * roots.tangent.get(lane));
+            }
+            return (position, frame);
+        }
+    };
     let t = pose.translation;
     let position = rotate_lanes(rotation, &roots.position)
         + LaneVec3 {

@@ -25,18 +25,14 @@ pub(crate) fn damp_bending<const N: usize>(
     root_weight: Lanes,
     n: usize,
     root_frame: LaneFrame,
-    root_spin: glam::Vec3,
+    root_spin: LaneVec3,
     gain: Lanes,
 ) {
     let one = Lanes::splat(1.0);
     let two = Lanes::splat(2.0);
     let four = Lanes::splat(4.0);
     let zero = Lanes::splat(0.0);
-    let spin = LaneVec3 {
-        x: Lanes::splat(root_spin.x),
-        y: Lanes::splat(root_spin.y),
-        z: Lanes::splat(root_spin.z),
-    };
+    let spin = root_spin;
     let weight = |i: usize| {
         if i == 0 {
             root_weight

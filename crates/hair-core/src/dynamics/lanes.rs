@@ -182,6 +182,16 @@ pub(crate) struct LaneVec3 {
 }
 
 impl LaneVec3 {
+    /// `v` in every lane.
+    #[inline(always)]
+    pub fn splat(v: Vec3) -> LaneVec3 {
+        LaneVec3 {
+            x: Lanes::splat(v.x),
+            y: Lanes::splat(v.y),
+            z: Lanes::splat(v.z),
+        }
+    }
+
     /// Lane `lane` as a [`Vec3`].
     #[inline(always)]
     pub fn get(&self, lane: usize) -> Vec3 {

@@ -53,6 +53,7 @@ mod model;
 mod parallel;
 mod params;
 mod position_based;
+mod root_motion;
 mod sag_free;
 mod simulation;
 pub mod stability;
@@ -66,6 +67,8 @@ mod xpbd;
 mod tests;
 #[cfg(test)]
 mod tests_lanes;
+#[cfg(test)]
+mod tests_root_motion;
 #[cfg(test)]
 mod tests_sag_free;
 #[cfg(test)]
@@ -87,6 +90,7 @@ pub use params::{
     DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind, RootMode,
     SimulationSettings,
 };
+pub use root_motion::{DeformingBody, RootCarrier, SurfaceAttachment};
 pub use sag_free::{
     MAX_NATURAL_TURN, SAG_FREE_MAX_ITERATIONS, SAG_FREE_TOLERANCE, SagFreeReport, TurnLimit,
     make_sag_free,

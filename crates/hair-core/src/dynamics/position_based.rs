@@ -93,11 +93,12 @@ pub(crate) fn step_position_based<const N: usize>(
     }
     let mut springs = SpringScratch::<N>::new();
     let inverse_h = Lanes::splat(1.0 / h);
-    let (pose, rotation) = step.head_pose(attempt.halvings, 0);
-    let (mut root_start, _) = carried_roots(roots, &pose, &rotation);
+    let chains = (state.first_chain, state.end_chain);
+    let poses = step.root_poses(chains.0, chains.1, attempt.halvings, 0);
+    let (mut root_start, _) = carried_roots(roots, &poses);
     for k in 0..substeps {
-        let (pose, rotation) = step.head_pose(attempt.halvings, k + 1);
-        let (root_end, root_frame) = carried_roots(roots, &pose, &rotation);
+        let poses = step.root_poses(chains.0, chains.1, attempt.halvings, k + 1);
+        let (root_end, root_frame) = carried_roots(roots, &poses);
         let root = attached.then_some(root_end);
         substep(
             &mut s,

@@ -2,6 +2,7 @@
 //! step at a time, in parallel over chains, detecting failures.
 
 use glam::{Mat3, Vec3, Vec4};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::error::{ChainFailure, DynamicsError, FailedQuantity};
@@ -15,6 +16,7 @@ use crate::dynamics::lane_step::{RunState, step_run_with_retries};
 use crate::dynamics::model::DynamicsModel;
 use crate::dynamics::parallel::{ChainSlices, ChainWork, for_each_batch, for_each_chain};
 use crate::dynamics::params::{FailurePolicy, IntegratorKind, SimulationSettings};
+use crate::dynamics::root_motion::{RootCarrier, RootPoses};
 use crate::dynamics::state::SimulationState;
 use crate::transform::RigidTransform;
 
@@ -50,6 +52,11 @@ struct Scratch {
     head_poses: Vec<RigidTransform>,
     /// Their rotations as matrices.
     head_rotations: Vec<Mat3>,
+    /// With a root carrier: each chain's root poses at the substep boundaries, chain after chain
+    /// (`substeps + 1` each); empty without one.
+    chain_poses: Vec<RigidTransform>,
+    /// Their rotations as matrices.
+    chain_rotations: Vec<Mat3>,
 }
 
 /// A skeleton simulation: the model, its settings and the solver's scratch.
@@ -61,6 +68,8 @@ pub struct Simulation {
     /// The model's constants in lane form for the position-based and XPBD steps (laid out when
     /// the settings first ask for one of them).
     lane_model: Option<LaneModel>,
+    /// What carries the roots besides the head (a deforming body), if anything.
+    carrier: Option<RootCarrier>,
 }
 
 impl Simulation {
@@ -71,6 +80,7 @@ impl Simulation {
             settings,
             scratch: Scratch::default(),
             lane_model: None,
+            carrier: None,
         };
         simulation.set_settings(settings)?;
         Ok(simulation)
@@ -127,12 +137,63 @@ impl Simulation {
         scratch
             .head_rotations
             .resize(settings.substeps as usize + 1, Mat3::IDENTITY);
+        self.resize_chain_poses();
         Ok(())
     }
 
-    /// A state at rest in the rest shape with the head posed as `environment.head` at `time` [s].
+    /// Lets `carrier` carry the roots besides the head: each chain's root, root frame and rest
+    /// directions ride its body's triangle ([`DeformingBody::carry`]), and the head's motion is
+    /// applied after it. `None`: the head alone. Fails, changing nothing, when the carrier has
+    /// not one attachment per chain or names a triangle its body lacks.
+    ///
+    /// [`DeformingBody::carry`]: crate::dynamics::DeformingBody::carry
+    pub fn set_root_carrier(&mut self, carrier: Option<RootCarrier>) -> Result<(), DynamicsError> {
+        if let Some(carrier) = &carrier {
+            carrier.validate(self.model.chain_count())?;
+        }
+        self.carrier = carrier;
+        self.resize_chain_poses();
+        Ok(())
+    }
+
+    /// The root carrier, if any.
+    pub fn root_carrier(&self) -> Option<&RootCarrier> {
+        self.carrier.as_ref()
+    }
+
+    fn resize_chain_poses(&mut self) {
+        let count = match self.carrier {
+            Some(_) => self.model.chain_count() * (self.settings.substeps as usize + 1),
+            None => 0,
+        };
+        let scratch = &mut self.scratch;
+        scratch.chain_poses.resize(count, RigidTransform::IDENTITY);
+        scratch.chain_rotations.resize(count, Mat3::IDENTITY);
+        scratch.chain_poses.shrink_to_fit();
+        scratch.chain_rotations.shrink_to_fit();
+    }
+
+    /// Chain `chain`'s root pose at `time` [s]: the head's, after the carrier's where there is
+    /// one.
+    pub fn root_pose(&self, chain: usize, environment: &Environment, time: f64) -> RigidTransform {
+        match &self.carrier {
+            None => environment.head.transform_at(time),
+            Some(carrier) => carrier.pose(chain, &environment.head, time),
+        }
+    }
+
+    /// A state at rest in the rest shape with the head posed as `environment.head` at `time` [s]
+    /// (each chain carried by the root carrier too, where there is one).
     pub fn rest_state(&self, environment: &Environment, time: f64) -> SimulationState {
-        SimulationState::at_rest(&self.model.rest, &environment.head.transform_at(time), time)
+        let rest = &self.model.rest;
+        let mut state = SimulationState::at_rest(rest, &environment.head.transform_at(time), time);
+        if self.carrier.is_some() {
+            for chain in 0..rest.chain_count() {
+                let pose = self.root_pose(chain, environment, time);
+                rest.rest_positions_of(chain, &pose, &mut state.node_positions[rest.nodes(chain)]);
+            }
+        }
+        state
     }
 
     fn check_state(&self, state: &SimulationState) -> Result<(), DynamicsError> {
@@ -189,7 +250,38 @@ impl Simulation {
         {
             *rotation = Mat3::from_quat(pose.rotation);
         }
+        if let Some(carrier) = &self.carrier {
+            // Each chain's root poses: the head's after the body's carry, at every boundary.
+            let stride = substeps + 1;
+            let head_poses = &self.scratch.head_poses;
+            let start = state.time;
+            self.scratch
+                .chain_poses
+                .par_chunks_mut(stride)
+                .zip(self.scratch.chain_rotations.par_chunks_mut(stride))
+                .enumerate()
+                .for_each(|(chain, (poses, rotations))| {
+                    let attachment = &carrier.attachments[chain];
+                    for k in 0..stride {
+                        let time = start + (k as f64) * h as f64;
+                        let pose = head_poses[k].after(&carrier.body.carry(attachment, time));
+                        poses[k] = pose;
+                        rotations[k] = Mat3::from_quat(pose.rotation);
+                    }
+                });
+        }
         let scratch = &mut self.scratch;
+        let roots = RootPoses {
+            head: &scratch.head_poses,
+            head_rotations: &scratch.head_rotations,
+            chains: &scratch.chain_poses,
+            chain_rotations: &scratch.chain_rotations,
+            carrier: self.carrier.as_ref(),
+            head_motion: &environment.head,
+            time: state.time,
+            time_step: settings.time_step,
+            substeps: settings.substeps,
+        };
         let model = &self.model;
         let time = state.time;
         let slices = ChainSlices {
@@ -210,7 +302,6 @@ impl Simulation {
             failures: &mut scratch.failures,
             halvings: &mut scratch.halvings,
         };
-        let head_poses = &scratch.head_poses;
         let step_one_chain = |chain: usize, chain_slices: ChainWork<'_>| {
             let constants = ChainConstants {
                 masses: &model.node_masses[model.rest.nodes(chain)],
@@ -229,7 +320,7 @@ impl Simulation {
                 &settings,
                 &model.params,
                 environment,
-                head_poses,
+                &roots,
                 time,
             );
             *chain_slices.failure = failure;
@@ -246,8 +337,7 @@ impl Simulation {
             let batch_step = BatchStep {
                 settings: &settings,
                 environment,
-                head_poses,
-                head_rotations: &scratch.head_rotations,
+                roots,
                 air_drag_rate: model.params.air_drag_rate,
                 bending_damping: model.params.bending_damping,
                 time,
@@ -333,7 +423,7 @@ fn step_chain(
     settings: &SimulationSettings,
     params: &crate::dynamics::params::DynamicsParams,
     environment: &Environment,
-    head_poses: &[RigidTransform],
+    roots: &RootPoses,
     time: f64,
 ) -> (Option<ChainFailure>, u32) {
     backup_positions.copy_from_slice(arrays.positions);
@@ -352,15 +442,7 @@ fn step_chain(
         let h = settings.time_step / substeps as f32;
         let mut solved = true;
         for k in 0..substeps {
-            let pose = |index: usize| {
-                if halvings == 0 {
-                    head_poses[index]
-                } else {
-                    environment
-                        .head
-                        .transform_at(time + index as f64 * h as f64)
-                }
-            };
+            let pose = |index: usize| roots.pose(chain, halvings, index).0;
             let head_start = pose(k);
             let head_end = pose(k + 1);
             let step = Substep {

@@ -84,7 +84,6 @@
 // Node loops index several per-node arrays by node on purpose: that is the form the vectoriser reads.
 #![allow(clippy::needless_range_loop)]
 
-use crate::dynamics::head_motion::angular_velocity;
 use crate::dynamics::integrators::LENGTH_STIFFNESS;
 use crate::dynamics::lane_batch::{
     Attempt, BatchState, BatchStep, LaneOutcome, carried_roots, check_and_scatter, gather,
@@ -259,6 +258,7 @@ pub(crate) fn step_xpbd<const N: usize>(
     };
     // Gather; the kicks hold the collision forces at first.
     gather(&state, n, &mut s.positions, &mut s.velocities, &mut s.kicks);
+    let chains = (state.first_chain, state.end_chain);
     let gamma = step.air_drag_rate;
     let gravity = step.environment.gravity;
     let inverse_h_squared = 1.0 / (h * h);
@@ -312,11 +312,11 @@ pub(crate) fn step_xpbd<const N: usize>(
     } else {
         constants[0].inverse_mass
     };
-    let (mut pose_start, rotation) = step.head_pose(attempt.halvings, 0);
-    let (mut root_start, _) = carried_roots(roots, &pose_start, &rotation);
+    let mut poses_start = step.root_poses(chains.0, chains.1, attempt.halvings, 0);
+    let (mut root_start, _) = carried_roots(roots, &poses_start);
     for k in 0..substeps {
-        let (pose_end, rotation) = step.head_pose(attempt.halvings, k + 1);
-        let (root_end, root_frame) = carried_roots(roots, &pose_end, &rotation);
+        let poses_end = step.root_poses(chains.0, chains.1, attempt.halvings, k + 1);
+        let (root_end, root_frame) = carried_roots(roots, &poses_end);
         // 1. Prediction with implicit drag: δ̃ = h·(v + h·a)/(1 + h·γ).
         for i in first..n {
             let predicted = (s.velocities[i] + s.kicks[i]).scale(drag_divisor).scale(hv);
@@ -498,7 +498,7 @@ pub(crate) fn step_xpbd<const N: usize>(
         }
         // 5. Spring damping on the velocities.
         if step.bending_damping > 0.0 {
-            let spin = angular_velocity(pose_start.rotation, pose_end.rotation, h);
+            let spin = poses_start.spin_to(&poses_end, h);
             damp_bending(
                 &s.here,
                 &mut s.velocities,
@@ -513,7 +513,7 @@ pub(crate) fn step_xpbd<const N: usize>(
         }
         s.positions = s.here;
         root_start = root_end;
-        pose_start = pose_end;
+        poses_start = poses_end;
     }
     // Check every lane (solved, not stopped) and write the ones that pass.
     check_and_scatter(
