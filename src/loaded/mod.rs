@@ -332,6 +332,7 @@ pub fn load_scene(
         scene: Scene {
             head,
             groom: groom_model,
+            body_motion: None,
         },
         curves,
         fit,

@@ -12,6 +12,7 @@ use hair_core::lod::{
 use hair_core::{Level, PerLevel};
 
 use super::block::LevelBlock;
+use super::body_motion::BodyRide;
 use super::error::{PipelineError, Result};
 use super::hand_over::HandOverModel;
 use super::levels::SectionLevels;
@@ -45,6 +46,11 @@ pub(crate) struct CharacterWork {
     pub(crate) work: Workspace,
     /// The head's collision body (collision on), posed at the head at the state's time.
     pub(crate) body: Option<CollisionBody>,
+    /// Where the groom rides a deforming head (the scene's body motion), if it deforms.
+    pub(crate) ride: Option<BodyRide>,
+    /// With a deforming head and collision: the collision body at the time the frame being
+    /// stepped ends, which the levels' bodies become between the step and the projection.
+    pub(crate) body_at_end: Option<CollisionBody>,
     /// The level selector (automatic levels): its constants and scratch; its memory (choices,
     /// depths, tolerance) is the state's.
     pub(crate) selector: Option<LodSelector>,
@@ -96,6 +102,13 @@ pub(crate) fn build_character(
         }
         LodMode::Fixed(level) => (None, level),
     };
+    let ride = BodyRide::of(&model.scene)?;
+    // A deforming body is built again every frame: the hierarchies need no field, which would
+    // be built again every frame too.
+    let broad_phase = match ride {
+        Some(_) => BroadPhase::Hierarchies,
+        None => settings.broad_phase,
+    };
     let triangles = model.scene.head.mesh.triangles.len();
     let body = match (settings.collision, shared.body) {
         (false, _) => None,
@@ -108,7 +121,7 @@ pub(crate) fn build_character(
         (true, Some(body)) => Some(body.clone()),
         (true, None) => Some(CollisionBody::from_mesh(&model.scene.head.mesh)?),
     };
-    if settings.broad_phase != BroadPhase::Hierarchies
+    if broad_phase != BroadPhase::Hierarchies
         && let Some(body) = &body
     {
         // Built with the character (once per mesh, shared by its copies), not in the first
@@ -130,8 +143,10 @@ pub(crate) fn build_character(
         blocks: PerLevel::from_fn(|level| LevelBlock::empty(level, 0.0)),
     };
     let mut work = CharacterWork {
-        work: Workspace::new(body.as_ref(), settings.broad_phase)?,
+        work: Workspace::new(body.as_ref(), broad_phase, ride.as_ref())?,
         body,
+        ride,
+        body_at_end: None,
         selector,
         section_work: super::drawn::section_work(groom),
         section_pixels: vec![0.0; sections],
@@ -176,12 +191,34 @@ impl CharacterRun<'_> {
         self.model.environment.head.transform_at(self.state.time)
     }
 
-    /// Poses the collision body at the head at the state's time.
+    /// Poses the collision body at the head at the state's time; a deforming head's is built
+    /// again at that time, for the levels' collision stages too.
     pub(crate) fn pose_body(&mut self) -> Result<()> {
         let head = self.head_pose();
+        if let (Some(ride), Some(_)) = (&self.work.ride, &self.work.body) {
+            let body = ride.collision_body(self.state.time)?;
+            for (_, level) in self.work.work.levels.iter_mut() {
+                for copy in level.bodies.iter_mut() {
+                    *copy = body.clone();
+                }
+            }
+            self.work.body = Some(body);
+        }
         if let Some(body) = &mut self.work.body {
             body.set_pose(head.rotation, head.translation)?;
         }
+        Ok(())
+    }
+
+    /// With a deforming head and collision, builds the collision body at the end of the step
+    /// from `time` [s] ([`CharacterWork::body_at_end`]).
+    pub(crate) fn prepare_body_at_end(&mut self, time: f64) -> Result<()> {
+        self.work.body_at_end = match (&self.work.ride, &self.work.body) {
+            (Some(ride), Some(_)) => Some(
+                ride.collision_body(time + f64::from(self.settings.dynamics.time_step))?,
+            ),
+            _ => None,
+        };
         Ok(())
     }
 
@@ -242,7 +279,8 @@ impl CharacterRun<'_> {
 
 impl<'a> CharacterRun<'a> {
     /// Every level block with its working memory, to step in `environment` (the character's
-    /// when `None`) from `time` [s] ([`super::step::step_blocks`]).
+    /// when `None`) from `time` [s] ([`super::step::step_blocks`]). A given environment is the
+    /// settling fall's: a deforming head is held at rest through it.
     pub(crate) fn into_block_steps(
         self,
         environment: Option<&'a Environment>,
@@ -251,12 +289,22 @@ impl<'a> CharacterRun<'a> {
         let CharacterRun {
             model, state, work, ..
         } = self;
+        let hold_body = environment.is_some();
         let environment = environment.unwrap_or(&model.environment);
+        let body_at_end = if hold_body {
+            None
+        } else {
+            work.body_at_end.as_ref()
+        };
         super::step::character_steps(
             state.blocks.iter_mut(),
             work.work.levels.iter_mut(),
-            environment,
-            time,
+            super::step::StepInputs {
+                environment,
+                time,
+                hold_body,
+                body_at_end,
+            },
         )
     }
 }

@@ -22,6 +22,7 @@
 //! which a [`Checkpoint`] writes to a file and [`Pipeline::resume`] goes on from, bit for bit.
 
 mod block;
+mod body_motion;
 mod budget;
 mod character;
 mod character_frame;

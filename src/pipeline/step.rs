@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use hair_collide::CollisionBody;
 use hair_core::Level;
 use hair_core::dynamics::Environment;
 
@@ -25,6 +26,21 @@ pub(crate) struct BlockStep<'a> {
     pub(crate) work: &'a mut LevelWork,
     pub(crate) environment: &'a Environment,
     pub(crate) time: f64,
+    /// Hold a deforming head at rest through the step (the settling fall).
+    pub(crate) hold_body: bool,
+    /// A deforming head's collision body at the step's end, for the projection.
+    pub(crate) body_at_end: Option<&'a CollisionBody>,
+}
+
+/// What every block of a character steps with: the environment, the time the state is at
+/// before the step [s], and for a deforming head whether it is held at rest and its collision
+/// body at the step's end.
+#[derive(Clone, Copy)]
+pub(crate) struct StepInputs<'a> {
+    pub(crate) environment: &'a Environment,
+    pub(crate) time: f64,
+    pub(crate) hold_body: bool,
+    pub(crate) body_at_end: Option<&'a CollisionBody>,
 }
 
 /// What stepping one block did: its level, the wall-clock time of its dynamics and collision
@@ -51,13 +67,12 @@ impl BlockStepped {
     }
 }
 
-/// The blocks of one character, each with its working memory, to be stepped in `environment`
-/// from `time` [s] (an empty block is left out).
+/// The blocks of one character, each with its working memory, to be stepped with `inputs` (an
+/// empty block is left out).
 pub(crate) fn character_steps<'a>(
     blocks: impl Iterator<Item = (Level, &'a mut LevelBlock)>,
     work: impl Iterator<Item = (Level, &'a mut LevelWork)>,
-    environment: &'a Environment,
-    time: f64,
+    inputs: StepInputs<'a>,
 ) -> impl Iterator<Item = BlockStep<'a>> {
     blocks
         .zip(work)
@@ -66,8 +81,10 @@ pub(crate) fn character_steps<'a>(
             level,
             block,
             work,
-            environment,
-            time,
+            environment: inputs.environment,
+            time: inputs.time,
+            hold_body: inputs.hold_body,
+            body_at_end: inputs.body_at_end,
         })
 }
 
@@ -87,6 +104,8 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
         work,
         environment,
         time,
+        hold_body,
+        body_at_end,
     } = step;
     let mut stepped = BlockStepped {
         level,
@@ -99,6 +118,14 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
         return Ok(stepped);
     };
     block.state.time = time;
+    // Held at rest: the carrier (which would move the roots with the body's time) steps aside.
+    let held = if hold_body {
+        let carrier = simulation.root_carrier().cloned();
+        simulation.set_root_carrier(None)?;
+        carrier
+    } else {
+        None
+    };
     match &mut work.solver {
         Some(solver) => {
             let started = Instant::now();
@@ -110,6 +137,14 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
             simulation.step(&mut block.state, environment)?;
             stepped.dynamics += started.elapsed().as_secs_f64();
             let started = Instant::now();
+            if let Some(end) = body_at_end {
+                // The deforming head where the step ends: what the projection holds the nodes
+                // out of, and the next step's contacts start from.
+                for body in work.bodies.iter_mut() {
+                    *body = end.clone();
+                }
+                solver.forget_clearances();
+            }
             let projection =
                 solver.after_step(&mut work.bodies, simulation, &mut block.state, environment)?;
             stepped.max_stretch = projection.max_stretch;
@@ -120,6 +155,9 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
             simulation.step(&mut block.state, environment)?;
             stepped.dynamics += started.elapsed().as_secs_f64();
         }
+    }
+    if held.is_some() {
+        simulation.set_root_carrier(held)?;
     }
     Ok(stepped)
 }

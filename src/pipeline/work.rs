@@ -9,6 +9,7 @@ use hair_core::dynamics::{DynamicsModel, DynamicsParams, Simulation};
 use hair_core::{Groom, Level, PerLevel, SkeletonRest};
 
 use super::block::LevelBlock;
+use super::body_motion::BodyRide;
 use super::error::Result;
 use super::settings::PipelineSettings;
 
@@ -20,12 +21,21 @@ pub(crate) struct Workspace {
 
 impl Workspace {
     /// Every level's working memory ([`LevelWork::new`]).
-    pub(crate) fn new(body: Option<&CollisionBody>, broad_phase: BroadPhase) -> Result<Workspace> {
+    pub(crate) fn new(
+        body: Option<&CollisionBody>,
+        broad_phase: BroadPhase,
+        ride: Option<&BodyRide>,
+    ) -> Result<Workspace> {
+        let level = || -> Result<LevelWork> {
+            let mut work = LevelWork::new(body, broad_phase)?;
+            work.ride = ride.cloned();
+            Ok(work)
+        };
         Ok(Workspace {
             levels: PerLevel {
-                patch: LevelWork::new(body, broad_phase)?,
-                cluster: LevelWork::new(body, broad_phase)?,
-                strand_group: LevelWork::new(body, broad_phase)?,
+                patch: level()?,
+                cluster: level()?,
+                strand_group: level()?,
             },
             chains: Vec::new(),
         })
@@ -52,6 +62,8 @@ pub(crate) struct LevelWork {
     pub(crate) simulation: Option<Simulation>,
     pub(crate) solver: Option<CollisionSolver>,
     pub(crate) bodies: Vec<CollisionBody>,
+    /// Where the groom rides a deforming head: the simulation's roots are carried by it.
+    pub(crate) ride: Option<BodyRide>,
 }
 
 impl LevelWork {
@@ -69,6 +81,7 @@ impl LevelWork {
                 })
                 .transpose()?,
             bodies: body.into_iter().cloned().collect(),
+            ride: None,
         })
     }
 
@@ -87,10 +100,12 @@ impl LevelWork {
             for &chain in &block.chains {
                 rest.push_chain_from(&groom.skeletons, chain)?;
             }
-            Some(Simulation::new(
-                DynamicsModel::new(rest, params)?,
-                settings.dynamics,
-            )?)
+            let mut simulation =
+                Simulation::new(DynamicsModel::new(rest, params)?, settings.dynamics)?;
+            if let Some(ride) = &self.ride {
+                simulation.set_root_carrier(Some(ride.carrier(&block.chains)))?;
+            }
+            Some(simulation)
         };
         Ok(())
     }

@@ -216,8 +216,9 @@ impl WorldPipeline {
         let started = Instant::now();
         let mut steps = Vec::new();
         let mut counts = Vec::with_capacity(self.characters.len());
-        for run in self.runs(world) {
+        for mut run in self.runs(world) {
             let time = run.state.time;
+            run.prepare_body_at_end(time)?;
             let before = steps.len();
             steps.extend(run.into_block_steps(None, time));
             counts.push(steps.len() - before);

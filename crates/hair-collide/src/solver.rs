@@ -128,6 +128,13 @@ impl CollisionSolver {
         self.previous_time = memory.time;
     }
 
+    /// Forgets every node's clearance from the bodies: for bodies that changed shape (a
+    /// deforming body built again at a new time), whose distances the clearances no longer
+    /// bound. The next projection measures each node again.
+    pub fn forget_clearances(&mut self) {
+        self.clearances.fill(Clearance::default());
+    }
+
     /// Lays the clearance cache out for `count` bodies (emptied when the count changes: an empty
     /// clearance only costs a closest-point search).
     fn use_bodies(&mut self, count: usize) {

@@ -1,0 +1,58 @@
+//! A deforming head in the frame loop ([`Scene::body_motion`](hair_core::Scene::body_motion)):
+//! where each of the groom's skeleton chains rides the body (attached once per character, on
+//! the rest mesh), the root carriers the level simulations step with, and the collision body at
+//! the time a step ends (built once per frame and shared by the levels).
+
+use std::sync::Arc;
+
+use hair_collide::{CollisionBody, attach_roots};
+use hair_core::dynamics::{DeformingBody, RootCarrier, SurfaceAttachment};
+use hair_core::Scene;
+
+use super::error::Result;
+
+/// A deforming body and where the groom's skeleton chains ride it.
+#[derive(Debug, Clone)]
+pub(crate) struct BodyRide {
+    /// The body's samples (head space).
+    pub(crate) body: Arc<DeformingBody>,
+    /// Where each skeleton chain of the groom rides (its root's closest point on the rest
+    /// mesh), indexed as `groom.skeletons`.
+    pub(crate) attachments: Vec<SurfaceAttachment>,
+}
+
+impl BodyRide {
+    /// The ride of `scene`'s groom on its body motion; `None` for a rigid head.
+    pub(crate) fn of(scene: &Scene) -> Result<Option<BodyRide>> {
+        let Some(motion) = &scene.body_motion else {
+            return Ok(None);
+        };
+        let rest = CollisionBody::from_mesh(&scene.head.mesh)?;
+        let (attached, _) = attach_roots(&rest, &scene.groom.skeletons.root_positions)?;
+        Ok(Some(BodyRide {
+            body: Arc::new(DeformingBody::new(motion.clone())),
+            attachments: attached
+                .iter()
+                .map(|a| SurfaceAttachment {
+                    triangle: a.triangle,
+                    barycentric: a.barycentric,
+                })
+                .collect(),
+        }))
+    }
+
+    /// The carrier of a simulation of the groom's skeleton chains `chains`, in that order.
+    pub(crate) fn carrier(&self, chains: &[usize]) -> RootCarrier {
+        RootCarrier {
+            body: self.body.clone(),
+            attachments: chains.iter().map(|&c| self.attachments[c]).collect(),
+        }
+    }
+
+    /// The collision body of the mesh at `time` [s] (head space; posed by the collision stage).
+    pub(crate) fn collision_body(&self, time: f64) -> Result<CollisionBody> {
+        Ok(CollisionBody::from_mesh(
+            &self.body.sequence().mesh_at(time),
+        )?)
+    }
+}
