@@ -50,7 +50,7 @@ fn read_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, Form
             let (units, prims) = text_meshes(bytes)?;
             for prim in prims {
                 found = true;
-                add_prim(&mut mesh, &units, &options.axes, prim?)?;
+                add_prim(&mut mesh, &units, &options.axes, prim?, false)?;
             }
         }
         Encoding::Crate => {
@@ -74,7 +74,7 @@ fn read_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, Form
                     indices: Array::from_values(indices),
                     orientation: (orientation, None),
                 };
-                add_prim(&mut mesh, &units, &options.axes, values)?;
+                add_prim(&mut mesh, &units, &options.axes, values, false)?;
             }
         }
     }
@@ -88,12 +88,15 @@ fn read_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, Form
     finish_mesh(mesh)
 }
 
-/// Adds one prim's polygons to `mesh` as triangles, its points converted by `units`, then `axes`.
-fn add_prim(
+/// Adds one prim's polygons to `mesh` as triangles, its points converted by `units`, then `axes`;
+/// `mirrored` (a transform with a negative determinant) reverses the windings, as the prim's
+/// orientation does.
+pub(crate) fn add_prim(
     mesh: &mut TriangleMesh,
     units: &Units,
     axes: &ImportAxes,
     prim: MeshValues,
+    mirrored: bool,
 ) -> Result<(), FormatErrorKind> {
     let (orientation, orientation_line) = &prim.orientation;
     let left_handed = match orientation.as_str() {
@@ -181,7 +184,7 @@ fn add_prim(
         }
         for k in 1..count - 1 {
             let mut triangle = [vertex[0], vertex[k], vertex[k + 1]];
-            if left_handed != axes.reverses_winding() {
+            if (left_handed != mirrored) != axes.reverses_winding() {
                 triangle.swap(1, 2);
             }
             mesh.triangles.push(triangle);

@@ -15,7 +15,7 @@ use super::error::FormatErrorKind;
 use super::options::UpAxis;
 use super::text::shorten;
 use super::usda_lex::{Kind, Lexer, Token, unexpected};
-use super::usda_prims::{Collected, Field, Layer, PrimKind, Slot};
+use super::usda_prims::{Collected, Field, Layer, PrimKind, Slot, XformPrim};
 use super::usda_values::{Array, Attr, Authored, Sample};
 
 /// Deepest prim nesting read (deeper is refused rather than risking the stack).
@@ -28,9 +28,26 @@ pub(crate) fn parse_layer(
     time: Option<f64>,
     kind: PrimKind,
 ) -> Result<Layer, FormatErrorKind> {
+    parse(text, time, kind, false)
+}
+
+/// Parses `text` into its layer and its prims of `kind` with every time sample of their
+/// attributes ([`Attr::samples`](super::usda_values::Attr)), and the transform ops of every
+/// `def` prim ([`Layer::xforms`]).
+pub(crate) fn parse_layer_sequence(text: &str, kind: PrimKind) -> Result<Layer, FormatErrorKind> {
+    parse(text, None, kind, true)
+}
+
+fn parse(
+    text: &str,
+    time: Option<f64>,
+    kind: PrimKind,
+    sequence: bool,
+) -> Result<Layer, FormatErrorKind> {
     let mut parser = Parser {
         lexer: Lexer::new(text),
         time,
+        sequence,
         kind,
         path: Vec::new(),
         prims_seen: 0,
@@ -40,6 +57,9 @@ pub(crate) fn parse_layer(
             meters_per_unit_line: 1,
             curves: Vec::new(),
             meshes: Vec::new(),
+            time_codes_per_second: None,
+            frames_per_second: None,
+            xforms: Vec::new(),
         },
     };
     if parser.lexer.peek()?.is_some_and(|t| t.is(b'(')) {
@@ -60,6 +80,8 @@ pub(crate) fn parse_layer(
 struct Parser<'a> {
     lexer: Lexer<'a>,
     time: Option<f64>,
+    /// Whether every time sample and the transform ops are kept (a sequence is read).
+    sequence: bool,
     /// The prims collected.
     kind: PrimKind,
     /// The names of the prims the parser is inside, outermost first.
@@ -187,8 +209,31 @@ impl<'a> Parser<'a> {
     }
 
     fn layer_metadata(&mut self) -> Result<(), FormatErrorKind> {
-        for (name, value) in self.metadata(&["upAxis", "metersPerUnit"])? {
-            if name.text == "upAxis" {
+        let wanted = [
+            "upAxis",
+            "metersPerUnit",
+            "timeCodesPerSecond",
+            "framesPerSecond",
+        ];
+        for (name, value) in self.metadata(&wanted)? {
+            if matches!(name.text, "timeCodesPerSecond" | "framesPerSecond") {
+                let rate: f64 = number(&value, name.text)?;
+                if !(rate.is_finite() && rate > 0.0) {
+                    return Err(FormatErrorKind::Syntax {
+                        line: value.line,
+                        message: format!(
+                            "{} {} is invalid (allowed: a finite number > 0)",
+                            name.text,
+                            value.shown()
+                        ),
+                    });
+                }
+                if name.text == "timeCodesPerSecond" {
+                    self.layer.time_codes_per_second = Some(rate);
+                } else {
+                    self.layer.frames_per_second = Some(rate);
+                }
+            } else if name.text == "upAxis" {
                 self.layer.up = match (value.kind, unquote(&value)) {
                     (Kind::String, "Y") => UpAxis::Y,
                     (Kind::String, "Z") => UpAxis::Z,
@@ -250,6 +295,12 @@ impl<'a> Parser<'a> {
                 let path = format!("/{}", self.path.join("/"));
                 Collected::new(self.kind, shorten(name.text), path, name.line, order)
             });
+        let mut xform = (self.sequence && specifier.text == "def").then(|| XformPrim {
+            path: format!("/{}", self.path.join("/")),
+            line: name.line,
+            order: None,
+            ops: Vec::new(),
+        });
         loop {
             let token = self.lexer.expect_any(&format!(
                 "a property, a child prim or `}}` closing prim {} of line {}",
@@ -270,7 +321,7 @@ impl<'a> Parser<'a> {
                     self.lexer.expect(b'=', "after `reorder …`")?;
                     self.skip_value()?;
                 }
-                (Kind::Ident, _) => self.property(token, collected.as_mut())?,
+                (Kind::Ident, _) => self.property(token, collected.as_mut(), xform.as_mut())?,
                 _ => return Err(unexpected(&token, "a property, a child prim or `}`")),
             }
         }
@@ -280,6 +331,11 @@ impl<'a> Parser<'a> {
             Some(Collected::Mesh(mesh)) => self.layer.meshes.push(*mesh),
             None => {}
         }
+        if let Some(xform) = xform
+            && xform.order.is_some()
+        {
+            self.layer.xforms.push(xform);
+        }
         Ok(())
     }
 
@@ -288,6 +344,7 @@ impl<'a> Parser<'a> {
         &mut self,
         first: Token<'a>,
         collected: Option<&mut Collected>,
+        xform: Option<&mut XformPrim>,
     ) -> Result<(), FormatErrorKind> {
         let mut token = first;
         while matches!(
@@ -314,6 +371,11 @@ impl<'a> Parser<'a> {
             Some((base, suffix)) => (base, Some(suffix)),
             None => (name.text, None),
         };
+        if let Some(xform) = xform
+            && (base == "xformOpOrder" || base.starts_with("xformOp:"))
+        {
+            return self.xform_property(xform, &type_name, &type_token, base, suffix, name.line);
+        }
         let field = collected
             .as_ref()
             .and_then(|prim| Field::from_name(prim.kind(), base));
@@ -373,6 +435,7 @@ impl<'a> Parser<'a> {
         value: fn(&mut Self) -> Result<Authored<T>, FormatErrorKind>,
     ) -> Result<(), FormatErrorKind> {
         let attr = slot.get_or_insert_with(|| Attr::new(line));
+        let sequence = self.sequence;
         let assigned = self.lexer.eat(b'=')?;
         match (suffix, assigned) {
             (_, false) => {}
@@ -393,7 +456,11 @@ impl<'a> Parser<'a> {
                     }
                     self.lexer.expect(b':', "after the time code")?;
                     let sample = value(self)?;
-                    attr.offer(time, t, sample);
+                    if sequence {
+                        attr.samples.push((t, sample));
+                    } else {
+                        attr.offer(time, t, sample);
+                    }
                     if !self.lexer.eat(b',')? {
                         self.lexer.expect(b'}', "closing the time samples")?;
                         break;
@@ -406,6 +473,89 @@ impl<'a> Parser<'a> {
             attr.interpolation = Some((unquote(&value).to_owned(), value.line));
         }
         Ok(())
+    }
+
+    /// A transform attribute of a prim whose ops are collected: `xformOpOrder` (a `token[]`) or
+    /// an `xformOp:` (numbers of any shape, flattened).
+    fn xform_property(
+        &mut self,
+        xform: &mut XformPrim,
+        type_name: &str,
+        type_token: &Token<'a>,
+        base: &str,
+        suffix: Option<&str>,
+        line: usize,
+    ) -> Result<(), FormatErrorKind> {
+        if base == "xformOpOrder" {
+            if type_name != "token[]" {
+                return Err(FormatErrorKind::Syntax {
+                    line: type_token.line,
+                    message: format!(
+                        "`xformOpOrder` of prim {} has type `{}`; expected `token[]`",
+                        xform.path,
+                        shorten(type_name)
+                    ),
+                });
+            }
+            return self.attribute(&mut xform.order, line, suffix, None, Self::tokens);
+        }
+        let index = match xform.ops.iter().position(|(name, _)| name == base) {
+            Some(index) => index,
+            None => {
+                xform.ops.push((base.to_owned(), None));
+                xform.ops.len() - 1
+            }
+        };
+        self.attribute(&mut xform.ops[index].1, line, suffix, None, Self::numbers)
+    }
+
+    /// `["a", "b"]`: tokens in quotes.
+    fn tokens(&mut self) -> Result<Authored<Array<String>>, FormatErrorKind> {
+        self.array(|parser, array| {
+            let token = parser.lexer.expect_any("a token in quotes")?;
+            if token.kind != Kind::String {
+                return Err(unexpected(&token, "a token in quotes"));
+            }
+            array.push(unquote(&token).to_owned(), token.line);
+            Ok(())
+        })
+    }
+
+    /// A number or a tuple of numbers, tuples nested at most two deep (`(1, 2, 3)`, a
+    /// `matrix4d`'s `((…), (…), (…), (…))`), flattened in order.
+    fn numbers(&mut self) -> Result<Authored<Array<f64>>, FormatErrorKind> {
+        if self.blocked()? {
+            return Ok(None);
+        }
+        let mut array = Array::new();
+        let mut depth = 0usize;
+        loop {
+            let token = self.lexer.expect_any("a number or `(`")?;
+            if token.is(b'(') {
+                depth += 1;
+                if depth > 2 {
+                    return Err(unexpected(&token, "a number (tuples nest two deep at most)"));
+                }
+                continue;
+            }
+            array.push(number(&token, "a transform value")?, token.line);
+            loop {
+                if depth == 0 {
+                    return Ok(Some(array));
+                }
+                if self.lexer.eat(b')')? {
+                    depth -= 1;
+                    continue;
+                }
+                self.lexer.expect(b',', "`,` or `)` in a tuple")?;
+                // A trailing comma before the closing bracket.
+                if self.lexer.eat(b')')? {
+                    depth -= 1;
+                    continue;
+                }
+                break;
+            }
+        }
     }
 
     /// `None` (a blocked value) if that is next.

@@ -14,10 +14,11 @@ use crate::tfx::tests::{tfx3_bytes, tfx4_bytes, two_strands};
 use crate::tfxmesh::tests::TETRAHEDRON;
 use crate::usc::tests::{strands_with_empty_roots, usc_bytes};
 use crate::{
-    Curves, FormatError, ImportOptions, read_alembic, read_hair, read_obj_curves, read_obj_mesh,
-    read_tfx, read_tfxmesh, read_usc_data, read_usd_mesh, read_usda, read_usda_at, read_usdc,
-    write_hair_bytes,
+    Curves, FormatError, ImportOptions, read_alembic, read_alembic_mesh_sequence, read_hair,
+    read_obj_curves, read_obj_mesh, read_tfx, read_tfxmesh, read_usc_data, read_usd_mesh,
+    read_usd_mesh_sequence, read_usda, read_usda_at, read_usdc, write_hair_bytes,
 };
+use hair_core::MeshSequence;
 use hair_core::mesh::TriangleMesh;
 
 /// Cases per target and kind of input.
@@ -72,6 +73,24 @@ fn checked_mesh(result: Result<TriangleMesh, FormatError>) -> Result<usize, Form
     assert!(mesh.triangle_count() >= 1);
     assert_eq!(mesh.normals.len(), mesh.vertex_count());
     Ok(mesh.vertex_count())
+}
+
+/// Checks what a mesh sequence reader returned, and returns its vertex count (samples at time
+/// codes where only a transform has a sample hold no points of their own in the file).
+fn checked_sequence(result: Result<MeshSequence, FormatError>) -> Result<usize, FormatError> {
+    let sequence = result?;
+    assert!(sequence.sample_count() >= 1);
+    assert!(!sequence.triangles().is_empty());
+    assert!(sequence.times().windows(2).all(|w| w[0] < w[1]));
+    for s in 0..sequence.sample_count() {
+        assert!(sequence.sample_positions(s).iter().all(|p| p.is_finite()));
+    }
+    Ok(sequence.vertex_count())
+}
+
+/// A fixture of `tests/data`.
+fn fixture(name: &str) -> Vec<u8> {
+    std::fs::read(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
 fn targets() -> Vec<Target> {
@@ -167,6 +186,27 @@ fn targets() -> Vec<Target> {
             // sizes, the time samplings' size, /plain's property headers' size and its .geom
             // group's child count (see `make_alembic_fixture.py`; u64 fields, low half set).
             count_fields: &[8, 2802, 40, 136, 2294, 1015, 1126],
+            min_point_bytes: 12,
+        },
+        Target {
+            name: "USD text mesh sequence",
+            read: |b, o| checked_sequence(read_usd_mesh_sequence(b, o)),
+            seed: fixture("mesh_sequence.usda"),
+            count_fields: &[],
+            min_point_bytes: 6,
+        },
+        Target {
+            name: "USD crate mesh sequence",
+            read: |b, o| checked_sequence(read_usd_mesh_sequence(b, o)),
+            seed: fixture("mesh_sequence.usdc"),
+            count_fields: &[],
+            min_point_bytes: 12,
+        },
+        Target {
+            name: "Alembic mesh sequence",
+            read: |b, o| checked_sequence(read_alembic_mesh_sequence(b, o)),
+            seed: fixture("mesh_sequence.abc"),
+            count_fields: &[],
             min_point_bytes: 12,
         },
         Target {

@@ -4,6 +4,7 @@
 //! crate (`usd_crate.rs`), and fuzz-style tests under plain `cargo test`.
 
 pub(crate) mod alembic;
+mod mesh_sequence;
 mod errors;
 mod fit_real_data;
 mod fuzz;
