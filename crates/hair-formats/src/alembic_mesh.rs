@@ -420,6 +420,34 @@ fn world(track: &MeshTrack, time: f64) -> Result<DMat4, FormatErrorKind> {
     Ok(matrix)
 }
 
+/// The times of the sequence: those of every property with more than one sample (a property
+/// with one is constant, whatever its time sampling says), sorted; when nothing is animated, the
+/// earliest sample's time.
+fn sequence_times(meshes: &[MeshTrack]) -> Vec<f64> {
+    let properties = || {
+        meshes.iter().flat_map(|m| {
+            [
+                m.points.codes().collect::<Vec<_>>(),
+                m.counts.codes().collect(),
+                m.indices.codes().collect(),
+            ]
+            .into_iter()
+            .chain(m.xforms.iter().map(|x| x.vals.codes().collect()))
+        })
+    };
+    let mut times: Vec<f64> = properties()
+        .filter(|codes| codes.len() > 1)
+        .flatten()
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    if times.is_empty() {
+        let earliest = properties().flatten().min_by(f64::total_cmp);
+        times.push(earliest.unwrap_or(0.0));
+    }
+    times
+}
+
 /// Joins every mesh at every time.
 fn build(meshes: &[MeshTrack], options: &ImportOptions) -> Result<MeshSequence, FormatErrorKind> {
     if meshes.is_empty() {
@@ -429,18 +457,7 @@ fn build(meshes: &[MeshTrack], options: &ImportOptions) -> Result<MeshSequence, 
             0,
         ));
     }
-    let mut times: Vec<f64> = meshes
-        .iter()
-        .flat_map(|m| {
-            m.points
-                .codes()
-                .chain(m.counts.codes())
-                .chain(m.indices.codes())
-                .chain(m.xforms.iter().flat_map(|x| x.vals.codes()))
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times.dedup();
+    let times = sequence_times(meshes);
     let units = Units::new(UpAxis::Y, 1.0);
     let held = |a: &Vec<i32>, _: &Vec<i32>, _| a.clone();
     let lerp = |a: &Vec<Vec3>, b: &Vec<Vec3>, w: f64| {

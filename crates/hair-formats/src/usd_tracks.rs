@@ -143,7 +143,7 @@ fn text_stack(xform: XformPrim) -> Result<OpStack, FormatErrorKind> {
         path,
         line,
         order,
-        mut ops,
+        ops,
     } = xform;
     let order = order.map(|attr| {
         let line = attr.line;
@@ -158,15 +158,12 @@ fn text_stack(xform: XformPrim) -> Result<OpStack, FormatErrorKind> {
         let Some(index) = ops.iter().position(|(name, _)| name == attribute) else {
             return Ok(None);
         };
-        let attr = ops[index].1.take();
-        Ok(attr.map(|attr| {
-            let numbers = |a: Option<Array<f64>>| a.map(|a| a.values);
+        // An op may be named twice (`xformOp:translate:pivot` and its `!invert!`).
+        Ok(ops[index].1.as_ref().map(|attr| {
+            let numbers = |a: &Option<Array<f64>>| a.as_ref().map(|a| a.values.clone());
             Timed::new(
-                numbers(attr.default.flatten()),
-                attr.samples
-                    .into_iter()
-                    .map(|(t, v)| (t, numbers(v)))
-                    .collect(),
+                attr.default.as_ref().and_then(numbers),
+                attr.samples.iter().map(|(t, v)| (*t, numbers(v))).collect(),
             )
         }))
     })
