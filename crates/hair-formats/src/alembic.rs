@@ -150,7 +150,10 @@ pub(crate) struct Reading<'a> {
 }
 
 /// An `ogawa-rs` error about `element` at byte `offset`.
-pub(crate) fn crate_error(element: &str, offset: u64) -> impl FnOnce(ogawa_rs::OgawaError) -> FormatErrorKind {
+pub(crate) fn crate_error(
+    element: &str,
+    offset: u64,
+) -> impl FnOnce(ogawa_rs::OgawaError) -> FormatErrorKind {
     move |error| {
         let mut message = error.to_string();
         let mut source = std::error::Error::source(&error);

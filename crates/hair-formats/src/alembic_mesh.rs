@@ -25,7 +25,7 @@
 
 use std::path::Path;
 
-use glam::{DMat4, DVec3, Vec3};
+use glam::{DMat4, Vec3};
 use ogawa_rs::{DataType, F32X3_TYPE, I32_TYPE, ObjectReader, PodArray, PropertyReader};
 
 use hair_core::MeshSequence;
@@ -70,6 +70,9 @@ struct XformTrack {
     vals: Timed<Vec<f64>>,
     at: u64,
 }
+
+/// One sample of a property: its time [s], its values, and the byte offset of its first value.
+type PropertySample = (f64, PodArray, u64);
 
 /// One PolyMesh object over time.
 struct MeshTrack {
@@ -151,7 +154,7 @@ fn samples(
     name: &str,
     element: &str,
     data_type: Option<&DataType>,
-) -> Result<Option<Vec<(f64, PodArray, u64)>>, FormatErrorKind> {
+) -> Result<Option<Vec<PropertySample>>, FormatErrorKind> {
     let element = format!("{element} {name}");
     let PropertyReader::Compound(compound) = compound else {
         return Err(structure(element, "not in a compound property".into(), 0));
@@ -262,7 +265,7 @@ fn sample_time(sampling: Option<&ogawa_rs::TimeSampling>, index: u32) -> Result<
 
 /// The samples of an array property as a [`Timed`] value, each converted by `convert`.
 fn timed<T: Clone>(
-    samples: Vec<(f64, PodArray, u64)>,
+    samples: Vec<PropertySample>,
     mut convert: impl FnMut(PodArray) -> Option<T>,
 ) -> Option<Timed<T>> {
     let mut out = Vec::with_capacity(samples.len());
@@ -330,13 +333,17 @@ fn mesh(
 ) -> Result<MeshTrack, FormatErrorKind> {
     let at = object.group.position;
     let Some(geom) = reading.compound(object, ".geom", path)? else {
-        return Err(structure(path, "a PolyMesh object without .geom".into(), at));
+        return Err(structure(
+            path,
+            "a PolyMesh object without .geom".into(),
+            at,
+        ));
     };
     let element = format!("{path} .geom");
     let missing = |name: &str| structure(&element, format!("no {name} property"), at);
     let wrong = |name: &str| structure(&element, format!("{name} is not of its type"), at);
-    let points = samples(reading, &geom, "P", &element, Some(&F32X3_TYPE))?
-        .ok_or_else(|| missing("P"))?;
+    let points =
+        samples(reading, &geom, "P", &element, Some(&F32X3_TYPE))?.ok_or_else(|| missing("P"))?;
     let points = timed(points, |values| match values {
         PodArray::F32(p) => Some(
             p.chunks_exact(3)
@@ -479,7 +486,12 @@ fn build(meshes: &[MeshTrack], options: &ImportOptions) -> Result<MeshSequence, 
             let indices = track.indices.at(time, held).unwrap_or_default();
             let world = world(track, time)?;
             if s == 0 {
-                first.push((counts.clone(), indices.clone(), points.len(), world.determinant()));
+                first.push((
+                    counts.clone(),
+                    indices.clone(),
+                    points.len(),
+                    world.determinant(),
+                ));
             } else {
                 let (c0, i0, n0, _) = &first[m];
                 let problem = if *c0 != counts || *i0 != indices {
@@ -505,7 +517,7 @@ fn build(meshes: &[MeshTrack], options: &ImportOptions) -> Result<MeshSequence, 
             }
             let points = points
                 .iter()
-                .map(|p| world.transform_point3(DVec3::from(p.as_dvec3())).as_vec3())
+                .map(|p| world.transform_point3(p.as_dvec3()).as_vec3())
                 .collect();
             let values = MeshValues {
                 path: track.path.clone(),

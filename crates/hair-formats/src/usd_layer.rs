@@ -219,7 +219,10 @@ impl<'a> Layer<'a> {
             _ => Vec::new(),
         };
         if let Some((t, _)) = samples.iter().find(|(t, _)| !t.is_finite()) {
-            return Err(usd_error(&path, format!("has a time sample at time code {t}")));
+            return Err(usd_error(
+                &path,
+                format!("has a time sample at time code {t}"),
+            ));
         }
         Ok(Some((path, default, samples)))
     }

@@ -137,9 +137,8 @@ fn build(tracks: &Tracks, axes: &ImportAxes) -> Result<MeshSequence, FormatError
     for (s, &code) in codes.iter().enumerate() {
         let mut mesh = TriangleMesh::default();
         for (m, track) in tracks.meshes.iter().enumerate() {
-            let missing = |name: &str| {
-                prim_error(track, format!("has no {name} value at time code {code}"))
-            };
+            let missing =
+                |name: &str| prim_error(track, format!("has no {name} value at time code {code}"));
             let points = track
                 .points
                 .at(code, Sample::lerp)

@@ -101,7 +101,8 @@ pub(crate) fn text_tracks(bytes: &[u8]) -> Result<Tracks, FormatErrorKind> {
         };
         let points = timed(prim.points).ok_or_else(|| missing("points"))?;
         let counts = timed(prim.face_vertex_counts).ok_or_else(|| missing("faceVertexCounts"))?;
-        let indices = timed(prim.face_vertex_indices).ok_or_else(|| missing("faceVertexIndices"))?;
+        let indices =
+            timed(prim.face_vertex_indices).ok_or_else(|| missing("faceVertexIndices"))?;
         let orientation = match prim.orientation {
             Some(attr) => {
                 let line = attr.line;
@@ -289,9 +290,13 @@ fn crate_stack(layer: &mut Layer, prim: &sdf::Path) -> Result<Option<OpStack>, F
         }
     };
     let stack = op_stack(prim.as_str(), None, &order, |attribute| {
-        crate_timed(layer, prim, attribute, "a number, vector, quaternion or matrix4d", |v| {
-            as_numbers(v)
-        })
+        crate_timed(
+            layer,
+            prim,
+            attribute,
+            "a number, vector, quaternion or matrix4d",
+            as_numbers,
+        )
     })?;
     Ok(Some(stack))
 }

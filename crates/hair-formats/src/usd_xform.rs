@@ -164,7 +164,7 @@ impl Op {
             OpKind::Euler([a, b, c]) => rotation(c, v[c]) * rotation(b, v[b]) * rotation(a, v[a]),
             OpKind::Orient => {
                 let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
-                if !(q.length() > 0.0) {
+                if q.length() == 0.0 || q.length().is_nan() {
                     return Err("is not a rotation (a zero quaternion)".into());
                 }
                 DMat4::from_quat(q.normalize())
@@ -283,7 +283,11 @@ mod tests {
     fn samples_are_held_outside_and_interpolated_between() {
         let timed = Timed::new(
             Some(vec![7.0]),
-            vec![(4.0, Some(vec![1.0])), (2.0, Some(vec![0.0])), (4.0, Some(vec![3.0]))],
+            vec![
+                (4.0, Some(vec![1.0])),
+                (2.0, Some(vec![0.0])),
+                (4.0, Some(vec![3.0])),
+            ],
         );
         let lerp = |a: &Vec<f64>, b: &Vec<f64>, w| lerp_values(a, b, w, false);
         assert_eq!(timed.at(0.0, lerp), Some(vec![0.0]));

@@ -534,7 +534,10 @@ impl<'a> Parser<'a> {
             if token.is(b'(') {
                 depth += 1;
                 if depth > 2 {
-                    return Err(unexpected(&token, "a number (tuples nest two deep at most)"));
+                    return Err(unexpected(
+                        &token,
+                        "a number (tuples nest two deep at most)",
+                    ));
                 }
                 continue;
             }

@@ -282,7 +282,9 @@ const COUNTED_VECTORS: [u64; 3] = [40, 41, 50]; // path, token and string vector
 /// Types whose values hold counts this module does not check: dictionaries and list ops (31 to
 /// 39), variant selection maps, payloads, layer offset vectors, opaque values, payload list ops
 /// and relocates.
-const UNCHECKED: [u64; 16] = [31, 32, 33, 34, 35, 36, 37, 38, 39, 45, 47, 49, 52, 53, 54, 55];
+const UNCHECKED: [u64; 16] = [
+    31, 32, 33, 34, 35, 36, 37, 38, 39, 45, 47, 49, 52, 53, 54, 55,
+];
 /// Integer types (int, uint, int64, uint64), whose arrays may be compressed.
 const INTS: [u64; 4] = [3, 4, 5, 6];
 /// Float types (half, float, double, double vector), whose arrays may be compressed, and the bytes

@@ -73,7 +73,11 @@ fn check_usd_fixture(sequence: &MeshSequence, name: &str) {
     // /ground, (0, 0, 0), (100, 0, 0), (0, 100, 0) cm counter-clockwise about +Z: its normal is
     // +Z, which is +Y after the Z-up conversion.
     let mesh = sequence.mesh_at(0.5);
-    assert!((mesh.normals[7] - Vec3::Y).length() < 1e-6, "{}", mesh.normals[7]);
+    assert!(
+        (mesh.normals[7] - Vec3::Y).length() < 1e-6,
+        "{}",
+        mesh.normals[7]
+    );
     assert!(sequence.is_animated());
 }
 
@@ -126,7 +130,11 @@ fn the_alembic_fixture_reads_every_sample_through_its_transform() {
     for i in 0..3 {
         let mut expected = alembic_quad(i);
         expected.extend(still);
-        assert_points(sequence.sample_positions(i), &expected, &format!("sample {i}"));
+        assert_points(
+            sequence.sample_positions(i),
+            &expected,
+            &format!("sample {i}"),
+        );
     }
     // The docstring's two worked values.
     assert_points(
@@ -287,7 +295,10 @@ fn an_alembic_topology_that_changes_is_refused_with_the_object_and_time() {
     let error = read_alembic_mesh_sequence_file(&path, &ImportOptions::default())
         .unwrap_err()
         .to_string();
-    assert!(error.contains("mesh_topology_change.abc: Alembic /blob: "), "{error}");
+    assert!(
+        error.contains("mesh_topology_change.abc: Alembic /blob: "),
+        "{error}"
+    );
     // The second sample, at 1/24 s.
     assert!(
         error.contains("the topology changes between samples: at 0.041666"),

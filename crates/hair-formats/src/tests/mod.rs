@@ -4,10 +4,10 @@
 //! crate (`usd_crate.rs`), and fuzz-style tests under plain `cargo test`.
 
 pub(crate) mod alembic;
-mod mesh_sequence;
 mod errors;
 mod fit_real_data;
 mod fuzz;
+mod mesh_sequence;
 pub(crate) mod real_data;
 mod round_trips;
 pub(crate) mod usd_crate;
