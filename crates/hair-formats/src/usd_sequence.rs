@@ -151,13 +151,14 @@ fn build(tracks: &Tracks, axes: &ImportAxes) -> Result<MeshSequence, FormatError
                 .indices
                 .at(code, Sample::lerp)
                 .ok_or_else(|| missing("faceVertexIndices"))?;
-            let world = world(&track.stacks, code).map_err(|(attribute, message, line)| {
-                FormatErrorKind::Usd {
-                    element: attribute,
-                    message: format!("at time code {code}: {message}"),
-                    location: line.map_or(Location::Unknown, Location::Line),
-                }
-            })?;
+            let world =
+                world(&track.stacks, Some(code)).map_err(|(attribute, message, line)| {
+                    FormatErrorKind::Usd {
+                        element: attribute,
+                        message: format!("at time code {code}: {message}"),
+                        location: line.map_or(Location::Unknown, Location::Line),
+                    }
+                })?;
             if s == 0 {
                 first.push(Topology {
                     counts: counts.values.clone(),

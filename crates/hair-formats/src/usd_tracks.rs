@@ -25,7 +25,7 @@ fn timed<T: Sample>(attr: Option<Attr<T>>) -> Option<Timed<T>> {
 }
 
 /// The paths from the outermost ancestor of `path` (`/a/b/c`) to itself: `/a`, `/a/b`, `/a/b/c`.
-fn chain(path: &str) -> Vec<String> {
+pub(crate) fn chain(path: &str) -> Vec<String> {
     let mut out = Vec::new();
     for (i, c) in path.char_indices().skip(1) {
         if c == '/' {
@@ -139,7 +139,7 @@ pub(crate) fn text_tracks(bytes: &[u8]) -> Result<Tracks, FormatErrorKind> {
 }
 
 /// A text prim's transform.
-fn text_stack(xform: XformPrim) -> Result<OpStack, FormatErrorKind> {
+pub(crate) fn text_stack(xform: XformPrim) -> Result<OpStack, FormatErrorKind> {
     let XformPrim {
         path,
         line,
@@ -150,8 +150,9 @@ fn text_stack(xform: XformPrim) -> Result<OpStack, FormatErrorKind> {
         let line = attr.line;
         let value = attr
             .default
+            .clone()
             .flatten()
-            .or_else(|| attr.samples.into_iter().find_map(|(_, v)| v));
+            .or_else(|| attr.kept_samples().into_iter().find_map(|(_, v)| v));
         (value.map(|a| a.values).unwrap_or_default(), line)
     });
     let (order, order_line) = order.unwrap_or((Vec::new(), line));
@@ -164,7 +165,10 @@ fn text_stack(xform: XformPrim) -> Result<OpStack, FormatErrorKind> {
             let numbers = |a: &Option<Array<f64>>| a.as_ref().map(|a| a.values.clone());
             Timed::new(
                 attr.default.as_ref().and_then(numbers),
-                attr.samples.iter().map(|(t, v)| (*t, numbers(v))).collect(),
+                attr.kept_samples()
+                    .iter()
+                    .map(|(t, v)| (*t, numbers(v)))
+                    .collect(),
             )
         }))
     })
@@ -277,7 +281,10 @@ pub(crate) fn crate_tracks(bytes: &[u8]) -> Result<Tracks, FormatErrorKind> {
 }
 
 /// A crate prim's transform; `None` when it has no `xformOpOrder`.
-fn crate_stack(layer: &mut Layer, prim: &sdf::Path) -> Result<Option<OpStack>, FormatErrorKind> {
+pub(crate) fn crate_stack(
+    layer: &mut Layer,
+    prim: &sdf::Path,
+) -> Result<Option<OpStack>, FormatErrorKind> {
     let Some((path, value)) = layer.attribute(prim, "xformOpOrder")? else {
         return Ok(None);
     };

@@ -31,6 +31,14 @@ impl<T: Clone> Timed<T> {
         Timed { default, samples }
     }
 
+    /// The value at the default time: the default, or else the earliest sample.
+    pub(crate) fn at_default(&self) -> Option<T> {
+        match &self.default {
+            Some(value) => Some(value.clone()),
+            None => self.samples.first().and_then(|(_, v)| v.clone()),
+        }
+    }
+
     /// The time codes of the samples.
     pub(crate) fn codes(&self) -> impl Iterator<Item = f64> + '_ {
         self.samples.iter().map(|(t, _)| *t)
@@ -141,14 +149,15 @@ impl Op {
         })
     }
 
-    /// The op's matrix at time code `t` (column vectors); an error in words for a missing or
-    /// malformed value.
-    pub(crate) fn matrix(&self, t: f64) -> Result<DMat4, String> {
+    /// The op's matrix at time code `t`, or at the default time when `None` (column vectors);
+    /// an error in words for a missing or malformed value.
+    pub(crate) fn matrix(&self, t: Option<f64>) -> Result<DMat4, String> {
         let orient = self.kind == OpKind::Orient;
-        let value = self
-            .values
-            .at(t, |a, b, w| lerp_values(a, b, w, orient))
-            .ok_or_else(|| "has no value".to_owned())?;
+        let value = match t {
+            Some(t) => self.values.at(t, |a, b, w| lerp_values(a, b, w, orient)),
+            None => self.values.at_default(),
+        }
+        .ok_or_else(|| "has no value".to_owned())?;
         if value.len() != self.kind.arity() {
             return Err(format!(
                 "has {} numbers; expected {}",
@@ -227,8 +236,9 @@ impl OpStack {
         self.ops.iter().flat_map(|op| op.values.codes())
     }
 
-    /// The prim's local matrix at time code `t`; an error names the op.
-    pub(crate) fn local(&self, t: f64) -> Result<DMat4, (String, String)> {
+    /// The prim's local matrix at time code `t` (`None`: the default time); an error names the
+    /// op.
+    pub(crate) fn local(&self, t: Option<f64>) -> Result<DMat4, (String, String)> {
         let mut matrix = DMat4::IDENTITY;
         for op in &self.ops {
             matrix *= op
@@ -243,8 +253,9 @@ impl OpStack {
 /// `xformOpOrder` (text).
 pub(crate) type XformError = (String, String, Option<usize>);
 
-/// The world matrix at time code `t` of a prim under `stacks` (outermost first, its own last).
-pub(crate) fn world(stacks: &[OpStack], t: f64) -> Result<DMat4, XformError> {
+/// The world matrix at time code `t` (`None`: the default time) of a prim under `stacks`
+/// (outermost first, its own last).
+pub(crate) fn world(stacks: &[OpStack], t: Option<f64>) -> Result<DMat4, XformError> {
     let mut matrix = DMat4::IDENTITY;
     for stack in stacks {
         if stack.reset {
@@ -271,11 +282,11 @@ mod tests {
     #[test]
     fn euler_orders_rotate_about_the_first_axis_first() {
         let op = Op::new("xformOp:rotateXYZ", constant(&[90.0, 0.0, 90.0])).unwrap();
-        let m = op.matrix(0.0).unwrap();
+        let m = op.matrix(Some(0.0)).unwrap();
         assert!((m.transform_point3(DVec3::Y) - DVec3::Z).length() < 1e-12);
         assert!((m.transform_point3(DVec3::X) - DVec3::Y).length() < 1e-12);
         let inverse = Op::new("!invert!xformOp:rotateXYZ", constant(&[90.0, 0.0, 90.0]));
-        let back = inverse.unwrap().matrix(0.0).unwrap() * m;
+        let back = inverse.unwrap().matrix(None).unwrap() * m;
         assert!(back.abs_diff_eq(DMat4::IDENTITY, 1e-12));
     }
 
@@ -302,6 +313,6 @@ mod tests {
         assert!(error.contains("\"shear\" is not supported"), "{error}");
         assert!(Op::new("xformOp:rotateXXY", constant(&[1.0; 3])).is_err());
         let short = Op::new("xformOp:translate", constant(&[1.0])).unwrap();
-        assert_eq!(short.matrix(0.0).unwrap_err(), "has 1 numbers; expected 3");
+        assert_eq!(short.matrix(None).unwrap_err(), "has 1 numbers; expected 3");
     }
 }

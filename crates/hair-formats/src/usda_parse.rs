@@ -7,7 +7,10 @@
 //! `.timeSamples`, resolved at a time while parsing (`usda_values.rs`). Everything else (other
 //! prims, relationships, variant sets, dictionaries, connections) is skipped by its brackets, on
 //! an explicit stack (no recursion but into prims, at most [`MAX_PRIM_DEPTH`] deep); composition
-//! arcs (references, payloads, sublayers) are not followed and transforms are not applied.
+//! arcs (references, payloads, sublayers) are not followed. When meshes are read, the
+//! `xformOpOrder` and `xformOp:` attributes of every `def` prim are collected too
+//! ([`XformPrim`]), for the mesh readers to apply; a sequence read
+//! ([`parse_layer_sequence`]) keeps every time sample of what it reads.
 
 use glam::Vec3;
 
@@ -48,6 +51,7 @@ fn parse(
         lexer: Lexer::new(text),
         time,
         sequence,
+        xforms: kind == PrimKind::Mesh,
         kind,
         path: Vec::new(),
         prims_seen: 0,
@@ -80,8 +84,10 @@ fn parse(
 struct Parser<'a> {
     lexer: Lexer<'a>,
     time: Option<f64>,
-    /// Whether every time sample and the transform ops are kept (a sequence is read).
+    /// Whether every time sample is kept (a sequence is read).
     sequence: bool,
+    /// Whether the transform ops of every `def` prim are collected (meshes are read).
+    xforms: bool,
     /// The prims collected.
     kind: PrimKind,
     /// The names of the prims the parser is inside, outermost first.
@@ -295,7 +301,7 @@ impl<'a> Parser<'a> {
                 let path = format!("/{}", self.path.join("/"));
                 Collected::new(self.kind, shorten(name.text), path, name.line, order)
             });
-        let mut xform = (self.sequence && specifier.text == "def").then(|| XformPrim {
+        let mut xform = (self.xforms && specifier.text == "def").then(|| XformPrim {
             path: format!("/{}", self.path.join("/")),
             line: name.line,
             order: None,

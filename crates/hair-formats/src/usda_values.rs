@@ -155,6 +155,15 @@ impl<T: Sample> Attr<T> {
         }
     }
 
+    /// The time samples kept: every one when the parser reads a sequence, else the one or two
+    /// that matter at the time read.
+    pub(crate) fn kept_samples(&self) -> Vec<(f64, Authored<T>)> {
+        if !self.samples.is_empty() {
+            return self.samples.clone();
+        }
+        self.lower.iter().chain(&self.upper).cloned().collect()
+    }
+
     /// The value at `time` (see the module's documentation); `None` when not authored or blocked.
     pub(crate) fn resolve(self, time: Option<f64>) -> Option<T> {
         let Some(time) = time else {

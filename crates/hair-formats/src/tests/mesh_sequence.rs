@@ -9,7 +9,7 @@ use glam::{DMat4, DVec3, Vec3};
 use hair_core::MeshSequence;
 
 use crate::{
-    ImportOptions, read_alembic_mesh_sequence_file, read_mesh_sequence_file,
+    ImportOptions, read_alembic_mesh_sequence_file, read_mesh_sequence_file, read_usd_mesh_file,
     read_usd_mesh_sequence, read_usd_mesh_sequence_file,
 };
 
@@ -90,6 +90,36 @@ fn the_usd_fixture_reads_as_usd_core_evaluates_it_in_both_encodings() {
         let by_extension = read_mesh_sequence_file(data(name), &ImportOptions::default()).unwrap();
         assert_eq!(by_extension, sequence);
     }
+}
+
+/// The still reader applies the same transforms at the default time: every attribute of the
+/// fixture is time-sampled, so the default time is each one's earliest sample, time code 10, where
+/// `usd-core` put the points of the JSON's first sample.
+#[test]
+fn the_still_reader_places_the_fixture_through_its_transforms_at_the_default_time() {
+    let (_, samples) = usd_core_samples();
+    for name in ["mesh_sequence.usda", "mesh_sequence.usdc"] {
+        let mesh = read_usd_mesh_file(data(name), &ImportOptions::default()).unwrap();
+        assert_points(&mesh.positions, &samples[0], name);
+        assert_eq!(mesh.triangles.len(), 4);
+    }
+}
+
+/// A mirroring transform turns the surface inside out as USD draws it: the triangle (0, 0, 0),
+/// (1, 0, 0), (0, 1, 0) faces +Z, and under `scale (1, 1, −1)` faces −Z (its points do not move;
+/// the windings are reversed), in both readers.
+#[test]
+fn a_mirroring_transform_reverses_the_windings() {
+    let text = "#usda 1.0\n(\n    metersPerUnit = 1\n)\n\ndef Mesh \"m\"\n{\n    \
+                int[] faceVertexCounts = [3]\n    int[] faceVertexIndices = [0, 1, 2]\n    \
+                point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]\n    \
+                float3 xformOp:scale = (1, 1, -1)\n    \
+                uniform token[] xformOpOrder = [\"xformOp:scale\"]\n}\n";
+    let mesh = crate::read_usd_mesh(text.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(mesh.positions, [Vec3::ZERO, Vec3::X, Vec3::Y]);
+    assert_eq!(mesh.normals, [Vec3::NEG_Z; 3]);
+    let sequence = read_usd_mesh_sequence(text.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(sequence.mesh_at(0.0).normals, [Vec3::NEG_Z; 3]);
 }
 
 /// The Alembic fixture's quad at sample `i` (the generator's `quad(i)`), through `/body`:
@@ -183,8 +213,11 @@ fn layer(mesh: &str, xform: &str) -> String {
 
 const TRIANGLE: &str = "int[] faceVertexCounts = [3]\nint[] faceVertexIndices = [0, 1, 2]";
 
+/// The error of reading `text` from a file (each call its own directory: tests run in parallel).
 fn error_of(text: &str) -> String {
-    let dir = super::scratch_dir("mesh-sequence-errors");
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = super::scratch_dir(&format!("mesh-sequence-errors-{call}"));
     let path = dir.join("broken.usda");
     std::fs::write(&path, text).unwrap();
     let error = read_usd_mesh_sequence_file(&path, &ImportOptions::default())
