@@ -23,6 +23,10 @@ The stage: upAxis "Z", metersPerUnit 0.01 (centimetres), timeCodesPerSecond 24.
                             14: the same with point 4 at (3,0,0)}
     /ground       Mesh, one triangle (0,0,0) (100,0,0) (0,100,0), no transform, no samples
 
+mesh_topology_change.usdc (binary, no transforms) holds /blob, a Mesh whose faceVertexCounts and
+faceVertexIndices are time-sampled, {1: [3], [0, 1, 2]} and {2: [4], [0, 1, 2, 3]} (a triangle,
+then a quad, of 4 constant points): the reader refuses it, naming /blob and time code 2.
+
 Time codes of the sequence: the union of every sample that varies, 10, 12, 13, 14, 16, so
 seconds 10/24, 12/24, 13/24, 14/24, 16/24. The JSON lists, for each time code, the world-space
 points of /body/skin then /ground (namespace order) in stage units and axes (centimetres, Z up),
@@ -39,6 +43,7 @@ DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 USDA = os.path.join(DATA, "mesh_sequence.usda")
 USDC = os.path.join(DATA, "mesh_sequence.usdc")
 JSON = os.path.join(DATA, "mesh_sequence.json")
+TOPOLOGY = os.path.join(DATA, "mesh_topology_change.usdc")
 
 QUAD = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (2, 0, 0)]
 TIMES = [10.0, 12.0, 13.0, 14.0, 16.0]
@@ -115,7 +120,16 @@ def main():
             out,
             indent=1,
         )
-    for path in (USDA, USDC, JSON):
+    stage = Usd.Stage.CreateInMemory()
+    blob = UsdGeom.Mesh.Define(stage, "/blob")
+    blob.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    blob.CreateFaceVertexCountsAttr().Set([3], 1)
+    blob.CreateFaceVertexCountsAttr().Set([4], 2)
+    blob.CreateFaceVertexIndicesAttr().Set([0, 1, 2], 1)
+    blob.CreateFaceVertexIndicesAttr().Set([0, 1, 2, 3], 2)
+    stage.GetRootLayer().Export(TOPOLOGY)
+
+    for path in (USDA, USDC, JSON, TOPOLOGY):
         print(path, os.path.getsize(path), "bytes")
 
 

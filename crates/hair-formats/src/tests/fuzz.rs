@@ -410,6 +410,23 @@ const USDA_TOKENS: &[&str] = &[
     "over",
     "class",
     "BasisCurves",
+    "Mesh",
+    "faceVertexCounts",
+    "faceVertexIndices.timeSamples",
+    "token[]",
+    "xformOpOrder",
+    "\"xformOp:translate\"",
+    "\"!invert!xformOp:rotateZYX:a\"",
+    "\"!resetXformStack!\"",
+    "double3",
+    "xformOp:translate",
+    "xformOp:rotateZYX:a.timeSamples",
+    "quatf",
+    "xformOp:orient",
+    "matrix4d",
+    "xformOp:transform",
+    "((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))",
+    "timeCodesPerSecond",
     "Xform",
     "\"c\"",
     "{",
@@ -479,9 +496,12 @@ fn usda_token_soup_never_panics() {
     runner(MUTATED_CASES)
         .run(&strategy, |(tokens, time)| {
             let mut text = String::from("#usda 1.0\n");
-            // Half the cases start with a valid prim head, to reach the attributes.
+            // Half the cases start with a valid curves prim head, to reach the attributes, a
+            // quarter with a mesh's.
             if tokens.len() % 2 == 0 {
                 text.push_str("def BasisCurves \"h\" {\n");
+            } else if tokens.len() % 4 == 1 {
+                text.push_str("def Mesh \"m\" {\n");
             }
             for &t in &tokens {
                 text.push_str(USDA_TOKENS[t]);
@@ -498,6 +518,18 @@ fn usda_token_soup_never_panics() {
                         read.set(read.get() + 1);
                     }
                     Err(error) => assert!(error.to_string().starts_with("<memory>: "), "{error}"),
+                }
+                let meshes = [
+                    checked_mesh(read_usd_mesh(text.as_bytes(), &options)),
+                    checked_sequence(read_usd_mesh_sequence(text.as_bytes(), &options)),
+                ];
+                for result in meshes {
+                    match result {
+                        Ok(points) => assert!(points * 6 <= text.len()),
+                        Err(error) => {
+                            assert!(error.to_string().starts_with("<memory>: "), "{error}")
+                        }
+                    }
                 }
             }
             runs.set(runs.get() + 1);

@@ -268,6 +268,24 @@ fn a_topology_that_changes_is_refused_with_the_prim_and_time_code() {
     assert!(error.contains("at time code 2 differ"), "{error}");
 }
 
+/// The same refusal from a binary crate file written by `usd-core` (no line to name there).
+#[test]
+fn a_crate_file_whose_topology_changes_is_refused_with_the_prim_and_time_code() {
+    let path = data("mesh_topology_change.usdc");
+    let error = read_usd_mesh_sequence_file(&path, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error
+            .contains("mesh_topology_change.usdc: USD /blob: the topology changes between samples"),
+        "{error}"
+    );
+    assert!(
+        error.contains("at time code 2 differ from those at time code 1"),
+        "{error}"
+    );
+}
+
 #[test]
 fn a_points_count_that_changes_is_refused_with_the_prim_and_time_code() {
     let text = layer(
