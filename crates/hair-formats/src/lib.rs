@@ -26,6 +26,7 @@ pub mod obj;
 mod alembic;
 mod alembic_layout;
 mod alembic_mesh;
+mod alembic_samples;
 mod alembic_xform;
 mod binary;
 mod curves;

@@ -21,6 +21,9 @@ use super::usda_lex::{Kind, Lexer, Token, unexpected};
 use super::usda_prims::{Collected, Field, Layer, PrimKind, Slot, XformPrim};
 use super::usda_values::{Array, Attr, Authored, Sample};
 
+#[path = "usda_parse_xform.rs"]
+mod xform;
+
 /// Deepest prim nesting read (deeper is refused rather than risking the stack).
 const MAX_PRIM_DEPTH: usize = 200;
 
@@ -479,92 +482,6 @@ impl<'a> Parser<'a> {
             attr.interpolation = Some((unquote(&value).to_owned(), value.line));
         }
         Ok(())
-    }
-
-    /// A transform attribute of a prim whose ops are collected: `xformOpOrder` (a `token[]`) or
-    /// an `xformOp:` (numbers of any shape, flattened).
-    fn xform_property(
-        &mut self,
-        xform: &mut XformPrim,
-        type_name: &str,
-        type_token: &Token<'a>,
-        base: &str,
-        suffix: Option<&str>,
-        line: usize,
-    ) -> Result<(), FormatErrorKind> {
-        if base == "xformOpOrder" {
-            if type_name != "token[]" {
-                return Err(FormatErrorKind::Syntax {
-                    line: type_token.line,
-                    message: format!(
-                        "`xformOpOrder` of prim {} has type `{}`; expected `token[]`",
-                        xform.path,
-                        shorten(type_name)
-                    ),
-                });
-            }
-            return self.attribute(&mut xform.order, line, suffix, None, Self::tokens);
-        }
-        let index = match xform.ops.iter().position(|(name, _)| name == base) {
-            Some(index) => index,
-            None => {
-                xform.ops.push((base.to_owned(), None));
-                xform.ops.len() - 1
-            }
-        };
-        self.attribute(&mut xform.ops[index].1, line, suffix, None, Self::numbers)
-    }
-
-    /// `["a", "b"]`: tokens in quotes.
-    fn tokens(&mut self) -> Result<Authored<Array<String>>, FormatErrorKind> {
-        self.array(|parser, array| {
-            let token = parser.lexer.expect_any("a token in quotes")?;
-            if token.kind != Kind::String {
-                return Err(unexpected(&token, "a token in quotes"));
-            }
-            array.push(unquote(&token).to_owned(), token.line);
-            Ok(())
-        })
-    }
-
-    /// A number or a tuple of numbers, tuples nested at most two deep (`(1, 2, 3)`, a
-    /// `matrix4d`'s `((…), (…), (…), (…))`), flattened in order.
-    fn numbers(&mut self) -> Result<Authored<Array<f64>>, FormatErrorKind> {
-        if self.blocked()? {
-            return Ok(None);
-        }
-        let mut array = Array::new();
-        let mut depth = 0usize;
-        loop {
-            let token = self.lexer.expect_any("a number or `(`")?;
-            if token.is(b'(') {
-                depth += 1;
-                if depth > 2 {
-                    return Err(unexpected(
-                        &token,
-                        "a number (tuples nest two deep at most)",
-                    ));
-                }
-                continue;
-            }
-            array.push(number(&token, "a transform value")?, token.line);
-            loop {
-                if depth == 0 {
-                    return Ok(Some(array));
-                }
-                if self.lexer.eat(b')')? {
-                    depth -= 1;
-                    continue;
-                }
-                self.lexer.expect(b',', "`,` or `)` in a tuple")?;
-                // A trailing comma before the closing bracket.
-                if self.lexer.eat(b')')? {
-                    depth -= 1;
-                    continue;
-                }
-                break;
-            }
-        }
     }
 
     /// `None` (a blocked value) if that is next.
