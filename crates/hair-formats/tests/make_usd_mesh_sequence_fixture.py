@@ -27,6 +27,10 @@ mesh_topology_change.usdc (binary, no transforms) holds /blob, a Mesh whose face
 faceVertexIndices are time-sampled, {1: [3], [0, 1, 2]} and {2: [4], [0, 1, 2, 3]} (a triangle,
 then a quad, of 4 constant points): the reader refuses it, naming /blob and time code 2.
 
+mesh_frames_per_second.usdc (binary) has framesPerSecond 12 and no timeCodesPerSecond, and one
+Mesh, /tri, a triangle whose points are sampled at time codes 6 and 18: USD's rate falls back to
+framesPerSecond, so the samples are at 0.5 s and 1.5 s.
+
 Time codes of the sequence: the union of every sample that varies, 10, 12, 13, 14, 16, so
 seconds 10/24, 12/24, 13/24, 14/24, 16/24. The JSON lists, for each time code, the world-space
 points of /body/skin then /ground (namespace order) in stage units and axes (centimetres, Z up),
@@ -44,6 +48,7 @@ USDA = os.path.join(DATA, "mesh_sequence.usda")
 USDC = os.path.join(DATA, "mesh_sequence.usdc")
 JSON = os.path.join(DATA, "mesh_sequence.json")
 TOPOLOGY = os.path.join(DATA, "mesh_topology_change.usdc")
+RATE = os.path.join(DATA, "mesh_frames_per_second.usdc")
 
 QUAD = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (2, 0, 0)]
 TIMES = [10.0, 12.0, 13.0, 14.0, 16.0]
@@ -129,7 +134,18 @@ def main():
     blob.CreateFaceVertexIndicesAttr().Set([0, 1, 2, 3], 2)
     stage.GetRootLayer().Export(TOPOLOGY)
 
-    for path in (USDA, USDC, JSON, TOPOLOGY):
+    stage = Usd.Stage.CreateInMemory()
+    stage.SetFramesPerSecond(12)
+    tri = UsdGeom.Mesh.Define(stage, "/tri")
+    tri.CreateFaceVertexCountsAttr([3])
+    tri.CreateFaceVertexIndicesAttr([0, 1, 2])
+    tri.CreatePointsAttr().Set([(0, 0, 0), (1, 0, 0), (0, 1, 0)], 6)
+    tri.CreatePointsAttr().Set([(0, 0, 0), (2, 0, 0), (0, 1, 0)], 18)
+    stage.GetRootLayer().Export(RATE)
+    print("framesPerSecond", stage.GetFramesPerSecond(), "timeCodesPerSecond",
+          stage.GetTimeCodesPerSecond())
+
+    for path in (USDA, USDC, JSON, TOPOLOGY, RATE):
         print(path, os.path.getsize(path), "bytes")
 
 

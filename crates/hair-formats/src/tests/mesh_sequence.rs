@@ -251,6 +251,25 @@ fn text_layers_resolve_defaults_rates_and_held_samples() {
     assert_eq!(sequence.times(), [0.0]);
 }
 
+/// With `framesPerSecond` and no `timeCodesPerSecond`, USD's rate is `framesPerSecond` (the
+/// generator prints `usd-core`'s `GetTimeCodesPerSecond()`: 12): time codes 6 and 18 are 0.5 s
+/// and 1.5 s, in a crate file written by `usd-core` and in text.
+#[test]
+fn the_rate_falls_back_to_frames_per_second() {
+    let path = data("mesh_frames_per_second.usdc");
+    let sequence = read_usd_mesh_sequence_file(&path, &ImportOptions::default()).unwrap();
+    assert_eq!(sequence.times(), [0.5, 1.5]);
+    // (2, 0, 0) cm at time code 18.
+    assert_eq!(sequence.sample_positions(1)[1], Vec3::new(0.02, 0.0, 0.0));
+    let text = format!(
+        "#usda 1.0\n(\n    framesPerSecond = 12\n)\n\ndef Mesh \"tri\"\n{{\n{TRIANGLE}\n\
+         point3f[] points.timeSamples = {{ 6: [(0, 0, 0), (1, 0, 0), (0, 1, 0)], 18: [(0, 0, \
+         0), (2, 0, 0), (0, 1, 0)] }}\n}}\n"
+    );
+    let sequence = read_usd_mesh_sequence(text.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(sequence.times(), [0.5, 1.5]);
+}
+
 #[test]
 fn a_topology_that_changes_is_refused_with_the_prim_and_time_code() {
     let text = layer(
