@@ -143,3 +143,39 @@ pub(crate) fn timed<T: Clone>(
     }
     Some(Timed::new(None, out))
 }
+
+#[cfg(test)]
+mod tests {
+    use ogawa_rs::{TimeSampling, TimeSamplingType};
+
+    use super::sample_time;
+
+    fn sampling(per_cycle: u32, time_per_cycle: f64, samples: &[f64]) -> TimeSampling {
+        TimeSampling {
+            sampling_type: TimeSamplingType {
+                num_samples_per_cycle: per_cycle,
+                time_per_cycle,
+            },
+            samples: samples.to_vec(),
+        }
+    }
+
+    /// Alembic's `TimeSampling::getSampleTime`: uniform `start + i · tpc`; cyclic, the cycle's
+    /// times shifted by whole cycles; acyclic, the listed times; no sampling, index 0 (identity:
+    /// one sample per second from 0).
+    #[test]
+    fn sample_times_follow_the_time_sampling() {
+        let uniform = sampling(1, 0.25, &[1.0]);
+        assert_eq!(sample_time(Some(&uniform), 3), Ok(1.75));
+        let cyclic = sampling(2, 1.0, &[0.0, 0.1]);
+        let times: Vec<f64> = (0..4)
+            .map(|i| sample_time(Some(&cyclic), i).unwrap())
+            .collect();
+        assert_eq!(times, [0.0, 0.1, 1.0, 1.1]);
+        let acyclic = sampling(u32::MAX, f64::MAX / 32.0, &[0.0, 0.5, 2.0]);
+        assert_eq!(sample_time(Some(&acyclic), 2), Ok(2.0));
+        assert!(sample_time(Some(&acyclic), 3).is_err());
+        assert_eq!(sample_time(None, 2), Ok(2.0));
+        assert!(sample_time(Some(&sampling(0, 1.0, &[])), 0).is_err());
+    }
+}

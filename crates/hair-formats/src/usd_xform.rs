@@ -290,6 +290,38 @@ mod tests {
         assert!(back.abs_diff_eq(DMat4::IDENTITY, 1e-12));
     }
 
+    /// A `matrix4d` op is USD's rows: the translation in the last row; `orient` (w, x, y, z) =
+    /// (cos 45°, 0, 0, sin 45°) is 90° about Z; a stack multiplies in `xformOpOrder` order, so
+    /// its last op acts first; `!resetXformStack!` drops the ancestors.
+    #[test]
+    fn matrices_quaternions_and_stacks_compose_as_usd_does() {
+        let mut rows = DMat4::IDENTITY.to_cols_array();
+        rows[12..15].copy_from_slice(&[1.0, 2.0, 3.0]);
+        let transform = Op::new("xformOp:transform", constant(&rows)).unwrap();
+        let m = transform.matrix(None).unwrap();
+        assert_eq!(m.transform_point3(DVec3::ZERO), DVec3::new(1.0, 2.0, 3.0));
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let orient = Op::new("xformOp:orient", constant(&[h, 0.0, 0.0, h])).unwrap();
+        let stack = OpStack {
+            path: "/p".into(),
+            line: None,
+            reset: false,
+            ops: vec![transform, orient],
+        };
+        // (1, 0, 0) turned to (0, 1, 0) first, then moved by (1, 2, 3).
+        let p = world(std::slice::from_ref(&stack), None)
+            .unwrap()
+            .transform_point3(DVec3::X);
+        assert!((p - DVec3::new(1.0, 3.0, 3.0)).length() < 1e-12, "{p}");
+        let reset = OpStack {
+            path: "/p/c".into(),
+            line: None,
+            reset: true,
+            ops: Vec::new(),
+        };
+        assert_eq!(world(&[stack, reset], None).unwrap(), DMat4::IDENTITY);
+    }
+
     #[test]
     fn samples_are_held_outside_and_interpolated_between() {
         let timed = Timed::new(
