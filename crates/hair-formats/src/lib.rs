@@ -5,7 +5,9 @@
 //! `.usdc` read through the `openusd` crate; `.usd` is either, by its first bytes), USC-HairSalon
 //! `.data`, OBJ polylines and triangle meshes, and Alembic `.abc` linear `Curves` (read through
 //! the `ogawa-rs` crate, after checking the Ogawa container); OBJ written ([`obj`]) and a scene
-//! exported as OBJ ([`export`]).
+//! exported as OBJ ([`export`]). Bodies that move and deform are read as a [`MeshSequence`] from
+//! USD `Mesh` prims and Alembic `PolyMesh` objects at every time sample, through their transforms
+//! ([`read_mesh_sequence_file`]).
 //!
 //! File formats are adapters at the edge: the readers produce plain polylines ([`Curves`]: points
 //! per curve, optional widths and colours) and meshes ([`TriangleMesh`]) in metres, +Y up, after
