@@ -67,11 +67,17 @@ pub fn read_alembic_file(
 
 fn read(data: &[u8], options: &ImportOptions) -> Result<Curves, FormatErrorKind> {
     options.axes.validate()?;
-    let bytes = Bytes::new(data);
-    let root = check_header(&bytes)?;
-    check_container(&bytes, root)?;
-    check_layout(&bytes, root)?;
-    let objects = catch_unwind(AssertUnwindSafe(|| collect(data))).map_err(|panic| {
+    check_archive(data)?;
+    let objects = guarded(|| collect(data))?;
+    build(&objects, options)
+}
+
+/// Runs `f` (calls into `ogawa-rs` on an archive checked by [`check_layout`]), turning a panic
+/// into an error.
+pub(crate) fn guarded<T>(
+    f: impl FnOnce() -> Result<T, FormatErrorKind>,
+) -> Result<T, FormatErrorKind> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|panic| {
         let message = panic
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
@@ -82,12 +88,20 @@ fn read(data: &[u8], options: &ImportOptions) -> Result<Curves, FormatErrorKind>
             message: format!("the ogawa-rs crate failed on this archive: {message}"),
             location: Location::Unknown,
         }
-    })??;
-    build(&objects, options)
+    })?
+}
+
+/// Checks an archive's bytes (the Ogawa container and the Alembic headers) before `ogawa-rs`
+/// reads them.
+pub(crate) fn check_archive(data: &[u8]) -> Result<(), FormatErrorKind> {
+    let bytes = Bytes::new(data);
+    let root = check_header(&bytes)?;
+    check_container(&bytes, root)?;
+    check_layout(&bytes, root)
 }
 
 /// The file's bytes as `ogawa-rs` reads them.
-struct Memory<'a>(Cursor<&'a [u8]>);
+pub(crate) struct Memory<'a>(pub(crate) Cursor<&'a [u8]>);
 
 impl Read for Memory<'_> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
@@ -108,7 +122,7 @@ impl ArchiveReader for Memory<'_> {
 }
 
 /// One Curves object's first sample, its points through its transforms [file units].
-struct CurvesObject {
+pub(crate) struct CurvesObject {
     path: String,
     points: Vec<Vec3>,
     /// Byte offset of the first position in the file.
@@ -121,21 +135,25 @@ struct CurvesObject {
 }
 
 /// The objects read: curves, transforms, and the rest (walked through for their children).
-enum Kind {
+pub(crate) enum Kind {
     Curves,
+    PolyMesh,
     Xform,
     Other,
 }
 
 /// The archive being read.
-struct Reading<'a> {
-    reader: Memory<'a>,
-    archive: Archive,
-    objects: Vec<CurvesObject>,
+pub(crate) struct Reading<'a> {
+    pub(crate) reader: Memory<'a>,
+    pub(crate) archive: Archive,
+    pub(crate) objects: Vec<CurvesObject>,
 }
 
 /// An `ogawa-rs` error about `element` at byte `offset`.
-fn crate_error(element: &str, offset: u64) -> impl FnOnce(ogawa_rs::OgawaError) -> FormatErrorKind {
+pub(crate) fn crate_error(
+    element: &str,
+    offset: u64,
+) -> impl FnOnce(ogawa_rs::OgawaError) -> FormatErrorKind {
     move |error| {
         let mut message = error.to_string();
         let mut source = std::error::Error::source(&error);
@@ -185,7 +203,7 @@ impl Reading<'_> {
             match self.kind(&child, &child_path)? {
                 Kind::Curves => self.curves(&child, &child_path, world)?,
                 Kind::Xform => child_world = world * self.local_transform(&child, &child_path)?,
-                Kind::Other => {}
+                Kind::PolyMesh | Kind::Other => {}
             }
             self.object(&child, &child_path, child_world)?;
         }
@@ -195,11 +213,17 @@ impl Reading<'_> {
     /// What `object` is: by its metadata's `schema`, or where that is empty (`ogawa-rs` 0.4.0
     /// drops the last entry of the archive's indexed metadata) by its properties: an `.xform`
     /// compound, or a `.geom` compound with `nVertices` and `curveBasisAndType`.
-    fn kind(&mut self, object: &ObjectReader, path: &str) -> Result<Kind, FormatErrorKind> {
+    pub(crate) fn kind(
+        &mut self,
+        object: &ObjectReader,
+        path: &str,
+    ) -> Result<Kind, FormatErrorKind> {
         let schema = object.header.meta_data.tokens.get("schema");
         let schema = schema.map(String::as_str).unwrap_or_default();
         if schema.starts_with("AbcGeom_Curve_v") {
             return Ok(Kind::Curves);
+        } else if schema.starts_with("AbcGeom_PolyMesh_v") {
+            return Ok(Kind::PolyMesh);
         } else if schema.starts_with("AbcGeom_Xform_v") {
             return Ok(Kind::Xform);
         } else if !schema.is_empty() {
@@ -215,13 +239,19 @@ impl Reading<'_> {
             {
                 Kind::Curves
             }
+            Some(PropertyReader::Compound(geom))
+                if geom.find_sub_property_index(".faceCounts").is_some()
+                    && geom.find_sub_property_index(".faceIndices").is_some() =>
+            {
+                Kind::PolyMesh
+            }
             _ => Kind::Other,
         })
     }
 
     /// The compound property `name` of `object` (`.geom`, `.xform`), if it has one: a
     /// [`PropertyReader::Compound`] (the crate does not export the compound reader's type).
-    fn compound(
+    pub(crate) fn compound(
         &mut self,
         object: &ObjectReader,
         name: &str,

@@ -5,7 +5,9 @@
 //! `.usdc` read through the `openusd` crate; `.usd` is either, by its first bytes), USC-HairSalon
 //! `.data`, OBJ polylines and triangle meshes, and Alembic `.abc` linear `Curves` (read through
 //! the `ogawa-rs` crate, after checking the Ogawa container); OBJ written ([`obj`]) and a scene
-//! exported as OBJ ([`export`]).
+//! exported as OBJ ([`export`]). Bodies that move and deform are read as a [`MeshSequence`] from
+//! USD `Mesh` prims and Alembic `PolyMesh` objects at every time sample, through their transforms
+//! ([`read_mesh_sequence_file`]).
 //!
 //! File formats are adapters at the edge: the readers produce plain polylines ([`Curves`]: points
 //! per curve, optional widths and colours) and meshes ([`TriangleMesh`]) in metres, +Y up, after
@@ -25,6 +27,8 @@ pub mod obj;
 
 mod alembic;
 mod alembic_layout;
+mod alembic_mesh;
+mod alembic_samples;
 mod alembic_xform;
 mod binary;
 mod curves;
@@ -42,6 +46,9 @@ mod usd_attrs;
 mod usd_crate;
 mod usd_layer;
 mod usd_mesh;
+mod usd_sequence;
+mod usd_tracks;
+mod usd_xform;
 mod usda_lex;
 mod usda_mesh;
 mod usda_parse;
@@ -57,6 +64,7 @@ pub(crate) mod tests;
 use std::path::Path;
 
 pub use alembic::{read_alembic, read_alembic_file};
+pub use alembic_mesh::{read_alembic_mesh_sequence, read_alembic_mesh_sequence_file};
 pub use curves::{Curves, SkipReason, SkippedCurve};
 pub use cyhair::{
     HAIR_HEADER_LEN, read_hair, read_hair_file, write_hair, write_hair_bytes, write_hair_to,
@@ -70,9 +78,12 @@ pub use tfxmesh::{read_tfxmesh, read_tfxmesh_file};
 pub use usc::{read_usc_data, read_usc_data_file};
 pub use usd_crate::{read_usd_curves, read_usd_curves_file, read_usdc, read_usdc_file};
 pub use usd_mesh::{read_usd_mesh, read_usd_mesh_file};
+pub use usd_sequence::{read_usd_mesh_sequence, read_usd_mesh_sequence_file};
 pub use usda_read::{read_usda, read_usda_at, read_usda_file, read_usda_file_at};
 pub use usda_write::{UsdCurvesWriter, write_usda_curves, write_usda_curves_string};
 
+use hair_core::MeshSequence;
+use hair_core::MeshSequenceError;
 use hair_core::mesh::TriangleMesh;
 
 /// A groom (curves) file format.
@@ -185,6 +196,44 @@ pub fn read_mesh_file(
         other => Err(FormatError::from(FormatErrorKind::UnknownExtension {
             extension: other.to_owned(),
             known: MESH_EXTENSIONS,
+        })
+        .in_file(path)),
+    }
+}
+
+/// The mesh sequence file extensions [`read_mesh_sequence_file`] knows.
+pub const MESH_SEQUENCE_EXTENSIONS: &str = ".tfxmesh, .obj, .usda, .usdc, .usd, .abc";
+
+/// Reads a body file as a mesh over time [m, s], choosing the reader by extension: `.usda`,
+/// `.usdc`, `.usd` ([`read_usd_mesh_sequence_file`]: every `Mesh` prim through its transforms at
+/// every time code where something varies), `.abc` ([`read_alembic_mesh_sequence_file`]: every
+/// `PolyMesh` object at every sample); formats without animation (`.tfxmesh`, `.obj`) give one
+/// sample at time 0 ([`MeshSequence::still`]). Errors name the file.
+pub fn read_mesh_sequence_file(
+    path: impl AsRef<Path>,
+    options: &ImportOptions,
+) -> Result<MeshSequence, FormatError> {
+    let path = path.as_ref();
+    let still = |mesh: TriangleMesh| {
+        MeshSequence::still(&mesh).map_err(|error| {
+            let kind = match error {
+                MeshSequenceError::Mesh { source, .. } => FormatErrorKind::Mesh(source),
+                // Not reached: a mesh the readers checked is one valid sample.
+                other => FormatErrorKind::Io {
+                    message: other.to_string(),
+                },
+            };
+            FormatError::from(kind).in_file(path)
+        })
+    };
+    match extension(path).as_str() {
+        "tfxmesh" => still(read_tfxmesh_file(path, options)?),
+        "obj" => still(read_obj_mesh_file(path, options)?),
+        "usda" | "usdc" | "usd" => read_usd_mesh_sequence_file(path, options),
+        "abc" => read_alembic_mesh_sequence_file(path, options),
+        other => Err(FormatError::from(FormatErrorKind::UnknownExtension {
+            extension: other.to_owned(),
+            known: MESH_SEQUENCE_EXTENSIONS,
         })
         .in_file(path)),
     }

@@ -199,6 +199,34 @@ impl<'a> Layer<'a> {
         })
     }
 
+    /// Attribute `name` of `prim` as authored: its path, its default and its time samples in
+    /// file order (a blocked value is a [`Value::ValueBlock`]); `None` when it has no spec.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn attribute_samples(
+        &mut self,
+        prim: &sdf::Path,
+        name: &str,
+    ) -> Result<Option<(sdf::Path, Option<Value>, Vec<(f64, Value)>)>, FormatErrorKind> {
+        let path = prim
+            .append_property(name)
+            .map_err(|e| usd_error(prim, format!("attribute {name}: {e:#}")))?;
+        if !self.has_spec(&path) {
+            return Ok(None);
+        }
+        let default = self.field(&path, "default")?;
+        let samples = match self.field(&path, "timeSamples")? {
+            Some(Value::TimeSamples(samples)) => samples,
+            _ => Vec::new(),
+        };
+        if let Some((t, _)) = samples.iter().find(|(t, _)| !t.is_finite()) {
+            return Err(usd_error(
+                &path,
+                format!("has a time sample at time code {t}"),
+            ));
+        }
+        Ok(Some((path, default, samples)))
+    }
+
     /// The token metadata `field` of the spec at `path` (`interpolation`, `upAxis`).
     pub(crate) fn token(
         &mut self,
@@ -264,6 +292,30 @@ pub(crate) fn as_ints(value: &Value) -> Option<Vec<i64>> {
         Value::Int64Vec(v) => v.clone(),
         Value::UintVec(v) => v.iter().map(|&i| i64::from(i)).collect(),
         Value::Uint64Vec(v) => v.iter().map(|&i| i64::try_from(i).unwrap_or(-1)).collect(),
+        _ => return None,
+    })
+}
+
+/// A transform op's value as its numbers: a scalar, a 3-vector, a quaternion `(w, x, y, z)` or
+/// a `matrix4d` row by row.
+pub(crate) fn as_numbers(value: &Value) -> Option<Vec<f64>> {
+    Some(match value {
+        Value::Double(x) => vec![*x],
+        Value::Float(x) => vec![f64::from(*x)],
+        Value::Half(x) => vec![f64::from(x.to_f32())],
+        Value::Vec3d(v) => vec![v.x, v.y, v.z],
+        Value::Vec3f(v) => vec![f64::from(v.x), f64::from(v.y), f64::from(v.z)],
+        Value::Vec3h(v) => [v.x, v.y, v.z]
+            .iter()
+            .map(|c| f64::from(c.to_f32()))
+            .collect(),
+        Value::Quatd(q) => vec![q.w, q.x, q.y, q.z],
+        Value::Quatf(q) => [q.w, q.x, q.y, q.z].map(f64::from).to_vec(),
+        Value::Quath(q) => [q.w, q.x, q.y, q.z]
+            .iter()
+            .map(|c| f64::from(c.to_f32()))
+            .collect(),
+        Value::Matrix4d(m) => m.0.to_vec(),
         _ => return None,
     })
 }

@@ -1,17 +1,23 @@
 //! USD `Mesh` prims, text `.usda` and binary `.usdc`, read as one [`TriangleMesh`]: every
 //! `def Mesh` of the layer in namespace order (parents first), its `points`, `faceVertexCounts`
 //! and `faceVertexIndices`, each polygon split into a fan of triangles from its first corner;
-//! `orientation = "leftHanded"` reverses the windings. The layer's `upAxis` and `metersPerUnit`
-//! come first, then the reader's [`ImportAxes`](super::ImportAxes). Normals are computed from the
-//! triangles (authored normals and primvars are not read), transforms are not applied and
-//! composition arcs are not followed.
+//! `orientation = "leftHanded"` reverses the windings. Each prim's points go through its
+//! transform ops and its ancestors' (`xformOpOrder`, as `usd_xform.rs` composes them) at the
+//! default time, a mirroring transform reversing the windings too; then the layer's `upAxis` and
+//! `metersPerUnit`, then the reader's [`ImportAxes`](super::ImportAxes). Normals are computed from
+//! the triangles (authored normals and primvars are not read) and composition arcs are not
+//! followed. The same meshes over time: `usd_sequence.rs`.
 //!
 //! One parser per encoding: a text layer goes through the project's parser (`usda_mesh.rs`, as
 //! text curves do), a binary crate file through the `openusd` crate behind the checks described
 //! in `usd_crate.rs`. Both give their prims' values to the same join here, so the two encodings
 //! of a mesh read the same, with the same messages; text errors add the line.
 
+use std::collections::HashMap;
 use std::path::Path;
+
+use glam::DMat4;
+use openusd::sdf;
 
 use hair_core::mesh::{MeshError, TriangleMesh};
 
@@ -20,12 +26,15 @@ use super::error::{FormatError, FormatErrorKind, Location};
 use super::options::{ImportAxes, ImportOptions};
 use super::usd_attrs::{Units, required, token_attribute};
 use super::usd_layer::{Encoding, Layer, as_ints, as_points, sniff};
+use super::usd_tracks::{chain, crate_stack};
+use super::usd_xform::{OpStack, world};
 use super::usda_mesh::{MeshValues, text_meshes};
 use super::usda_values::Array;
 use super::{finish_mesh, read_file};
 
 /// Reads the `Mesh` prims of a USD file of either encoding (text `#usda` or binary `PXR-USDC`,
-/// by its first bytes) as one triangle mesh [m, +Y up]. The mesh passes
+/// by its first bytes) as one triangle mesh [m, +Y up], at the default time, each through its
+/// transform ops and its ancestors'. The mesh passes
 /// [`TriangleMesh::validate`], has triangles and unit normals. The data is called
 /// [`FormatError::IN_MEMORY`].
 pub fn read_usd_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, FormatError> {
@@ -47,15 +56,22 @@ fn read_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, Form
     let mut found = false;
     match sniff(bytes)? {
         Encoding::Text => {
-            let (units, prims) = text_meshes(bytes)?;
+            let (units, stacks, prims) = text_meshes(bytes)?;
             for prim in prims {
                 found = true;
-                add_prim(&mut mesh, &units, &options.axes, prim?)?;
+                let mut prim = prim?;
+                let chain: Vec<OpStack> = chain(&prim.path)
+                    .iter()
+                    .filter_map(|p| stacks.get(p).cloned())
+                    .collect();
+                let mirrored = place(&mut prim, &chain)?;
+                add_prim(&mut mesh, &units, &options.axes, prim, mirrored)?;
             }
         }
         Encoding::Crate => {
             let mut layer = Layer::open(bytes)?;
             let units = Units::of(&mut layer)?;
+            let mut stacks: HashMap<sdf::Path, Option<OpStack>> = HashMap::new();
             for path in layer.prims()? {
                 if !layer.is_defined(&path, "Mesh")? {
                     continue;
@@ -66,7 +82,7 @@ fn read_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, Form
                 let indices =
                     required(&mut layer, &path, "faceVertexIndices", "an int[]", as_ints)?;
                 let orientation = token_attribute(&mut layer, &path, "orientation", "rightHanded")?;
-                let values = MeshValues {
+                let mut values = MeshValues {
                     path: path.to_string(),
                     line: None,
                     points: Array::from_values(points),
@@ -74,7 +90,20 @@ fn read_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, Form
                     indices: Array::from_values(indices),
                     orientation: (orientation, None),
                 };
-                add_prim(&mut mesh, &units, &options.axes, values)?;
+                let mut chain = Vec::new();
+                let mut ancestors: Vec<sdf::Path> = path.ancestors_below_root().collect();
+                ancestors.reverse();
+                for prim in ancestors {
+                    if !stacks.contains_key(&prim) {
+                        let stack = crate_stack(&mut layer, &prim)?;
+                        stacks.insert(prim.clone(), stack);
+                    }
+                    if let Some(Some(stack)) = stacks.get(&prim) {
+                        chain.push(stack.clone());
+                    }
+                }
+                let mirrored = place(&mut values, &chain)?;
+                add_prim(&mut mesh, &units, &options.axes, values, mirrored)?;
             }
         }
     }
@@ -88,12 +117,32 @@ fn read_mesh(bytes: &[u8], options: &ImportOptions) -> Result<TriangleMesh, Form
     finish_mesh(mesh)
 }
 
-/// Adds one prim's polygons to `mesh` as triangles, its points converted by `units`, then `axes`.
-fn add_prim(
+/// Moves a prim's points by its transform and its ancestors' (`stacks`, outermost first) at the
+/// default time (each op's default, or else its earliest sample); returns whether the transform
+/// mirrors (a negative determinant), which reverses the windings.
+fn place(prim: &mut MeshValues, stacks: &[OpStack]) -> Result<bool, FormatErrorKind> {
+    let world = world(stacks, None).map_err(|(attribute, message, line)| FormatErrorKind::Usd {
+        element: attribute,
+        message,
+        location: line.map_or(Location::Unknown, Location::Line),
+    })?;
+    if world != DMat4::IDENTITY {
+        for p in &mut prim.points.values {
+            *p = world.transform_point3(p.as_dvec3()).as_vec3();
+        }
+    }
+    Ok(world.determinant() < 0.0)
+}
+
+/// Adds one prim's polygons to `mesh` as triangles, its points converted by `units`, then `axes`;
+/// `mirrored` (a transform with a negative determinant) reverses the windings, as the prim's
+/// orientation does.
+pub(crate) fn add_prim(
     mesh: &mut TriangleMesh,
     units: &Units,
     axes: &ImportAxes,
     prim: MeshValues,
+    mirrored: bool,
 ) -> Result<(), FormatErrorKind> {
     let (orientation, orientation_line) = &prim.orientation;
     let left_handed = match orientation.as_str() {
@@ -181,7 +230,7 @@ fn add_prim(
         }
         for k in 1..count - 1 {
             let mut triangle = [vertex[0], vertex[k], vertex[k + 1]];
-            if left_handed != axes.reverses_winding() {
+            if (left_handed != mirrored) != axes.reverses_winding() {
                 triangle.swap(1, 2);
             }
             mesh.triangles.push(triangle);

@@ -3,10 +3,14 @@
 //! `orientation` at the default time (the default value, or else the earliest time sample), for
 //! the join in `usd_mesh.rs`; and what both encodings hand to that join ([`MeshValues`]).
 
+use std::collections::HashMap;
+
 use glam::Vec3;
 
 use super::error::{FormatErrorKind, Location};
 use super::usd_attrs::Units;
+use super::usd_tracks::text_stack;
+use super::usd_xform::OpStack;
 use super::usda_parse::parse_layer;
 use super::usda_prims::{MeshPrim, PrimKind};
 use super::usda_values::Array;
@@ -46,13 +50,15 @@ impl MeshValues {
     }
 }
 
-/// The layer's units and its `Mesh` prims' values, in namespace order; each prim is an error when
-/// it lacks one of the three arrays.
+/// The layer's units, the transforms of its prims by path, and its `Mesh` prims' values, in
+/// namespace order; each prim is an error when it lacks one of the three arrays.
+#[allow(clippy::type_complexity)]
 pub(crate) fn text_meshes(
     bytes: &[u8],
 ) -> Result<
     (
         Units,
+        HashMap<String, OpStack>,
         impl Iterator<Item = Result<MeshValues, FormatErrorKind>>,
     ),
     FormatErrorKind,
@@ -60,7 +66,12 @@ pub(crate) fn text_meshes(
     let text = super::text::utf8_text(bytes)?;
     let layer = parse_layer(text, None, PrimKind::Mesh)?;
     let units = Units::new(layer.up, layer.meters_per_unit);
-    Ok((units, layer.meshes.into_iter().map(values)))
+    let mut stacks = HashMap::new();
+    for xform in layer.xforms {
+        let stack = text_stack(xform)?;
+        stacks.insert(stack.path.clone(), stack);
+    }
+    Ok((units, stacks, layer.meshes.into_iter().map(values)))
 }
 
 /// A prim's values at the default time.

@@ -7,7 +7,10 @@
 //! `.timeSamples`, resolved at a time while parsing (`usda_values.rs`). Everything else (other
 //! prims, relationships, variant sets, dictionaries, connections) is skipped by its brackets, on
 //! an explicit stack (no recursion but into prims, at most [`MAX_PRIM_DEPTH`] deep); composition
-//! arcs (references, payloads, sublayers) are not followed and transforms are not applied.
+//! arcs (references, payloads, sublayers) are not followed. When meshes are read, the
+//! `xformOpOrder` and `xformOp:` attributes of every `def` prim are collected too
+//! ([`XformPrim`]), for the mesh readers to apply; a sequence read
+//! ([`parse_layer_sequence`]) keeps every time sample of what it reads.
 
 use glam::Vec3;
 
@@ -15,8 +18,11 @@ use super::error::FormatErrorKind;
 use super::options::UpAxis;
 use super::text::shorten;
 use super::usda_lex::{Kind, Lexer, Token, unexpected};
-use super::usda_prims::{Collected, Field, Layer, PrimKind, Slot};
+use super::usda_prims::{Collected, Field, Layer, PrimKind, Slot, XformPrim};
 use super::usda_values::{Array, Attr, Authored, Sample};
+
+#[path = "usda_parse_xform.rs"]
+mod xform;
 
 /// Deepest prim nesting read (deeper is refused rather than risking the stack).
 const MAX_PRIM_DEPTH: usize = 200;
@@ -28,9 +34,27 @@ pub(crate) fn parse_layer(
     time: Option<f64>,
     kind: PrimKind,
 ) -> Result<Layer, FormatErrorKind> {
+    parse(text, time, kind, false)
+}
+
+/// Parses `text` into its layer and its prims of `kind` with every time sample of their
+/// attributes ([`Attr::samples`](super::usda_values::Attr)), and the transform ops of every
+/// `def` prim ([`Layer::xforms`]).
+pub(crate) fn parse_layer_sequence(text: &str, kind: PrimKind) -> Result<Layer, FormatErrorKind> {
+    parse(text, None, kind, true)
+}
+
+fn parse(
+    text: &str,
+    time: Option<f64>,
+    kind: PrimKind,
+    sequence: bool,
+) -> Result<Layer, FormatErrorKind> {
     let mut parser = Parser {
         lexer: Lexer::new(text),
         time,
+        sequence,
+        xforms: kind == PrimKind::Mesh,
         kind,
         path: Vec::new(),
         prims_seen: 0,
@@ -40,6 +64,9 @@ pub(crate) fn parse_layer(
             meters_per_unit_line: 1,
             curves: Vec::new(),
             meshes: Vec::new(),
+            time_codes_per_second: None,
+            frames_per_second: None,
+            xforms: Vec::new(),
         },
     };
     if parser.lexer.peek()?.is_some_and(|t| t.is(b'(')) {
@@ -60,6 +87,10 @@ pub(crate) fn parse_layer(
 struct Parser<'a> {
     lexer: Lexer<'a>,
     time: Option<f64>,
+    /// Whether every time sample is kept (a sequence is read).
+    sequence: bool,
+    /// Whether the transform ops of every `def` prim are collected (meshes are read).
+    xforms: bool,
     /// The prims collected.
     kind: PrimKind,
     /// The names of the prims the parser is inside, outermost first.
@@ -187,8 +218,31 @@ impl<'a> Parser<'a> {
     }
 
     fn layer_metadata(&mut self) -> Result<(), FormatErrorKind> {
-        for (name, value) in self.metadata(&["upAxis", "metersPerUnit"])? {
-            if name.text == "upAxis" {
+        let wanted = [
+            "upAxis",
+            "metersPerUnit",
+            "timeCodesPerSecond",
+            "framesPerSecond",
+        ];
+        for (name, value) in self.metadata(&wanted)? {
+            if matches!(name.text, "timeCodesPerSecond" | "framesPerSecond") {
+                let rate: f64 = number(&value, name.text)?;
+                if !(rate.is_finite() && rate > 0.0) {
+                    return Err(FormatErrorKind::Syntax {
+                        line: value.line,
+                        message: format!(
+                            "{} {} is invalid (allowed: a finite number > 0)",
+                            name.text,
+                            value.shown()
+                        ),
+                    });
+                }
+                if name.text == "timeCodesPerSecond" {
+                    self.layer.time_codes_per_second = Some(rate);
+                } else {
+                    self.layer.frames_per_second = Some(rate);
+                }
+            } else if name.text == "upAxis" {
                 self.layer.up = match (value.kind, unquote(&value)) {
                     (Kind::String, "Y") => UpAxis::Y,
                     (Kind::String, "Z") => UpAxis::Z,
@@ -250,6 +304,12 @@ impl<'a> Parser<'a> {
                 let path = format!("/{}", self.path.join("/"));
                 Collected::new(self.kind, shorten(name.text), path, name.line, order)
             });
+        let mut xform = (self.xforms && specifier.text == "def").then(|| XformPrim {
+            path: format!("/{}", self.path.join("/")),
+            line: name.line,
+            order: None,
+            ops: Vec::new(),
+        });
         loop {
             let token = self.lexer.expect_any(&format!(
                 "a property, a child prim or `}}` closing prim {} of line {}",
@@ -270,7 +330,7 @@ impl<'a> Parser<'a> {
                     self.lexer.expect(b'=', "after `reorder …`")?;
                     self.skip_value()?;
                 }
-                (Kind::Ident, _) => self.property(token, collected.as_mut())?,
+                (Kind::Ident, _) => self.property(token, collected.as_mut(), xform.as_mut())?,
                 _ => return Err(unexpected(&token, "a property, a child prim or `}`")),
             }
         }
@@ -280,6 +340,11 @@ impl<'a> Parser<'a> {
             Some(Collected::Mesh(mesh)) => self.layer.meshes.push(*mesh),
             None => {}
         }
+        if let Some(xform) = xform
+            && xform.order.is_some()
+        {
+            self.layer.xforms.push(xform);
+        }
         Ok(())
     }
 
@@ -288,6 +353,7 @@ impl<'a> Parser<'a> {
         &mut self,
         first: Token<'a>,
         collected: Option<&mut Collected>,
+        xform: Option<&mut XformPrim>,
     ) -> Result<(), FormatErrorKind> {
         let mut token = first;
         while matches!(
@@ -314,6 +380,11 @@ impl<'a> Parser<'a> {
             Some((base, suffix)) => (base, Some(suffix)),
             None => (name.text, None),
         };
+        if let Some(xform) = xform
+            && (base == "xformOpOrder" || base.starts_with("xformOp:"))
+        {
+            return self.xform_property(xform, &type_name, &type_token, base, suffix, name.line);
+        }
         let field = collected
             .as_ref()
             .and_then(|prim| Field::from_name(prim.kind(), base));
@@ -373,6 +444,7 @@ impl<'a> Parser<'a> {
         value: fn(&mut Self) -> Result<Authored<T>, FormatErrorKind>,
     ) -> Result<(), FormatErrorKind> {
         let attr = slot.get_or_insert_with(|| Attr::new(line));
+        let sequence = self.sequence;
         let assigned = self.lexer.eat(b'=')?;
         match (suffix, assigned) {
             (_, false) => {}
@@ -393,7 +465,11 @@ impl<'a> Parser<'a> {
                     }
                     self.lexer.expect(b':', "after the time code")?;
                     let sample = value(self)?;
-                    attr.offer(time, t, sample);
+                    if sequence {
+                        attr.samples.push((t, sample));
+                    } else {
+                        attr.offer(time, t, sample);
+                    }
                     if !self.lexer.eat(b',')? {
                         self.lexer.expect(b'}', "closing the time samples")?;
                         break;

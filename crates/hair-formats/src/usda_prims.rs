@@ -161,6 +161,24 @@ pub(crate) struct Layer {
     pub(crate) curves: Vec<CurvesPrim>,
     /// The `def Mesh` prims (when they were asked for).
     pub(crate) meshes: Vec<MeshPrim>,
+    /// `timeCodesPerSecond` and `framesPerSecond`, when authored.
+    pub(crate) time_codes_per_second: Option<f64>,
+    pub(crate) frames_per_second: Option<f64>,
+    /// The transform ops of every `def` prim that has an `xformOpOrder` (only when a sequence is
+    /// read), in file order.
+    pub(crate) xforms: Vec<XformPrim>,
+}
+
+/// The transform of one prim as authored: `xformOpOrder` and the `xformOp:` attributes, each
+/// value flattened to its numbers (a `double3` is 3, a `quatf` 4 as `(w, x, y, z)`, a `matrix4d`
+/// 16, row by row).
+#[derive(Debug)]
+pub(crate) struct XformPrim {
+    /// The prim's path and the line of its name.
+    pub(crate) path: String,
+    pub(crate) line: usize,
+    pub(crate) order: Option<Attr<Array<String>>>,
+    pub(crate) ops: Vec<(String, Option<Attr<Array<f64>>>)>,
 }
 
 /// The attributes of a `BasisCurves` or `Mesh` prim that are read.

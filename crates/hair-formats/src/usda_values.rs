@@ -65,6 +65,12 @@ impl Sample for f32 {
     }
 }
 
+impl Sample for f64 {
+    fn lerp(a: &Self, b: &Self, alpha: f64) -> Self {
+        a + (b - a) * alpha
+    }
+}
+
 impl Sample for i64 {
     /// Integers are held, not interpolated (as in USD).
     fn lerp(a: &Self, _: &Self, _: f64) -> Self {
@@ -111,6 +117,9 @@ pub(crate) struct Attr<T> {
     upper: Option<(f64, Authored<T>)>,
     /// The `interpolation` metadata and its line.
     pub(crate) interpolation: Option<(String, usize)>,
+    /// Every time sample in file order, kept only when the parser reads a sequence (then
+    /// `lower` and `upper` stay empty).
+    pub(crate) samples: Vec<(f64, Authored<T>)>,
 }
 
 impl<T: Sample> Attr<T> {
@@ -121,6 +130,7 @@ impl<T: Sample> Attr<T> {
             lower: None,
             upper: None,
             interpolation: None,
+            samples: Vec::new(),
         }
     }
 
@@ -143,6 +153,15 @@ impl<T: Sample> Attr<T> {
                 }
             }
         }
+    }
+
+    /// The time samples kept: every one when the parser reads a sequence, else the one or two
+    /// that matter at the time read.
+    pub(crate) fn kept_samples(&self) -> Vec<(f64, Authored<T>)> {
+        if !self.samples.is_empty() {
+            return self.samples.clone();
+        }
+        self.lower.iter().chain(&self.upper).cloned().collect()
     }
 
     /// The value at `time` (see the module's documentation); `None` when not authored or blocked.

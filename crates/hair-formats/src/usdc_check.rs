@@ -15,7 +15,7 @@
 //! into the token, string, path and field tables, the integer coding itself, and values of other
 //! types (dictionaries, list ops), which the curve and mesh readers never decode.
 
-use super::error::FormatErrorKind;
+use super::error::{FormatErrorKind, Location};
 
 /// The crate file's signature.
 pub(crate) const MAGIC: &[u8; 8] = b"PXR-USDC";
@@ -279,6 +279,12 @@ impl Section<'_> {
 const TIME_SAMPLES: u64 = 46;
 const DOUBLE_VECTOR: u64 = 48;
 const COUNTED_VECTORS: [u64; 3] = [40, 41, 50]; // path, token and string vectors
+/// Types whose values hold counts this module does not check: dictionaries and list ops (31 to
+/// 39), variant selection maps, payloads, layer offset vectors, opaque values, payload list ops
+/// and relocates.
+const UNCHECKED: [u64; 16] = [
+    31, 32, 33, 34, 35, 36, 37, 38, 39, 45, 47, 49, 52, 53, 54, 55,
+];
 /// Integer types (int, uint, int64, uint64), whose arrays may be compressed.
 const INTS: [u64; 4] = [3, 4, 5, 6];
 /// Float types (half, float, double, double vector), whose arrays may be compressed, and the bytes
@@ -312,6 +318,18 @@ fn check_rep(
         return Ok(());
     }
     let what = |what: &str| format!("{what} of {element}");
+    if !array && UNCHECKED.contains(&ty) {
+        // The crate would allocate from counts inside these, which are not checked: no reader
+        // wants them where it looks.
+        return Err(FormatErrorKind::Usd {
+            element: element.to_owned(),
+            message: format!(
+                "holds a value of crate type {ty} (a dictionary, list op, payload or the like), \
+                 which is not read"
+            ),
+            location: Location::Unknown,
+        });
+    }
     if array || ty == DOUBLE_VECTOR {
         let mut at = payload;
         if version.1 < 5 {

@@ -14,10 +14,11 @@ use crate::tfx::tests::{tfx3_bytes, tfx4_bytes, two_strands};
 use crate::tfxmesh::tests::TETRAHEDRON;
 use crate::usc::tests::{strands_with_empty_roots, usc_bytes};
 use crate::{
-    Curves, FormatError, ImportOptions, read_alembic, read_hair, read_obj_curves, read_obj_mesh,
-    read_tfx, read_tfxmesh, read_usc_data, read_usd_mesh, read_usda, read_usda_at, read_usdc,
-    write_hair_bytes,
+    Curves, FormatError, ImportOptions, read_alembic, read_alembic_mesh_sequence, read_hair,
+    read_obj_curves, read_obj_mesh, read_tfx, read_tfxmesh, read_usc_data, read_usd_mesh,
+    read_usd_mesh_sequence, read_usda, read_usda_at, read_usdc, write_hair_bytes,
 };
+use hair_core::MeshSequence;
 use hair_core::mesh::TriangleMesh;
 
 /// Cases per target and kind of input.
@@ -72,6 +73,24 @@ fn checked_mesh(result: Result<TriangleMesh, FormatError>) -> Result<usize, Form
     assert!(mesh.triangle_count() >= 1);
     assert_eq!(mesh.normals.len(), mesh.vertex_count());
     Ok(mesh.vertex_count())
+}
+
+/// Checks what a mesh sequence reader returned, and returns its vertex count (samples at time
+/// codes where only a transform has a sample hold no points of their own in the file).
+fn checked_sequence(result: Result<MeshSequence, FormatError>) -> Result<usize, FormatError> {
+    let sequence = result?;
+    assert!(sequence.sample_count() >= 1);
+    assert!(!sequence.triangles().is_empty());
+    assert!(sequence.times().windows(2).all(|w| w[0] < w[1]));
+    for s in 0..sequence.sample_count() {
+        assert!(sequence.sample_positions(s).iter().all(|p| p.is_finite()));
+    }
+    Ok(sequence.vertex_count())
+}
+
+/// A fixture of `tests/data`.
+fn fixture(name: &str) -> Vec<u8> {
+    std::fs::read(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
 fn targets() -> Vec<Target> {
@@ -167,6 +186,27 @@ fn targets() -> Vec<Target> {
             // sizes, the time samplings' size, /plain's property headers' size and its .geom
             // group's child count (see `make_alembic_fixture.py`; u64 fields, low half set).
             count_fields: &[8, 2802, 40, 136, 2294, 1015, 1126],
+            min_point_bytes: 12,
+        },
+        Target {
+            name: "USD text mesh sequence",
+            read: |b, o| checked_sequence(read_usd_mesh_sequence(b, o)),
+            seed: fixture("mesh_sequence.usda"),
+            count_fields: &[],
+            min_point_bytes: 6,
+        },
+        Target {
+            name: "USD crate mesh sequence",
+            read: |b, o| checked_sequence(read_usd_mesh_sequence(b, o)),
+            seed: fixture("mesh_sequence.usdc"),
+            count_fields: &[],
+            min_point_bytes: 12,
+        },
+        Target {
+            name: "Alembic mesh sequence",
+            read: |b, o| checked_sequence(read_alembic_mesh_sequence(b, o)),
+            seed: fixture("mesh_sequence.abc"),
+            count_fields: &[],
             min_point_bytes: 12,
         },
         Target {
@@ -370,6 +410,23 @@ const USDA_TOKENS: &[&str] = &[
     "over",
     "class",
     "BasisCurves",
+    "Mesh",
+    "faceVertexCounts",
+    "faceVertexIndices.timeSamples",
+    "token[]",
+    "xformOpOrder",
+    "\"xformOp:translate\"",
+    "\"!invert!xformOp:rotateZYX:a\"",
+    "\"!resetXformStack!\"",
+    "double3",
+    "xformOp:translate",
+    "xformOp:rotateZYX:a.timeSamples",
+    "quatf",
+    "xformOp:orient",
+    "matrix4d",
+    "xformOp:transform",
+    "((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))",
+    "timeCodesPerSecond",
     "Xform",
     "\"c\"",
     "{",
@@ -439,9 +496,12 @@ fn usda_token_soup_never_panics() {
     runner(MUTATED_CASES)
         .run(&strategy, |(tokens, time)| {
             let mut text = String::from("#usda 1.0\n");
-            // Half the cases start with a valid prim head, to reach the attributes.
+            // Half the cases start with a valid curves prim head, to reach the attributes, a
+            // quarter with a mesh's.
             if tokens.len() % 2 == 0 {
                 text.push_str("def BasisCurves \"h\" {\n");
+            } else if tokens.len() % 4 == 1 {
+                text.push_str("def Mesh \"m\" {\n");
             }
             for &t in &tokens {
                 text.push_str(USDA_TOKENS[t]);
@@ -458,6 +518,18 @@ fn usda_token_soup_never_panics() {
                         read.set(read.get() + 1);
                     }
                     Err(error) => assert!(error.to_string().starts_with("<memory>: "), "{error}"),
+                }
+                let meshes = [
+                    checked_mesh(read_usd_mesh(text.as_bytes(), &options)),
+                    checked_sequence(read_usd_mesh_sequence(text.as_bytes(), &options)),
+                ];
+                for result in meshes {
+                    match result {
+                        Ok(points) => assert!(points * 6 <= text.len()),
+                        Err(error) => {
+                            assert!(error.to_string().starts_with("<memory>: "), "{error}")
+                        }
+                    }
                 }
             }
             runs.set(runs.get() + 1);

@@ -7,6 +7,7 @@ pub(crate) mod alembic;
 mod errors;
 mod fit_real_data;
 mod fuzz;
+mod mesh_sequence;
 pub(crate) mod real_data;
 mod round_trips;
 pub(crate) mod usd_crate;
