@@ -23,6 +23,7 @@
 
 pub mod accuracy;
 pub mod benchmark;
+pub mod body_animation;
 pub mod cache;
 pub mod crowd;
 pub mod framing;

@@ -136,8 +136,10 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
     };
     let grown = scene.groom.skeletons.rest_positions(&head);
     let params = DynamicsParams::for_style(&scene.groom.params.style);
-    // The scene as it is being hung; `scene` takes it only when every level succeeded.
+    // The scene as it is being hung; `scene` takes it only when every level succeeded. The hair
+    // hangs on the body at rest: a deforming body's motion plays in the run, not here.
     let mut hung = scene.clone();
+    let body_motion = hung.body_motion.take();
     let mut sag_free = PerLevel::from_fn(|_| SagFreeReport::default());
     let mut rounds = PerLevel::from_fn(|_| 0);
     // Strand groups fall; the coarser levels take the shapes a hand-over from them gives (§4.2),
@@ -179,6 +181,7 @@ pub fn hang_groom(scene: &mut Scene, settings: &HangSettings) -> Result<HangRepo
         .collect();
     let max_move = moves.iter().copied().fold(0.0f32, f32::max);
     let mean_move = moves.iter().sum::<f32>() / moves.len().max(1) as f32;
+    hung.body_motion = body_motion;
     *scene = hung;
     Ok(HangReport {
         seconds: settings.seconds,

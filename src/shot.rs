@@ -223,6 +223,9 @@ pub struct Shot {
     /// The characters of a crowd (empty: one character, [`Shot::groom`] on the head driven by
     /// [`Shot::environment`]); see [`Crowd`](crate::crowd::Crowd).
     pub characters: Vec<Character>,
+    /// The procedural head's own deformation (`[body] animation`), sampled over the shot when
+    /// the scene is built; `None`: the head is rigid.
+    pub body_animation: Option<crate::body_animation::BodyAnimation>,
 }
 
 impl Shot {
@@ -303,6 +306,11 @@ impl Shot {
             if let Some(loaded) = &loaded {
                 bind_profiles(&mut scene.groom, &loaded.fit, &loaded.curves)?;
             }
+        }
+        if let Some(animation) = &self.body_animation {
+            let duration = self.frames as f64 / f64::from(self.fps);
+            let sequence = animation.sample(&scene.head.mesh, duration)?;
+            scene.set_body_motion(Some(std::sync::Arc::new(sequence)))?;
         }
         Ok((scene, loaded))
     }

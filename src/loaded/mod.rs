@@ -16,6 +16,7 @@ mod rest_error;
 mod sparse;
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use glam::Vec3;
 use hair_collide::{AttachmentReport, CollisionBody, attach_roots};
@@ -24,8 +25,13 @@ use hair_core::fit::{
     bind_profiles, fit_hierarchy,
 };
 use hair_core::groom::ChildStrands;
-use hair_core::{Groom, GroomParams, HairError, Head, HeadParams, Scene, TriangleMesh};
-use hair_formats::{Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file};
+use hair_core::{
+    Groom, GroomParams, HairError, Head, HeadParams, MeshSequence, Scene, TriangleMesh,
+};
+use hair_formats::{
+    Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file,
+    read_mesh_sequence_file,
+};
 use serde::Serialize;
 
 pub use occluders::{OccluderSettings, occluder_boxes};
@@ -244,6 +250,14 @@ pub fn load_body_mesh(body: &BodyFile) -> Result<TriangleMesh> {
         .map_err(|error| file_error("reading body.file", &body.path, error.kind).into())
 }
 
+/// Reads the body of `body` over time in scene axes ([`read_mesh_sequence_file`]: USD time
+/// samples, an Alembic mesh sequence; one sample for the formats without animation). Errors
+/// name the field (`body.file`), the file and, for a bad sample, the prim and time.
+pub fn load_body_sequence(body: &BodyFile) -> Result<MeshSequence> {
+    read_mesh_sequence_file(&body.path, &body.axes.import_options())
+        .map_err(|error| file_error("reading body.file", &body.path, error.kind).into())
+}
+
 /// Reads `groom`'s curves, fits the paper's hierarchy to them and builds the groom with the
 /// material of `params` (its style), on `body` when given (else on the procedural head). The
 /// body takes the head's place: drawn, collided with, and hiding hair behind boxes found inside
@@ -287,10 +301,17 @@ pub fn load_scene(
         .map_err(|error| file_error("fitting groom.file", first, error))?;
     bind_profiles(&mut groom_model, &fit, &curves)
         .map_err(|error| file_error("fitting groom.file", first, error))?;
+    let mut body_motion = None;
     let (head, roots, boxes) = match body {
         None => (Head::procedural(&HeadParams::default())?, None, 0),
         Some(body) => {
-            let mesh = load_body_mesh(body)?;
+            // The body at its first sample is the rest shape the roots attach to; a body that
+            // moves through its samples deforms (Scene::body_motion).
+            let sequence = load_body_sequence(body)?;
+            let mesh = sequence.mesh_at(sequence.times()[0]);
+            if sequence.is_animated() {
+                body_motion = Some(Arc::new(sequence));
+            }
             let collision = CollisionBody::from_mesh(&mesh)
                 .map_err(|error| file_error("reading body.file", &body.path, error))?;
             let strand_roots: Vec<Vec3> = curves.offsets[..curves.curve_count()]
@@ -332,7 +353,7 @@ pub fn load_scene(
         scene: Scene {
             head,
             groom: groom_model,
-            body_motion: None,
+            body_motion,
         },
         curves,
         fit,

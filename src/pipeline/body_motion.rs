@@ -49,10 +49,19 @@ impl BodyRide {
         }
     }
 
-    /// The collision body of the mesh at `time` [s] (head space; posed by the collision stage).
-    pub(crate) fn collision_body(&self, time: f64) -> Result<CollisionBody> {
-        Ok(CollisionBody::from_mesh(
-            &self.body.sequence().mesh_at(time),
-        )?)
+    /// The collision body of the mesh at `time` [s] (head space; posed by the collision stage),
+    /// its vertices moving at their mean velocity over the `time_step` [s] before it.
+    pub(crate) fn collision_body(&self, time: f64, time_step: f32) -> Result<CollisionBody> {
+        let sequence = self.body.sequence();
+        let mesh = sequence.mesh_at(time);
+        let mut earlier = Vec::new();
+        sequence.positions_at(time - f64::from(time_step), &mut earlier);
+        let velocities = mesh
+            .positions
+            .iter()
+            .zip(&earlier)
+            .map(|(now, before)| (*now - *before) / time_step)
+            .collect();
+        Ok(CollisionBody::from_moving_mesh(&mesh, velocities)?)
     }
 }

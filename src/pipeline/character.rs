@@ -196,7 +196,7 @@ impl CharacterRun<'_> {
     pub(crate) fn pose_body(&mut self) -> Result<()> {
         let head = self.head_pose();
         if let (Some(ride), Some(_)) = (&self.work.ride, &self.work.body) {
-            let body = ride.collision_body(self.state.time)?;
+            let body = ride.collision_body(self.state.time, self.settings.dynamics.time_step)?;
             for (_, level) in self.work.work.levels.iter_mut() {
                 for copy in level.bodies.iter_mut() {
                     *copy = body.clone();
@@ -214,9 +214,10 @@ impl CharacterRun<'_> {
     /// from `time` [s] ([`CharacterWork::body_at_end`]).
     pub(crate) fn prepare_body_at_end(&mut self, time: f64) -> Result<()> {
         self.work.body_at_end = match (&self.work.ride, &self.work.body) {
-            (Some(ride), Some(_)) => Some(
-                ride.collision_body(time + f64::from(self.settings.dynamics.time_step))?,
-            ),
+            (Some(ride), Some(_)) => {
+                let step = self.settings.dynamics.time_step;
+                Some(ride.collision_body(time + f64::from(step), step)?)
+            }
             _ => None,
         };
         Ok(())

@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use hair_core::{Camera, RigidTransform, Scene};
+use hair_core::{Camera, RigidTransform, Scene, TriangleMesh};
 use hair_render::{
     ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode, StrandThinning,
 };
@@ -27,6 +27,12 @@ pub trait DrawnSource {
 
     /// How the renderer thins the strand groups small on screen.
     fn strand_thinning(&self) -> StrandThinning;
+
+    /// The body's mesh at the time drawn (head space) where it deforms
+    /// ([`Scene::body_motion`]); `None` (the default) draws the rigid head mesh.
+    fn deformed_body(&self) -> Option<TriangleMesh> {
+        None
+    }
 }
 
 impl DrawnSource for Pipeline {
@@ -40,6 +46,11 @@ impl DrawnSource for Pipeline {
 
     fn strand_thinning(&self) -> StrandThinning {
         self.settings().strand_thinning()
+    }
+
+    fn deformed_body(&self) -> Option<TriangleMesh> {
+        let motion = self.scene().body_motion.as_ref()?;
+        Some(motion.mesh_at(self.time()))
     }
 }
 
@@ -123,7 +134,15 @@ impl PipelineRenderer {
     fn prepare(&mut self, source: &mut impl DrawnSource, settings: &FrameSettings) -> Result<()> {
         source.gather_drawn(&mut self.active)?;
         let pose = source.head_poses().first().copied().unwrap_or_default();
-        self.pose_head(pose, settings)
+        match source.deformed_body() {
+            Some(mesh) => {
+                // Deforming: its mesh at this time, uploaded every frame (no tessellations).
+                self.renderer.set_head_mesh(Some(&mesh.posed(&pose)))?;
+                self.head_pose = (pose, usize::MAX);
+                Ok(())
+            }
+            None => self.pose_head(pose, settings),
+        }
     }
 
     /// Poses the head mesh at `pose`, tessellated as coarsely as [`HEAD_PIXEL_TOLERANCE`]

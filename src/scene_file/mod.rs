@@ -239,6 +239,11 @@ pub struct BodyTable {
     pub up_axis: Option<UpAxis>,
     /// With `file`: negate x, default false.
     pub mirror: Option<bool>,
+    /// The procedural head's own deformation: `none` (default) or `talk` (the jaw opens and
+    /// closes, the head squashes and stretches; the roots ride it, collision and drawing follow
+    /// it; combined with `[motion]`, which moves the deforming head rigidly). A body file's own
+    /// animation (time samples) plays without this.
+    pub animation: Option<crate::body_animation::BodyAnimationKind>,
 }
 
 /// `[motion]`.

@@ -11,6 +11,7 @@ use hair_core::{GroomParams, GroomPreset, HeadParams, RigidTransform};
 use super::checks::{count, parse_size, positive, vector, within};
 use super::choices::{CameraPathKind, MotionKind};
 use super::{SCENE_FILE_VERSION, SceneFile, SceneFileError};
+use crate::body_animation::{BodyAnimation, BodyAnimationKind};
 use crate::pipeline::{LodMode, PipelineSettings};
 use crate::rest_pose::RestPose;
 use crate::shot::{CameraKeyframe, CameraMotion, CameraPath, FrameAll, Outputs, Shot};
@@ -35,6 +36,7 @@ impl SceneFile {
         let groom_file = self.groom_file()?;
         let camera = self.camera_path(groom_file.is_some())?;
         let body_file = self.body_file(groom_file.is_some())?;
+        let body_animation = self.body_animation(body_file.is_some())?;
         let groom = self.groom_params(groom_file.is_some())?;
         let frames = &self.frames;
         let frame_count = count("frames.count", frames.count.unwrap_or(12), 1, 1_000_000)?;
@@ -138,6 +140,7 @@ impl SceneFile {
             outputs,
             paper_table: self.bench.paper_table,
             characters: self.characters()?,
+            body_animation,
         })
     }
 
@@ -360,6 +363,18 @@ impl SceneFile {
 
     /// The camera path; with `from_files` (a groom file) and no target, distance or keyframes,
     /// framed on the scene once it is built ([`CameraPath::frame_all`]).
+    /// `[body] animation`: the procedural head's only.
+    fn body_animation(&self, body_file: bool) -> Result<Option<BodyAnimation>> {
+        match self.body.animation.unwrap_or_default() {
+            BodyAnimationKind::None => Ok(None),
+            kind if body_file => Err(SceneFileError::new(format!(
+                "body.animation = \"{kind}\": the procedural head's own deformation; a body \
+                 file plays its own time samples (leave body.animation out)"
+            ))),
+            BodyAnimationKind::Talk => Ok(Some(BodyAnimation::talk())),
+        }
+    }
+
     fn camera_path(&self, from_files: bool) -> Result<CameraPath> {
         let table = &self.camera;
         let frame_all = (from_files

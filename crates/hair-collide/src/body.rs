@@ -15,7 +15,7 @@ use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 
 use crate::distance_field::{DEFAULT_CELL, DistanceField};
-use crate::error::{Result, require_pose};
+use crate::error::{CollideError, Result, require_pose};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
 use crate::pseudonormals::Pseudonormals;
@@ -37,6 +37,9 @@ pub(crate) struct BodyShape {
     pub pseudonormals: Pseudonormals,
     /// The distance field (body frame), built on first use.
     pub field: OnceLock<DistanceField>,
+    /// A deforming body's vertex velocities \[m/s\] (body frame), one per vertex; empty for a
+    /// body that only moves rigidly.
+    pub vertex_velocities: Vec<Vec3>,
 }
 
 /// A rigid triangle mesh that hair collides with, placed in the world by a pose.
@@ -60,6 +63,21 @@ impl std::fmt::Debug for CollisionBody {
             .field("translation", &self.translation)
             .finish_non_exhaustive()
     }
+}
+
+/// Barycentric coordinates of `p` (on the triangle's plane) in the triangle `a, b, c`; the first
+/// vertex's alone for a degenerate triangle.
+fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (ab.dot(ab), ab.dot(ac), ac.dot(ac));
+    let (d20, d21) = (ap.dot(ab), ap.dot(ac));
+    let denominator = d00 * d11 - d01 * d01;
+    if denominator <= 0.0 {
+        return Vec3::X;
+    }
+    let v = (d11 * d20 - d01 * d21) / denominator;
+    let w = (d00 * d21 - d01 * d20) / denominator;
+    Vec3::new(1.0 - v - w, v, w)
 }
 
 fn triangle_aabb(triangle: &Triangle) -> Aabb {
@@ -133,6 +151,7 @@ impl CollisionBody {
             bound,
             bvh,
             field: OnceLock::new(),
+            vertex_velocities: Vec::new(),
         };
         Ok(Self {
             shape: Arc::new(shape),
@@ -140,6 +159,51 @@ impl CollisionBody {
             translation: Vec3::ZERO,
             bound,
         })
+    }
+
+    /// A deforming body at one instant: `mesh` as [`CollisionBody::from_mesh`] builds it, whose
+    /// vertices move at `velocities` \[m/s\] (body frame, one per vertex) besides the pose's
+    /// motion. Response and projection add the surface's own velocity where a node touches it
+    /// ([`CollisionBody::deformation_velocity`]). Errors on a count that is not the vertices' or
+    /// a velocity that is not finite.
+    pub fn from_moving_mesh(mesh: &TriangleMesh, velocities: Vec<Vec3>) -> Result<Self> {
+        if velocities.len() != mesh.positions.len() {
+            return Err(CollideError::SizeMismatch {
+                what: "vertex velocities",
+                actual: velocities.len(),
+                expected: mesh.positions.len(),
+            });
+        }
+        if let Some(index) = velocities.iter().position(|v| !v.is_finite()) {
+            return Err(CollideError::NonFinite {
+                what: "vertex velocities",
+                index,
+            });
+        }
+        let mut body = Self::from_mesh(mesh)?;
+        Arc::get_mut(&mut body.shape)
+            .expect("a body just built holds its shape alone")
+            .vertex_velocities = velocities;
+        Ok(body)
+    }
+
+    /// The velocity \[m/s\] (world) of the deforming surface nearest `p` \[m\] besides the
+    /// pose's motion: the closest point's barycentric blend of its triangle's vertex velocities,
+    /// turned by the pose. Zero for a rigid body (no vertex velocities) and for a non-finite
+    /// point.
+    pub fn deformation_velocity(&self, p: Vec3) -> Vec3 {
+        let velocities = &self.shape.vertex_velocities;
+        if velocities.is_empty() {
+            return Vec3::ZERO;
+        }
+        let Some(surface) = self.closest_local_surface_point(self.to_local(p)) else {
+            return Vec3::ZERO;
+        };
+        let t = surface.triangle as usize;
+        let [a, b, c] = self.shape.triangles[t].vertices;
+        let weights = barycentric(surface.point, a, b, c);
+        let [i, j, k] = self.shape.indices[t].map(|v| velocities[v as usize]);
+        self.rotation * (i * weights.x + j * weights.y + k * weights.z)
     }
 
     /// Places the body: world = `rotation` · local + `translation` \[m\]. Only the pose changes

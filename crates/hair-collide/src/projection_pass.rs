@@ -159,8 +159,6 @@ impl ProjectionPass<'_> {
     ) {
         let body_count = self.bodies.len();
         let nodes = self.chain_offsets[chain] as usize..self.chain_offsets[chain + 1] as usize;
-        let surface_velocity =
-            |p| rigid_point_velocity(&self.head_before, &self.head, p, self.time_step);
         let mut dragged = false;
         for node in nodes.clone() {
             let m = self.model_nodes[node] as usize;
@@ -175,6 +173,11 @@ impl ProjectionPass<'_> {
                 continue;
             }
             for (b, body) in self.bodies.iter().enumerate() {
+                // The pose's motion, and a deforming body's own.
+                let surface_velocity = |p| {
+                    rigid_point_velocity(&self.head_before, &self.head, p, self.time_step)
+                        + body.deformation_velocity(p)
+                };
                 let cache = &mut caches[node * body_count + b];
                 if self.clear_of(body, positions[m], cache) {
                     continue;

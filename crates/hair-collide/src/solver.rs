@@ -303,7 +303,8 @@ impl CollisionSolver {
                     } else {
                         state.node_velocities[m]
                     };
-                    let surface = rigid_point_velocity(&head_before, &head, p, time_step);
+                    let surface = rigid_point_velocity(&head_before, &head, p, time_step)
+                        + body.deformation_velocity(p);
                     let speed = approach_speed(velocity, surface, normal);
                     state.collision_forces[m] +=
                         response_force(model.node_masses[m], speed, time_step, normal);
