@@ -45,7 +45,6 @@ pub enum BodyAnimation {
 /// Samples per second of a procedural animation (the scenes' default frame rate).
 pub const SAMPLES_PER_SECOND: f64 = 60.0;
 
-
 /// `0` at or beyond `edge0`, `1` at or beyond `edge1`, smooth between.
 fn smoothstep(edge0: f32, edge1: f32, x: f32) -> f32 {
     let t = ((x - edge0) / (edge1 - edge0)).clamp(0.0, 1.0);
@@ -97,13 +96,25 @@ impl BodyAnimation {
             return Err(HairError::invalid("jaw drop (m)", jaw_drop, "0..=0.02 m"));
         }
         if !(stretch.is_finite() && (0.0..0.5).contains(&stretch)) {
-            return Err(HairError::invalid("stretch", stretch, "a fraction in 0..0.5"));
+            return Err(HairError::invalid(
+                "stretch",
+                stretch,
+                "a fraction in 0..0.5",
+            ));
         }
         if !(frequency.is_finite() && (0.0..=100.0).contains(&frequency)) {
-            return Err(HairError::invalid("frequency (Hz)", frequency, "0..=100 Hz"));
+            return Err(HairError::invalid(
+                "frequency (Hz)",
+                frequency,
+                "0..=100 Hz",
+            ));
         }
         if !(duration.is_finite() && duration >= 0.0) {
-            return Err(HairError::invalid("duration (s)", duration, "a finite time ≥ 0 s"));
+            return Err(HairError::invalid(
+                "duration (s)",
+                duration,
+                "a finite time ≥ 0 s",
+            ));
         }
         let count = (duration * SAMPLES_PER_SECOND).ceil() as usize + 1;
         let times: Vec<f64> = (0..count).map(|k| k as f64 / SAMPLES_PER_SECOND).collect();
@@ -114,13 +125,15 @@ impl BodyAnimation {
                 if k == 0 {
                     mesh.positions.clone()
                 } else {
-                    mesh.positions.iter().map(|&p| self.deform(p, time)).collect()
+                    mesh.positions
+                        .iter()
+                        .map(|&p| self.deform(p, time))
+                        .collect()
                 }
             })
             .collect();
-        MeshSequence::new(mesh.triangles.clone(), times, samples).map_err(|error| {
-            HairError::invalid("body animation", error, "a valid mesh sequence")
-        })
+        MeshSequence::new(mesh.triangles.clone(), times, samples)
+            .map_err(|error| HairError::invalid("body animation", error, "a valid mesh sequence"))
     }
 }
 

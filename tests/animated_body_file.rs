@@ -91,7 +91,12 @@ fn usd(animated: bool, counts_at: Option<usize>) -> String {
             .unwrap()
         }
     }
-    writeln!(text, "    int[] faceVertexIndices = [{}]", indices.join(", ")).unwrap();
+    writeln!(
+        text,
+        "    int[] faceVertexIndices = [{}]",
+        indices.join(", ")
+    )
+    .unwrap();
     if animated {
         text.push_str("    point3f[] points.timeSamples = {\n");
         for code in 0..=CODES {
@@ -117,7 +122,11 @@ fn groom() -> Curves {
     for k in 0..60 {
         let y = 1.0 - (k as f32 + 0.5) / 60.0 * 0.6;
         let r = (1.0 - y * y).sqrt();
-        let normal = Vec3::new(r * (golden * k as f32).cos(), y, r * (golden * k as f32).sin());
+        let normal = Vec3::new(
+            r * (golden * k as f32).cos(),
+            y,
+            r * (golden * k as f32).sin(),
+        );
         for i in 0..8 {
             curves.points.push(normal * (RADIUS + 0.015 * i as f32));
         }
@@ -173,7 +182,9 @@ fn a_rigidly_sampled_body_moves_the_hair_as_the_same_keyframed_motion() {
     let keyed_scene = keyed.build_scene().unwrap();
     assert!(moving_scene.body_motion.is_some());
     assert!(keyed_scene.body_motion.is_none());
-    let mut a = moving.pipeline(&moving_scene, moving.settings, None).unwrap();
+    let mut a = moving
+        .pipeline(&moving_scene, moving.settings, None)
+        .unwrap();
     let mut b = keyed.pipeline(&keyed_scene, keyed.settings, None).unwrap();
     // Between samples the mesh's vertices move on chords, the keyframed head on arcs: a point
     // at radius r sags by at most r·Δθ²/8 (Δθ = SPIN/24 rad per sample), 7.8 µm on the sphere.
@@ -199,7 +210,10 @@ fn a_rigidly_sampled_body_moves_the_hair_as_the_same_keyframed_motion() {
         }
     }
     eprintln!("roots within {roots} m (bound {root_bound}), nodes within {nodes} m");
-    assert!(roots <= root_bound, "roots {roots} m apart, bound {root_bound}");
+    assert!(
+        roots <= root_bound,
+        "roots {roots} m apart, bound {root_bound}"
+    );
     // The chains answer the roots' few micrometres through their springs and contacts: a tenth
     // of a millimetre bounds that with room (measured 34 µm, the same as with collision off).
     assert!(nodes <= 1e-4, "nodes {nodes} m apart");

@@ -7,8 +7,8 @@
 //! the scene's motion and measured with `attach_roots` (closest points) and `penetration_depth` (signed distances).
 
 use glam::{Mat3, Vec3};
-use hairlod::collide::{CollisionBody, attach_roots};
 use hairlod::accuracy::penetration_depth;
+use hairlod::collide::{CollisionBody, attach_roots};
 use hairlod::{Level, SceneFile};
 
 /// A triangle's orthonormal frame: first edge, in-plane perpendicular, normal.
@@ -91,8 +91,14 @@ fn run(mode: &str) {
     );
     // The head deformed by far more than the tolerance (centimetres): the collision followed it.
     assert!(moved > 0.01, "{mode}: the mesh moved only {moved} m");
-    assert!(worst_root <= ROOT_TOLERANCE, "{mode}: a root {worst_root} m from its place");
-    assert!(worst_depth <= TOLERANCE, "{mode}: a node {worst_depth} m inside");
+    assert!(
+        worst_root <= ROOT_TOLERANCE,
+        "{mode}: a root {worst_root} m from its place"
+    );
+    assert!(
+        worst_depth <= TOLERANCE,
+        "{mode}: a node {worst_depth} m inside"
+    );
 }
 
 #[test]
@@ -108,4 +114,25 @@ fn roots_ride_a_talking_head_and_no_node_enters_it_as_patches() {
 #[test]
 fn roots_ride_a_talking_head_and_no_node_enters_it_with_automatic_levels() {
     run("auto");
+}
+
+/// The shipped deforming scene resolves to the talking head and runs a frame with it.
+#[test]
+fn the_shipped_talking_head_scene_deforms() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/talking-head.toml");
+    let mut shot = SceneFile::read(std::path::Path::new(path))
+        .unwrap()
+        .resolve()
+        .unwrap();
+    assert_eq!(
+        shot.body_animation,
+        Some(hairlod::body_animation::BodyAnimation::talk())
+    );
+    shot.frames = 2;
+    let scene = shot.build_scene().unwrap();
+    let motion = scene.body_motion.as_ref().expect("a deforming head");
+    assert!(motion.is_animated());
+    let mut pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
+    let report = pipeline.advance(&shot.camera(0)).unwrap();
+    assert!(report.body_update > 0.0, "{report:?}");
 }

@@ -6,8 +6,8 @@
 use std::sync::Arc;
 
 use hair_collide::{CollisionBody, attach_roots};
-use hair_core::dynamics::{DeformingBody, RootCarrier, SurfaceAttachment};
 use hair_core::Scene;
+use hair_core::dynamics::{DeformingBody, RootCarrier, SurfaceAttachment};
 
 use super::error::Result;
 
@@ -50,18 +50,23 @@ impl BodyRide {
     }
 
     /// The collision body of the mesh at `time` [s] (head space; posed by the collision stage),
-    /// its vertices moving at their mean velocity over the `time_step` [s] before it.
-    pub(crate) fn collision_body(&self, time: f64, time_step: f32) -> Result<CollisionBody> {
+    /// its vertices moving at their mean velocity over the `time_step` [s] before it, and the
+    /// farthest any vertex moved over that step [m].
+    pub(crate) fn collision_body(&self, time: f64, time_step: f32) -> Result<(CollisionBody, f32)> {
         let sequence = self.body.sequence();
         let mesh = sequence.mesh_at(time);
         let mut earlier = Vec::new();
         sequence.positions_at(time - f64::from(time_step), &mut earlier);
+        let mut moved = 0.0f32;
         let velocities = mesh
             .positions
             .iter()
             .zip(&earlier)
-            .map(|(now, before)| (*now - *before) / time_step)
+            .map(|(now, before)| {
+                moved = moved.max(now.distance(*before));
+                (*now - *before) / time_step
+            })
             .collect();
-        Ok(CollisionBody::from_moving_mesh(&mesh, velocities)?)
+        Ok((CollisionBody::from_moving_mesh(&mesh, velocities)?, moved))
     }
 }

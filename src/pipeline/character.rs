@@ -49,8 +49,9 @@ pub(crate) struct CharacterWork {
     /// Where the groom rides a deforming head (the scene's body motion), if it deforms.
     pub(crate) ride: Option<BodyRide>,
     /// With a deforming head and collision: the collision body at the time the frame being
-    /// stepped ends, which the levels' bodies become between the step and the projection.
-    pub(crate) body_at_end: Option<CollisionBody>,
+    /// stepped ends, which the levels' bodies become between the step and the projection, and
+    /// the farthest its surface moved over the step [m].
+    pub(crate) body_at_end: Option<(CollisionBody, f32)>,
     /// The level selector (automatic levels): its constants and scratch; its memory (choices,
     /// depths, tolerance) is the state's.
     pub(crate) selector: Option<LodSelector>,
@@ -196,7 +197,8 @@ impl CharacterRun<'_> {
     pub(crate) fn pose_body(&mut self) -> Result<()> {
         let head = self.head_pose();
         if let (Some(ride), Some(_)) = (&self.work.ride, &self.work.body) {
-            let body = ride.collision_body(self.state.time, self.settings.dynamics.time_step)?;
+            let (body, _) =
+                ride.collision_body(self.state.time, self.settings.dynamics.time_step)?;
             for (_, level) in self.work.work.levels.iter_mut() {
                 for copy in level.bodies.iter_mut() {
                     *copy = body.clone();
@@ -295,7 +297,9 @@ impl<'a> CharacterRun<'a> {
         let body_at_end = if hold_body {
             None
         } else {
-            work.body_at_end.as_ref()
+            work.body_at_end
+                .as_ref()
+                .map(|(body, moved)| (body, *moved))
         };
         super::step::character_steps(
             state.blocks.iter_mut(),

@@ -88,6 +88,11 @@ pub struct FrameReport {
     /// Their segments, each strand tessellated as its chain is at its distance.
     #[serde(default)]
     pub rendered_strand_segments: usize,
+    /// Time spent building deforming bodies' collision bodies at the frame's end [s] (their
+    /// mesh, triangle tree, pseudonormals and vertex velocities); counted in
+    /// [`StageTimes::collision`] too. 0 for rigid bodies.
+    #[serde(default)]
+    pub body_update: f64,
     /// Time per stage [s].
     pub times: StageTimes,
 }
@@ -125,6 +130,7 @@ impl FrameReport {
         self.drawn_segments += other.drawn_segments;
         self.contacts += other.contacts;
         self.max_stretch = self.max_stretch.max(other.max_stretch);
+        self.body_update += other.body_update;
         self.times.add(&other.times);
     }
 }

@@ -28,8 +28,9 @@ pub(crate) struct BlockStep<'a> {
     pub(crate) time: f64,
     /// Hold a deforming head at rest through the step (the settling fall).
     pub(crate) hold_body: bool,
-    /// A deforming head's collision body at the step's end, for the projection.
-    pub(crate) body_at_end: Option<&'a CollisionBody>,
+    /// A deforming head's collision body at the step's end, for the projection, and the farthest
+    /// its surface moved over the step [m].
+    pub(crate) body_at_end: Option<(&'a CollisionBody, f32)>,
 }
 
 /// What every block of a character steps with: the environment, the time the state is at
@@ -40,7 +41,7 @@ pub(crate) struct StepInputs<'a> {
     pub(crate) environment: &'a Environment,
     pub(crate) time: f64,
     pub(crate) hold_body: bool,
-    pub(crate) body_at_end: Option<&'a CollisionBody>,
+    pub(crate) body_at_end: Option<(&'a CollisionBody, f32)>,
 }
 
 /// What stepping one block did: its level, the wall-clock time of its dynamics and collision
@@ -137,13 +138,13 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
             simulation.step(&mut block.state, environment)?;
             stepped.dynamics += started.elapsed().as_secs_f64();
             let started = Instant::now();
-            if let Some(end) = body_at_end {
+            if let Some((end, moved)) = body_at_end {
                 // The deforming head where the step ends: what the projection holds the nodes
                 // out of, and the next step's contacts start from.
                 for body in work.bodies.iter_mut() {
                     *body = end.clone();
                 }
-                solver.forget_clearances();
+                solver.shrink_clearances(moved);
             }
             let projection =
                 solver.after_step(&mut work.bodies, simulation, &mut block.state, environment)?;

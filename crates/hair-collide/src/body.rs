@@ -206,6 +206,27 @@ impl CollisionBody {
         self.rotation * (i * weights.x + j * weights.y + k * weights.z)
     }
 
+    /// Whether the body deforms (it has vertex velocities, [`CollisionBody::from_moving_mesh`]).
+    pub fn is_deforming(&self) -> bool {
+        !self.shape.vertex_velocities.is_empty()
+    }
+
+    /// The mean of the vertex velocities \[m/s\] of triangles `ids` (body frame): a touching
+    /// segment's surface velocity from the triangles it touches. Zero for a rigid body or no
+    /// triangles.
+    pub fn local_deformation_velocity_of(&self, ids: &[u32]) -> Vec3 {
+        let velocities = &self.shape.vertex_velocities;
+        if velocities.is_empty() || ids.is_empty() {
+            return Vec3::ZERO;
+        }
+        let sum: Vec3 = ids
+            .iter()
+            .flat_map(|&t| self.shape.indices[t as usize])
+            .map(|v| velocities[v as usize])
+            .sum();
+        sum / (3 * ids.len()) as f32
+    }
+
     /// Places the body: world = `rotation` · local + `translation` \[m\]. Only the pose changes
     /// (constant time, whatever the mesh). `rotation` is normalised; errors on a non-finite or
     /// zero rotation or a non-finite translation, leaving the pose unchanged.

@@ -49,6 +49,10 @@ pub struct CollisionSolver {
     field_contacts: FieldContacts,
     /// Per touching segment of the body being answered: `(segment, normal in the body's frame)`.
     segment_normals: Vec<(u32, Vec3)>,
+    /// With a deforming body: each touching segment's surface velocity besides the pose's
+    /// \[m/s\] (body frame), the mean of its touched triangles' vertex velocities, in
+    /// `segment_normals`' order.
+    segment_surface: Vec<Vec3>,
     chain_sections: Vec<u32>,
     /// Per gathered node: sum of the unit normals of its touching segments.
     node_normals: Vec<Vec3>,
@@ -89,6 +93,7 @@ impl CollisionSolver {
             contacts: SegmentContacts::new(),
             field_contacts: FieldContacts::new(),
             segment_normals: Vec::new(),
+            segment_surface: Vec::new(),
             chain_sections: Vec::new(),
             node_normals: Vec::new(),
             gathered_forces: Vec::new(),
@@ -128,11 +133,21 @@ impl CollisionSolver {
         self.previous_time = memory.time;
     }
 
-    /// Forgets every node's clearance from the bodies: for bodies that changed shape (a
-    /// deforming body built again at a new time), whose distances the clearances no longer
-    /// bound. The next projection measures each node again.
-    pub fn forget_clearances(&mut self) {
-        self.clearances.fill(Clearance::default());
+    /// Shrinks every node's clearance from the bodies by `moved` \[m\]: for bodies that changed
+    /// shape (a deforming body built again at a new time) with no point of their surface moved
+    /// farther than `moved` in their own frame. A node's distance to the new surface is at least
+    /// its distance to the old one less `moved` (each surface point is a blend of vertices, none
+    /// of which moved farther), so the shrunk clearances still bound it; a clearance that
+    /// reaches zero certifies nothing and the next projection measures that node again. A
+    /// non-finite or negative `moved` forgets them all.
+    pub fn shrink_clearances(&mut self, moved: f32) {
+        if !(moved.is_finite() && moved >= 0.0) {
+            self.clearances.fill(Clearance::default());
+            return;
+        }
+        for cache in &mut self.clearances {
+            cache.clearance = (cache.clearance - moved).max(0.0);
+        }
     }
 
     /// Lays the clearance cache out for `count` bodies (emptied when the count changes: an empty
@@ -263,6 +278,7 @@ impl CollisionSolver {
         self.node_normals.fill(Vec3::ZERO);
         for body in bodies.iter() {
             self.segment_normals.clear();
+            self.segment_surface.clear();
             if self.settings.broad_phase == BroadPhase::FieldContacts {
                 query_body_field(hierarchy.volumes(), body, &mut self.field_contacts);
                 report.contact_segments += self.field_contacts.contacts.len();
@@ -278,14 +294,21 @@ impl CollisionSolver {
                 report.contact_segments += self.contacts.segment_count();
                 report.contact_pairs += self.contacts.pair_count();
                 let triangles = body.local_triangles();
-                self.segment_normals.extend(self.contacts.iter().filter_map(
-                    |(segment, touched)| Some((segment, average_normal(triangles, touched)?)),
-                ));
+                let deforming = body.is_deforming();
+                for (segment, touched) in self.contacts.iter() {
+                    if let Some(normal) = average_normal(triangles, touched) {
+                        self.segment_normals.push((segment, normal));
+                        if deforming {
+                            self.segment_surface
+                                .push(body.local_deformation_velocity_of(touched));
+                        }
+                    }
+                }
             }
             if !respond {
                 continue;
             }
-            for &(segment, local_normal) in &self.segment_normals {
+            for (index, &(segment, local_normal)) in self.segment_normals.iter().enumerate() {
                 let normal = head.rotation * local_normal;
                 let top = hierarchy.segment_top_nodes()[segment as usize] as usize;
                 for node in [top, top + 1] {
@@ -303,8 +326,13 @@ impl CollisionSolver {
                     } else {
                         state.node_velocities[m]
                     };
-                    let surface = rigid_point_velocity(&head_before, &head, p, time_step)
-                        + body.deformation_velocity(p);
+                    let deformation = match self.segment_surface.get(index) {
+                        Some(local) => head.rotation * *local,
+                        // Field contacts name no triangles: the closest point's.
+                        None => body.deformation_velocity(p),
+                    };
+                    let surface =
+                        rigid_point_velocity(&head_before, &head, p, time_step) + deformation;
                     let speed = approach_speed(velocity, surface, normal);
                     state.collision_forces[m] +=
                         response_force(model.node_masses[m], speed, time_step, normal);

@@ -3,9 +3,9 @@
 
 use std::sync::Arc;
 
+use crate::error::HairError;
 use crate::error::Result;
 use crate::groom::{Groom, GroomParams};
-use crate::error::HairError;
 use crate::head::{Head, HeadParams};
 use crate::mesh_sequence::MeshSequence;
 
