@@ -12,7 +12,7 @@
 //! face counts and indices, the number of points) must be the same at every sample: a change
 //! is an error naming the prim and the time code.
 //!
-//! The two encodings are read by `usd_tracks.rs` into the same [`MeshTrack`]s; composition arcs
+//! The two encodings are read by `usd_tracks.rs` into the same `MeshTrack`s; composition arcs
 //! are not followed.
 
 use std::path::Path;
@@ -25,11 +25,10 @@ use hair_core::mesh::TriangleMesh;
 use super::error::{FormatError, FormatErrorKind, Location};
 use super::options::{ImportAxes, ImportOptions};
 use super::read_file;
-use super::usd_attrs::Units;
 use super::usd_layer::{Encoding, sniff};
 use super::usd_mesh::add_prim;
-use super::usd_tracks::{crate_tracks, text_tracks};
-use super::usd_xform::{OpStack, Timed, world};
+use super::usd_tracks::{MeshTrack, Tracks, crate_tracks, text_tracks};
+use super::usd_xform::{OpStack, world};
 use super::usda_mesh::MeshValues;
 use super::usda_values::{Array, Sample};
 
@@ -51,28 +50,6 @@ pub fn read_usd_mesh_sequence_file(
     options: &ImportOptions,
 ) -> Result<MeshSequence, FormatError> {
     read_file(path.as_ref(), |bytes| read(bytes, options))
-}
-
-/// One `Mesh` prim over time, from either encoding.
-pub(crate) struct MeshTrack {
-    /// The prim's path (`/body/skin`).
-    pub(crate) path: String,
-    /// The line of the prim's name (text), or `None` (a crate file names no lines).
-    pub(crate) line: Option<usize>,
-    pub(crate) points: Timed<Array<Vec3>>,
-    pub(crate) counts: Timed<Array<i64>>,
-    pub(crate) indices: Timed<Array<i64>>,
-    /// `orientation` (uniform) and its line (text).
-    pub(crate) orientation: (String, Option<usize>),
-    /// The transforms of the prim's ancestors that have one, outermost first, then its own.
-    pub(crate) stacks: Vec<OpStack>,
-}
-
-/// A layer's meshes over time.
-pub(crate) struct Tracks {
-    pub(crate) units: Units,
-    pub(crate) time_codes_per_second: f64,
-    pub(crate) meshes: Vec<MeshTrack>,
 }
 
 fn read(bytes: &[u8], options: &ImportOptions) -> Result<MeshSequence, FormatErrorKind> {

@@ -5,16 +5,38 @@
 
 use std::collections::HashMap;
 
+use glam::Vec3;
 use openusd::sdf::{self, Value};
 
 use super::error::{FormatErrorKind, Location};
 use super::usd_attrs::{Units, token_attribute};
 use super::usd_layer::{Layer, as_ints, as_numbers, as_points, type_name, usd_error};
-use super::usd_sequence::{MeshTrack, Tracks};
 use super::usd_xform::{Op, OpStack, Timed};
 use super::usda_parse::parse_layer_sequence;
 use super::usda_prims::{PrimKind, XformPrim};
 use super::usda_values::{Array, Attr, Sample};
+
+/// One `Mesh` prim over time, from either encoding.
+pub(crate) struct MeshTrack {
+    /// The prim's path (`/body/skin`).
+    pub(crate) path: String,
+    /// The line of the prim's name (text), or `None` (a crate file names no lines).
+    pub(crate) line: Option<usize>,
+    pub(crate) points: Timed<Array<Vec3>>,
+    pub(crate) counts: Timed<Array<i64>>,
+    pub(crate) indices: Timed<Array<i64>>,
+    /// `orientation` (uniform) and its line (text).
+    pub(crate) orientation: (String, Option<usize>),
+    /// The transforms of the prim's ancestors that have one, outermost first, then its own.
+    pub(crate) stacks: Vec<OpStack>,
+}
+
+/// A layer's meshes over time.
+pub(crate) struct Tracks {
+    pub(crate) units: Units,
+    pub(crate) time_codes_per_second: f64,
+    pub(crate) meshes: Vec<MeshTrack>,
+}
 
 /// USD's fallback when a layer names no rate [time codes per second].
 const DEFAULT_TIME_CODES_PER_SECOND: f64 = 24.0;
