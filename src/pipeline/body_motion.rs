@@ -6,8 +6,8 @@
 use std::sync::Arc;
 
 use hair_collide::{CollisionBody, attach_roots};
-use hair_core::Scene;
 use hair_core::dynamics::{DeformingBody, RootCarrier, SurfaceAttachment};
+use hair_core::{Scene, TriangleMesh};
 
 use super::error::Result;
 
@@ -22,13 +22,22 @@ pub(crate) struct BodyRide {
 }
 
 impl BodyRide {
-    /// The ride of `scene`'s groom on its body motion; `None` for a rigid head.
-    pub(crate) fn of(scene: &Scene) -> Result<Option<BodyRide>> {
+    /// The ride of `scene`'s groom on its body motion; `None` for a rigid head. `rest` is the
+    /// collision body of the head mesh where one is built already (unposed); else one is built
+    /// to attach the roots.
+    pub(crate) fn of(scene: &Scene, rest: Option<&CollisionBody>) -> Result<Option<BodyRide>> {
         let Some(motion) = &scene.body_motion else {
             return Ok(None);
         };
-        let rest = CollisionBody::from_mesh(&scene.head.mesh)?;
-        let (attached, _) = attach_roots(&rest, &scene.groom.skeletons.root_positions)?;
+        let built;
+        let rest = match rest {
+            Some(rest) => rest,
+            None => {
+                built = CollisionBody::from_mesh(&scene.head.mesh)?;
+                &built
+            }
+        };
+        let (attached, _) = attach_roots(rest, &scene.groom.skeletons.root_positions)?;
         Ok(Some(BodyRide {
             body: Arc::new(DeformingBody::new(motion.clone())),
             attachments: attached
@@ -54,7 +63,13 @@ impl BodyRide {
     /// farthest any vertex moved over that step [m].
     pub(crate) fn collision_body(&self, time: f64, time_step: f32) -> Result<(CollisionBody, f32)> {
         let sequence = self.body.sequence();
-        let mesh = sequence.mesh_at(time);
+        // Collision needs no vertex normals (its pseudonormals come from the triangles).
+        let mut mesh = TriangleMesh {
+            positions: Vec::new(),
+            normals: Vec::new(),
+            triangles: sequence.triangles().to_vec(),
+        };
+        sequence.positions_at(time, &mut mesh.positions);
         let mut earlier = Vec::new();
         sequence.positions_at(time - f64::from(time_step), &mut earlier);
         let mut moved = 0.0f32;

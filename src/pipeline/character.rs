@@ -103,13 +103,6 @@ pub(crate) fn build_character(
         }
         LodMode::Fixed(level) => (None, level),
     };
-    let ride = BodyRide::of(&model.scene)?;
-    // A deforming body is built again every frame: the hierarchies need no field, which would
-    // be built again every frame too.
-    let broad_phase = match ride {
-        Some(_) => BroadPhase::Hierarchies,
-        None => settings.broad_phase,
-    };
     let triangles = model.scene.head.mesh.triangles.len();
     let body = match (settings.collision, shared.body) {
         (false, _) => None,
@@ -121,6 +114,13 @@ pub(crate) fn build_character(
         }
         (true, Some(body)) => Some(body.clone()),
         (true, None) => Some(CollisionBody::from_mesh(&model.scene.head.mesh)?),
+    };
+    let ride = BodyRide::of(&model.scene, body.as_ref())?;
+    // A deforming body is built again every frame: the hierarchies need no field, which would
+    // be built again every frame too.
+    let broad_phase = match ride {
+        Some(_) => BroadPhase::Hierarchies,
+        None => settings.broad_phase,
     };
     if broad_phase != BroadPhase::Hierarchies
         && let Some(body) = &body

@@ -121,9 +121,7 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
     block.state.time = time;
     // Held at rest: the carrier (which would move the roots with the body's time) steps aside.
     let held = if hold_body {
-        let carrier = simulation.root_carrier().cloned();
-        simulation.set_root_carrier(None)?;
-        carrier
+        simulation.take_root_carrier()
     } else {
         None
     };

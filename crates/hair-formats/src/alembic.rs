@@ -34,8 +34,8 @@ use std::path::Path;
 
 use glam::{DMat4, DVec3, Vec3};
 use ogawa_rs::{
-    Archive, ArchiveReader, DataType, F32_TYPE, F32X3_TYPE, I32_TYPE, ObjectReader, PodArray,
-    PropertyReader,
+    Archive, ArchiveReader, DataType, F32_TYPE, F32X3_TYPE, GroupChunk, I32_TYPE, ObjectReader,
+    PodArray, PropertyHeader, PropertyReader,
 };
 
 use super::alembic_layout::check_layout;
@@ -147,6 +147,16 @@ pub(crate) struct Reading<'a> {
     pub(crate) reader: Memory<'a>,
     pub(crate) archive: Archive,
     pub(crate) objects: Vec<CurvesObject>,
+}
+
+/// An array or scalar property found by [`Reading::sampled_property`].
+pub(crate) struct SampledProperty {
+    /// Its samples' group.
+    pub(crate) group: GroupChunk,
+    /// Its header (data type, sample counts, time sampling).
+    pub(crate) header: PropertyHeader,
+    /// An array property (each sample two children: data and dimensions), not a scalar one.
+    pub(crate) array: bool,
 }
 
 /// An `ogawa-rs` error about `element` at byte `offset`.
@@ -277,27 +287,27 @@ impl Reading<'_> {
         }
     }
 
-    /// The first sample of property `name` of `compound`, and the byte offset of its first value;
-    /// `None` when there is no such property. `data_type`, when given, is the type it must have.
-    fn first_sample(
+    /// Property `name` of `compound`, an array or a scalar one, with its samples' group and its
+    /// header; `None` when there is no such property. `data_type`, when given, is the type it
+    /// must have. Errors name `element` (the property's own name included).
+    pub(crate) fn sampled_property(
         &mut self,
         compound: &PropertyReader,
         name: &str,
         element: &str,
         data_type: Option<&DataType>,
-    ) -> Result<Option<(PodArray, u64)>, FormatErrorKind> {
-        let element = format!("{element} {name}");
+    ) -> Result<Option<SampledProperty>, FormatErrorKind> {
         let PropertyReader::Compound(compound) = compound else {
             return Err(structure(element, "not in a compound property".into(), 0));
         };
         let at = compound.group.position;
         let property = compound
             .load_sub_property_by_name(name, &mut self.reader, &self.archive)
-            .map_err(crate_error(&element, at))?;
-        let (group, header) = match &property {
+            .map_err(crate_error(element, at))?;
+        let (group, header, array) = match property {
             None => return Ok(None),
-            Some(PropertyReader::Array(array)) => (&array.group, &array.header),
-            Some(PropertyReader::Scalar(scalar)) => (&scalar.group, &scalar.header),
+            Some(PropertyReader::Array(array)) => (array.group, array.header, true),
+            Some(PropertyReader::Scalar(scalar)) => (scalar.group, scalar.header, false),
             Some(PropertyReader::Compound(_)) => {
                 return Err(structure(
                     element,
@@ -315,6 +325,28 @@ impl Reading<'_> {
                 group.position,
             ));
         }
+        Ok(Some(SampledProperty {
+            group,
+            header,
+            array,
+        }))
+    }
+
+    /// The first sample of property `name` of `compound`, and the byte offset of its first value;
+    /// `None` when there is no such property. `data_type`, when given, is the type it must have.
+    fn first_sample(
+        &mut self,
+        compound: &PropertyReader,
+        name: &str,
+        element: &str,
+        data_type: Option<&DataType>,
+    ) -> Result<Option<(PodArray, u64)>, FormatErrorKind> {
+        let element = format!("{element} {name}");
+        let Some(SampledProperty { group, header, .. }) =
+            self.sampled_property(compound, name, &element, data_type)?
+        else {
+            return Ok(None);
+        };
         if header.next_sample_index == 0 || group.children.is_empty() {
             return Err(structure(element, "no sample".into(), group.position));
         }

@@ -7,7 +7,7 @@
 
 use ogawa_rs::{DataType, PodArray, PropertyReader};
 
-use super::alembic::{Reading, crate_error};
+use super::alembic::{Reading, SampledProperty, crate_error};
 use super::error::FormatErrorKind;
 use super::ogawa::structure;
 use super::usd_xform::Timed;
@@ -25,34 +25,15 @@ pub(crate) fn samples(
     data_type: Option<&DataType>,
 ) -> Result<Option<Vec<PropertySample>>, FormatErrorKind> {
     let element = format!("{element} {name}");
-    let PropertyReader::Compound(compound) = compound else {
-        return Err(structure(element, "not in a compound property".into(), 0));
+    let Some(SampledProperty {
+        group,
+        header,
+        array,
+    }) = reading.sampled_property(compound, name, &element, data_type)?
+    else {
+        return Ok(None);
     };
-    let at = compound.group.position;
-    let property = compound
-        .load_sub_property_by_name(name, &mut reading.reader, &reading.archive)
-        .map_err(crate_error(&element, at))?;
-    let (group, header, per_sample) = match &property {
-        None => return Ok(None),
-        Some(PropertyReader::Array(array)) => (&array.group, &array.header, 2),
-        Some(PropertyReader::Scalar(scalar)) => (&scalar.group, &scalar.header, 1),
-        Some(PropertyReader::Compound(_)) => {
-            return Err(structure(
-                element,
-                "a compound property (an indexed geometry parameter), not an array".into(),
-                at,
-            ));
-        }
-    };
-    if let Some(wanted) = data_type
-        && header.data_type != *wanted
-    {
-        return Err(structure(
-            element,
-            format!("type {:?}, expected {wanted:?}", header.data_type),
-            group.position,
-        ));
-    }
+    let per_sample = if array { 2 } else { 1 };
     let count = header.next_sample_index;
     if count == 0 || group.children.is_empty() {
         return Err(structure(element, "no sample".into(), group.position));

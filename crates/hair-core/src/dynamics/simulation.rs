@@ -161,6 +161,13 @@ impl Simulation {
         self.carrier.as_ref()
     }
 
+    /// Takes the root carrier out: the head alone carries the roots until one is set again.
+    /// The carrier's scratch is kept for its return, so taking it out and setting it back
+    /// allocates nothing.
+    pub fn take_root_carrier(&mut self) -> Option<RootCarrier> {
+        self.carrier.take()
+    }
+
     fn resize_chain_poses(&mut self) {
         let count = match self.carrier {
             Some(_) => self.model.chain_count() * (self.settings.substeps as usize + 1),
