@@ -83,7 +83,7 @@ pub fn strand_skeletons(pipeline: &Pipeline) -> Result<Vec<Vec3>> {
     let first_node = skeletons.offsets[chains.start] as usize;
     let mut out = vec![Vec3::ZERO; skeletons.offsets[chains.end] as usize - first_node];
     let mut velocities = Vec::new();
-    let head = pipeline.environment().head.transform_at(pipeline.time());
+    let roots = pipeline.chain_roots();
     for (section, &level) in pipeline.section_levels().iter().enumerate() {
         let target = groom.section_chains(section, Level::StrandGroup);
         let range = skeletons.offsets[target.start] as usize - first_node
@@ -111,7 +111,7 @@ pub fn strand_skeletons(pipeline: &Pipeline) -> Result<Vec<Vec3>> {
             Level::StrandGroup,
             &mut out[range],
             &mut velocities,
-            &head,
+            &roots,
         )?;
     }
     Ok(out)

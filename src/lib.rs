@@ -36,6 +36,7 @@ pub mod rest_pose;
 pub mod run;
 pub mod scene_file;
 pub mod shot;
+pub mod usd_export;
 
 pub use crowd::{Crowd, CrowdModel, CrowdRenderer};
 pub use hair_collide as collide;

@@ -38,9 +38,9 @@ use std::time::Instant;
 use glam::Vec3;
 use hair_collide::BroadPhase;
 use hair_core::dynamics::{
-    DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY, SagFreeReport,
-    SimulationSettings, TurnLimit, WindField, kinetic_energy_per_mass, level_skeletons,
-    make_sag_free,
+    ChainRoots, DynamicsParams, Environment, HeadMotion, IntegratorKind, STANDARD_GRAVITY,
+    SagFreeReport, SimulationSettings, TurnLimit, WindField, kinetic_energy_per_mass,
+    level_skeletons, make_sag_free,
 };
 use hair_core::lod::{SectionStateRef, hand_over};
 use hair_core::skeleton::measure_chain;
@@ -348,7 +348,7 @@ fn hand_down_shapes(groom: &mut Groom, level: Level) -> Result<()> {
             level,
             &mut shape,
             &mut velocities,
-            &head,
+            &ChainRoots::rigid(head),
         )?;
         positions.extend_from_slice(&shape);
         chains.extend(to);

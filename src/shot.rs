@@ -9,7 +9,7 @@ use glam::Vec3;
 use hair_core::dynamics::{Environment, SimulationSettings};
 use hair_core::fit::bind_profiles;
 use hair_core::lod::{BudgetSettings, LodSettings};
-use hair_core::{Camera, GroomParams, HeadParams, Scene};
+use hair_core::{Camera, GroomParams, HairError, HeadParams, Scene};
 use serde::Serialize;
 
 use crate::loaded::{BodyFile, GroomFile, LoadedScene, load_scene};
@@ -310,6 +310,15 @@ impl Shot {
         if let Some(animation) = &self.body_animation {
             let duration = self.frames as f64 / f64::from(self.fps);
             let sequence = animation.sample(&scene.head.mesh, duration)?;
+            scene.set_body_motion(Some(std::sync::Arc::new(sequence)))?;
+        }
+        // The body's first sample is frame 0: frame k shows the state one step after the
+        // frame before, at run time (k + 1)/fps, so the samples move to start there. The
+        // sequence's clock keeps the file's time line (what `hair.usda` is written on).
+        if let Some(motion) = scene.body_motion.take() {
+            let sequence = std::sync::Arc::unwrap_or_clone(motion)
+                .retimed(1.0 / f64::from(self.fps))
+                .map_err(|error| HairError::invalid("body animation", error, "a valid sequence"))?;
             scene.set_body_motion(Some(std::sync::Arc::new(sequence)))?;
         }
         Ok((scene, loaded))

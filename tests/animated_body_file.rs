@@ -164,13 +164,15 @@ fn shot(dir: &Path, body: &str, motion: &str) -> Shot {
 fn a_rigidly_sampled_body_moves_the_hair_as_the_same_keyframed_motion() {
     let dir = files("rigid-samples");
     let moving = shot(&dir, "moving.usda", "");
+    // The body file's first sample is frame 0, which shows the state one step in (at run time
+    // 1/fps, fps = 60 by default): code c plays at run time c/24 + 1/60 s.
     let mut keys = String::from("[motion]\nkind = \"keyframes\"\nkeyframes = [\n");
     for code in 0..=CODES {
         let t = code as f32 / CODES_PER_SECOND;
         writeln!(
             keys,
             "  {{ time = {}, rotation_degrees = [0.0, {}, 0.0], translation = [{}, 0.0, 0.0] }},",
-            t as f64,
+            f64::from(t) + 1.0 / 60.0,
             (SPIN * t).to_degrees(),
             DRIFT * t
         )

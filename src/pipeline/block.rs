@@ -6,9 +6,9 @@ use std::ops::Range;
 
 use glam::Vec3;
 use hair_collide::VelocityMemory;
-use hair_core::dynamics::SimulationState;
+use hair_core::dynamics::{ChainRoots, SimulationState};
 use hair_core::lod::{SectionStateRef, hand_over};
-use hair_core::{Groom, Level, PerLevel, RigidTransform};
+use hair_core::{Groom, Level, PerLevel};
 use serde::{Deserialize, Serialize};
 
 use super::error::{PipelineError, Result};
@@ -79,7 +79,7 @@ impl LevelBlock {
         sections: Vec<usize>,
         blocks: &PerLevel<LevelBlock>,
         time: f64,
-        head: &RigidTransform,
+        roots: &ChainRoots<'_>,
     ) -> Result<Self> {
         let mut block = LevelBlock::laid_out(groom, level, sections, time);
         let old = &blocks[level];
@@ -114,7 +114,7 @@ impl LevelBlock {
                 level,
                 &mut block.state.node_positions[target.clone()],
                 &mut block.state.node_velocities[target],
-                head,
+                roots,
             )?;
         }
         Ok(block)

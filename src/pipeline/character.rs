@@ -198,7 +198,7 @@ impl CharacterRun<'_> {
         let head = self.head_pose();
         if let (Some(ride), Some(_)) = (&self.work.ride, &self.work.body) {
             let (body, _) =
-                ride.collision_body(self.state.time, self.settings.dynamics.time_step)?;
+                ride.collision_body(self.state.time, self.settings.dynamics.time_step, None)?;
             for (_, level) in self.work.work.levels.iter_mut() {
                 for copy in level.bodies.iter_mut() {
                     *copy = body.clone();
@@ -215,10 +215,12 @@ impl CharacterRun<'_> {
     /// With a deforming head and collision, builds the collision body at the end of the step
     /// from `time` [s] ([`CharacterWork::body_at_end`]).
     pub(crate) fn prepare_body_at_end(&mut self, time: f64) -> Result<()> {
+        let previous = self.work.body_at_end.take();
         self.work.body_at_end = match (&self.work.ride, &self.work.body) {
-            (Some(ride), Some(_)) => {
+            (Some(ride), Some(body)) => {
                 let step = self.settings.dynamics.time_step;
-                Some(ride.collision_body(time + f64::from(step), step)?)
+                let previous = previous.as_ref().map_or(body, |(previous, _)| previous);
+                Some(ride.collision_body(time + f64::from(step), step, Some(previous))?)
             }
             _ => None,
         };
@@ -234,6 +236,7 @@ impl CharacterRun<'_> {
             groom: &self.model.scene.groom,
             params: self.model.params,
             settings: self.settings,
+            ride: self.work.ride.as_ref(),
         };
         stage(model, self.state, &mut self.work.work)
     }

@@ -6,17 +6,20 @@ use hair_core::dynamics::DynamicsParams;
 use hair_core::{Groom, Level, PerLevel, RigidTransform};
 
 use super::block::LevelBlock;
+use super::body_motion::{BodyRide, chain_roots};
 use super::error::Result;
 use super::settings::PipelineSettings;
 use super::state::PipelineState;
 use super::work::Workspace;
 
-/// What the hand-over reads of the model: the groom, the skeletons' material and the settings.
+/// What the hand-over reads of the model: the groom, the skeletons' material, the settings and
+/// where the roots ride a deforming body.
 #[derive(Clone, Copy)]
 pub(crate) struct HandOverModel<'a> {
     pub(crate) groom: &'a Groom,
     pub(crate) params: DynamicsParams,
     pub(crate) settings: &'a PipelineSettings,
+    pub(crate) ride: Option<&'a BodyRide>,
 }
 
 /// Builds the blocks of the state's levels with every skeleton in its rest shape on the head at
@@ -46,13 +49,14 @@ pub(crate) fn start_at_rest(
 
 /// Rebuilds the blocks whose sections changed (a section switched level or a blend ended):
 /// sections that stay keep their state bit for bit, arriving ones are handed over (§4.2) on the
-/// head at `head`.
+/// head at `head`, their roots where the deforming body carries them at the state's time.
 pub(crate) fn apply_level_changes(
     model: HandOverModel<'_>,
     state: &mut PipelineState,
     work: &mut Workspace,
     head: &RigidTransform,
 ) -> Result<()> {
+    let roots = chain_roots(model.ride, head, state.time);
     let mut rebuilt = PerLevel::from_fn(|_| None);
     for level in Level::ALL {
         let members = state.levels.members(level);
@@ -65,7 +69,7 @@ pub(crate) fn apply_level_changes(
             members,
             &state.blocks,
             state.time,
-            head,
+            &roots,
         )?);
     }
     for level in Level::ALL {

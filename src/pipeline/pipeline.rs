@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use hair_collide::CollisionBody;
-use hair_core::dynamics::{DynamicsModel, DynamicsParams, Environment, Simulation};
+use hair_core::dynamics::{ChainRoots, DynamicsModel, DynamicsParams, Environment, Simulation};
 use hair_core::lod::{CostModel, LodSelector, SectionChoice};
 use hair_core::{Camera, Level, RigidTransform, Scene};
 use hair_render::ActiveSkeletons;
@@ -108,6 +108,11 @@ impl Pipeline {
 
     fn character(&self) -> &Character {
         &self.world.characters[0]
+    }
+
+    /// Where the groom rides a deforming head (`None` for a rigid one).
+    pub(crate) fn ride(&self) -> Option<&super::body_motion::BodyRide> {
+        self.stages.work(0).ride.as_ref()
     }
 
     /// The head's collision body (`None` with collision off), posed at this pipeline's head.
@@ -293,5 +298,11 @@ impl Pipeline {
     /// The head's pose at the time the skeletons are at (the end of the last frame stepped).
     pub fn head_pose(&self) -> RigidTransform {
         self.character().head_pose()
+    }
+
+    /// Where every skeleton chain of the groom has its root at the time the skeletons are at:
+    /// on the head, carried by the deforming body first where the head deforms.
+    pub fn chain_roots(&self) -> ChainRoots<'_> {
+        super::body_motion::chain_roots(self.ride(), &self.head_pose(), self.time())
     }
 }

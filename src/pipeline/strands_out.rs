@@ -13,13 +13,14 @@ use super::error::{PipelineError, Result};
 use super::pipeline::Pipeline;
 
 impl Pipeline {
-    /// Every strand of the groom at the end of the last frame [m, world], root first, with
+    /// Every strand of the groom at the end of the last frame [m, world], root first (on a
+    /// deforming body, each strand's root where the body carries it), with
     /// `samples_per_segment` (≥ 1) points per skeleton segment along each strand's B-spline.
     /// Strands are in the groom's order, so the curves of every frame of a run match one to one.
     pub fn strand_curves(&self, samples_per_segment: usize) -> Result<Curves> {
         let groom = &self.scene().groom;
         let skeletons = &groom.skeletons;
-        let head = self.head_pose();
+        let roots = self.chain_roots();
         let mut positions = vec![Vec3::ZERO; skeletons.node_count()];
         let mut frames = vec![Frame::default(); skeletons.node_count()];
         let mut velocities = Vec::new();
@@ -47,19 +48,22 @@ impl Pipeline {
                     Level::StrandGroup,
                     &mut positions[nodes.clone()],
                     &mut velocities,
-                    &head,
+                    &roots,
                 )?;
             }
             for chain in chains {
                 let chain_nodes = skeletons.nodes(chain);
                 node_frames(
-                    &skeletons.world_root_frame(chain, &head),
+                    &skeletons.world_root_frame(chain, &roots.pose(chain)),
                     &positions[chain_nodes.clone()],
                     &mut frames[chain_nodes],
                 );
             }
         }
-        let lines = strand_polylines(groom, &positions, &frames, samples_per_segment)?;
+        let mut lines = strand_polylines(groom, &positions, &frames, samples_per_segment)?;
+        if let Some(ride) = self.ride() {
+            ride.place_strand_roots(roots.head(), self.time(), &mut lines.points, &lines.offsets);
+        }
         Ok(Curves {
             points: lines.points,
             offsets: lines.offsets,

@@ -14,12 +14,12 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::Args;
-use hairlod::formats::UsdCurvesWriter;
 use hairlod::pipeline::{Checkpoint, DrawStyle, FrameReport, PipelineRenderer, StageTimes};
 use hairlod::render::{DeviceOptions, LineShading, RendererOptions, output};
 use hairlod::run::{RunOptions, View, run_shot};
 use hairlod::scene_file::SceneFile;
 use hairlod::shot::Shot;
+use hairlod::usd_export::HairUsd;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use hairlod::core::GroomPreset;
@@ -61,9 +61,10 @@ pub struct RenderArgs {
     #[arg(long)]
     hair: bool,
     /// Also write every strand of the run as hair.usda: one USD BasisCurves prim with a time
-    /// sample per frame (time code = frame − the run's first frame; usdview, Houdini, Blender's
-    /// USD importer) [scene: output.usd]. Kept in memory until the end (12 bytes per point and
-    /// frame).
+    /// sample per frame (time code = frame; usdview, Houdini, Blender's USD importer), and a
+    /// deforming body beside it as a Mesh at its own samples, on the body file's time line
+    /// (frame 0 at its first sample) [scene: output.usd]. Kept in memory until the end (12 bytes
+    /// per point and frame).
     #[arg(long)]
     usd: bool,
     /// Shade 1-pixel strand lines per fragment instead of at their curve points (about 1.8× the
@@ -310,7 +311,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut write_time = Duration::ZERO;
-    let mut usd: Option<UsdCurvesWriter> = None;
+    let mut usd = shot
+        .outputs
+        .usd
+        .then(|| HairUsd::new(&scene, &shot.environment.head, shot.fps));
     let result = run_shot(
         &shot,
         &scene,
@@ -328,17 +332,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                     hairlod::formats::write_hair(&path, &curves)
                         .map_err(|error| writing(&path, error))?;
                 }
-                if shot.outputs.usd {
-                    let usd_path = args.out.join("hair.usda");
-                    match &mut usd {
-                        Some(writer) => writer.push_frame(&curves.points),
-                        None => UsdCurvesWriter::from_curves(&curves)
-                            .and_then(|writer| {
-                                writer.with_time_codes_per_second(f64::from(shot.fps))
-                            })
-                            .map(|writer| usd = Some(writer)),
-                    }
-                    .map_err(|error| writing(&usd_path, error))?;
+                if let Some(usd) = &mut usd {
+                    usd.push_frame(frame.report.frame, &curves)
+                        .map_err(|error| writing(&args.out.join("hair.usda"), error))?;
                 }
             }
             write_time += started.elapsed();
@@ -351,14 +347,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     .with_context(|| format!("the run stopped in frames {}..{}", frames.start, frames.end))?;
     progress.finish_and_clear();
     writer.finish()?;
-    if let Some(writer) = &usd {
+    if let Some(usd) = &mut usd {
         let path = args.out.join("hair.usda");
-        writer.write(&path).map_err(|error| writing(&path, error))?;
+        usd.write(&path).map_err(|error| writing(&path, error))?;
         eprintln!(
-            "wrote {} ({} strands, {} frames)",
+            "wrote {} ({} strands, {} frames at {} time codes per second{})",
             path.display(),
             counts.strands,
-            writer.frame_count()
+            usd.frame_count(),
+            usd.time_codes_per_second(),
+            if usd.body_track().is_some() {
+                ", with the deforming body"
+            } else {
+                ""
+            }
         );
     }
     if let Some(dir) = &args.checkpoint {

@@ -80,7 +80,19 @@ fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     Vec3::new(1.0 - v - w, v, w)
 }
 
-fn triangle_aabb(triangle: &Triangle) -> Aabb {
+/// The ball `local` (body frame) placed by the pose: the same ball, padded for the rounding of
+/// the transform.
+fn posed_bound(local: Pss, rotation: Quat, translation: Vec3) -> Pss {
+    let center = rotation * local.center + translation;
+    let slack = 64.0 * f32::EPSILON * (center.abs().max_element() + local.radius);
+    Pss {
+        center,
+        radius: local.radius + slack,
+    }
+}
+
+/// The tight box of a triangle.
+pub(crate) fn triangle_aabb(triangle: &Triangle) -> Aabb {
     let [a, b, c] = triangle.vertices;
     Aabb::new(a.min(b).min(c), a.max(b).max(c))
 }
@@ -234,15 +246,18 @@ impl CollisionBody {
         let rotation = require_pose(rotation, translation)?;
         self.rotation = rotation;
         self.translation = translation;
-        let local = self.shape.bound;
-        let center = rotation * local.center + translation;
-        // The rotated ball is the same ball; pad for the rounding of the transform.
-        let slack = 64.0 * f32::EPSILON * (center.abs().max_element() + local.radius);
-        self.bound = Pss {
-            center,
-            radius: local.radius + slack,
-        };
+        self.bound = posed_bound(self.shape.bound, rotation, translation);
         Ok(())
+    }
+
+    /// A body of `shape` at this body's pose.
+    pub(crate) fn with_shape(&self, shape: Arc<BodyShape>) -> Self {
+        Self {
+            bound: posed_bound(shape.bound, self.rotation, self.translation),
+            shape,
+            rotation: self.rotation,
+            translation: self.translation,
+        }
     }
 
     /// The current pose `(rotation, translation)`.

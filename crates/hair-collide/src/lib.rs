@@ -19,6 +19,7 @@
 
 pub mod attach;
 pub mod body;
+mod body_deform;
 pub mod broad_phase;
 pub mod bvh;
 mod chain_blocks;

@@ -42,7 +42,7 @@ pub use groom::{
 pub use head::{Head, HeadParams, ScalpRoot};
 pub use level::Level;
 pub use mesh::TriangleMesh;
-pub use mesh_sequence::{MeshSequence, MeshSequenceError};
+pub use mesh_sequence::{MeshSequence, MeshSequenceError, SequenceClock};
 pub use named::{Named, UnknownName};
 pub use per_level::PerLevel;
 pub use scene::Scene;

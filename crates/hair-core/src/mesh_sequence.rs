@@ -57,6 +57,12 @@ pub enum MeshSequenceError {
         /// The first sample's number of points.
         expected: usize,
     },
+    /// A time code rate that is not finite and > 0.
+    #[error("time codes per second {rate}: a finite number > 0 is needed")]
+    TimeCodeRate {
+        /// The rate given.
+        rate: f64,
+    },
     /// A sample's mesh is malformed (a point that is not finite, an index out of range, …).
     #[error("sample {sample} of the mesh sequence: {source}")]
     Mesh {
@@ -81,6 +87,39 @@ pub struct MeshSequence {
     times: Vec<f64>,
     /// Positions [m], sample-major: sample `s` owns `s·vertex_count .. (s+1)·vertex_count`.
     positions: Vec<Vec3>,
+    /// Where the times came from.
+    clock: SequenceClock,
+}
+
+/// How a sequence's times [s] map to its source's time line: a file's time codes per second,
+/// and the source time of time 0 (a sequence moved in time by [`MeshSequence::retimed`] keeps
+/// it, so that what is written out lines up with the file again).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SequenceClock {
+    /// The source's time codes (frames) per second, where it has them (USD's
+    /// `timeCodesPerSecond`); `None` for a source timed in seconds (Alembic, a procedural body).
+    pub time_codes_per_second: Option<f64>,
+    /// The source time [s] at the sequence's time 0.
+    pub source_time_at_zero: f64,
+}
+
+impl Default for SequenceClock {
+    fn default() -> Self {
+        Self {
+            time_codes_per_second: None,
+            source_time_at_zero: 0.0,
+        }
+    }
+}
+
+impl SequenceClock {
+    /// The source time code of sequence time `time` [s], at `codes_per_second` codes per second
+    /// where the source has none; rounded to 1e-6 of a code, so that a source's whole codes
+    /// read back whole.
+    pub fn time_code(&self, time: f64, codes_per_second: f64) -> f64 {
+        let rate = self.time_codes_per_second.unwrap_or(codes_per_second);
+        ((time + self.source_time_at_zero) * rate * 1e6).round() / 1e6
+    }
 }
 
 impl MeshSequence {
@@ -140,7 +179,43 @@ impl MeshSequence {
             vertex_count,
             times,
             positions,
+            clock: SequenceClock::default(),
         })
+    }
+
+    /// The sequence with its source's time codes per second (`None`: timed in seconds); a rate
+    /// that is not finite and > 0 is refused.
+    pub fn with_time_codes_per_second(
+        mut self,
+        rate: Option<f64>,
+    ) -> Result<Self, MeshSequenceError> {
+        if let Some(rate) = rate.filter(|r| !(r.is_finite() && *r > 0.0)) {
+            return Err(MeshSequenceError::TimeCodeRate { rate });
+        }
+        self.clock.time_codes_per_second = rate;
+        Ok(self)
+    }
+
+    /// The sequence moved in time so that its first sample is at `first` [s]; the clock keeps
+    /// the source time of the new time 0. A `first` that is not finite is refused.
+    pub fn retimed(mut self, first: f64) -> Result<Self, MeshSequenceError> {
+        if !first.is_finite() {
+            return Err(MeshSequenceError::TimeNotFinite {
+                sample: 0,
+                time: first,
+            });
+        }
+        let shift = first - self.times[0];
+        for time in &mut self.times {
+            *time += shift;
+        }
+        self.clock.source_time_at_zero -= shift;
+        Ok(self)
+    }
+
+    /// How the times map to the source's time line.
+    pub fn clock(&self) -> SequenceClock {
+        self.clock
     }
 
     /// A mesh that never moves: one sample at time 0.

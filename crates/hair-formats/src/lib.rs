@@ -54,8 +54,10 @@ mod usda_mesh;
 mod usda_parse;
 mod usda_prims;
 mod usda_read;
+mod usda_text;
 mod usda_values;
 mod usda_write;
+mod usda_write_mesh;
 mod usdc_check;
 
 #[cfg(test)]
@@ -81,6 +83,7 @@ pub use usd_mesh::{read_usd_mesh, read_usd_mesh_file};
 pub use usd_sequence::{read_usd_mesh_sequence, read_usd_mesh_sequence_file};
 pub use usda_read::{read_usda, read_usda_at, read_usda_file, read_usda_file_at};
 pub use usda_write::{UsdCurvesWriter, write_usda_curves, write_usda_curves_string};
+pub use usda_write_mesh::UsdMeshTrack;
 
 use hair_core::MeshSequence;
 use hair_core::MeshSequenceError;

@@ -170,11 +170,15 @@ fn build(tracks: &Tracks, axes: &ImportAxes) -> Result<MeshSequence, FormatError
         .iter()
         .map(|code| code / tracks.time_codes_per_second)
         .collect();
-    MeshSequence::new(triangles, times, samples).map_err(|error| FormatErrorKind::Usd {
-        element: "layer".into(),
-        message: format!("the meshes joined over time codes {codes:?}: {error}"),
-        location: Location::Unknown,
-    })
+    MeshSequence::new(triangles, times, samples)
+        .and_then(|sequence| {
+            sequence.with_time_codes_per_second(Some(tracks.time_codes_per_second))
+        })
+        .map_err(|error| FormatErrorKind::Usd {
+            element: "layer".into(),
+            message: format!("the meshes joined over time codes {codes:?}: {error}"),
+            location: Location::Unknown,
+        })
 }
 
 /// Refuses a topology that differs from the first time code's.

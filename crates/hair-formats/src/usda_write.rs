@@ -2,8 +2,11 @@
 //! `curveVertexCounts`, `points`, `extent`, and `widths` and `primvars:displayColor` (interpolation
 //! `vertex`) where the curves have them; the stage says `upAxis = "Y"` and `metersPerUnit = 1`.
 //! An animation ([`UsdCurvesWriter`] with several frames) writes `points.timeSamples` and
-//! `extent.timeSamples` at time codes 0, 1, 2, … with `startTimeCode`, `endTimeCode` and
-//! `timeCodesPerSecond`; the topology, widths and colours do not change over frames.
+//! `extent.timeSamples` at time codes 0, 1, 2, … (or the codes given with
+//! [`UsdCurvesWriter::push_frame_at`]) with `startTimeCode`, `endTimeCode` and
+//! `timeCodesPerSecond`; the topology, widths and colours do not change over frames. A mesh
+//! written beside the curves ([`UsdCurvesWriter::with_mesh`], the body the hair grows on) is a
+//! second root prim with its own time samples ([`UsdMeshTrack`]).
 //!
 //! Every `f32` is written in its shortest form that reads back to the same bits (`-0.0` kept), in
 //! an exponent form (`1e-7`, `3.4e38`) outside `1e-5 ≤ |x| < 1e16`, which USD's parser accepts:
@@ -16,6 +19,8 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::curves::{Curves, vector_text};
+use super::usda_text::{check_identifier, invalid_input, push_float, vec3_array};
+use super::usda_write_mesh::UsdMeshTrack;
 use crate::obj::write_file_atomically;
 
 /// Writes curves (fixed topology) and one or more frames of their points as a USD text file.
@@ -44,12 +49,12 @@ pub struct UsdCurvesWriter {
     colors: Option<Vec<Vec3>>,
     /// The points of every frame, one after the other.
     frames: Vec<Vec3>,
+    /// The time code of every frame, increasing.
+    time_codes: Vec<f64>,
     time_codes_per_second: f64,
     prim_name: String,
-}
-
-fn invalid_input(message: String) -> io::Error {
-    io::Error::new(io::ErrorKind::InvalidInput, message)
+    /// A mesh written beside the curves.
+    mesh: Option<UsdMeshTrack>,
 }
 
 impl UsdCurvesWriter {
@@ -109,8 +114,10 @@ impl UsdCurvesWriter {
             widths: widths.map(<[f32]>::to_vec),
             colors: colors.map(<[Vec3]>::to_vec),
             frames: Vec::new(),
+            time_codes: Vec::new(),
             time_codes_per_second: 24.0,
             prim_name: "hair".to_owned(),
+            mesh: None,
         })
     }
 
@@ -138,20 +145,39 @@ impl UsdCurvesWriter {
     }
 
     /// Names the prim (`hair` by default): a USD identifier (a letter or `_`, then letters,
-    /// digits or `_`).
+    /// digits or `_`), not the mesh's.
     pub fn with_prim_name(mut self, name: &str) -> io::Result<Self> {
-        let mut chars = name.chars();
-        let valid = chars
-            .next()
-            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-            && chars.all(|c| c.is_ascii_alphanumeric() || c == '_');
-        if !valid {
+        check_identifier(name)?;
+        if self.mesh.as_ref().is_some_and(|mesh| mesh.name == name) {
             return Err(invalid_input(format!(
-                "prim name {name:?} is not a USD identifier"
+                "prim name {name:?} is the mesh's; the curves need their own"
             )));
         }
         self.prim_name = name.to_owned();
         Ok(self)
+    }
+
+    /// Writes `mesh` beside the curves, as a second root prim (checked: see
+    /// [`UsdMeshTrack::check`]; its name must differ from the curves').
+    pub fn with_mesh(mut self, mesh: UsdMeshTrack) -> io::Result<Self> {
+        self.set_mesh(Some(mesh))?;
+        Ok(self)
+    }
+
+    /// Sets the mesh written beside the curves (`None`: none), as
+    /// [`with_mesh`](Self::with_mesh) does; on an error the mesh is left as it was.
+    pub fn set_mesh(&mut self, mesh: Option<UsdMeshTrack>) -> io::Result<()> {
+        if let Some(mesh) = &mesh {
+            mesh.check()?;
+            if mesh.name == self.prim_name {
+                return Err(invalid_input(format!(
+                    "mesh prim name {:?} is the curves'; the mesh needs its own",
+                    mesh.name
+                )));
+            }
+        }
+        self.mesh = mesh;
+        Ok(())
     }
 
     /// Number of points of each frame.
@@ -167,9 +193,25 @@ impl UsdCurvesWriter {
             .unwrap_or(0)
     }
 
-    /// Adds the next frame (time code [`frame_count`](Self::frame_count)): one point [m] per
-    /// point of the topology, all finite (`InvalidInput` otherwise, and nothing is added).
+    /// Adds the next frame, at the time code after the last frame's (0 for the first): one
+    /// point [m] per point of the topology, all finite (`InvalidInput` otherwise, and nothing is
+    /// added).
     pub fn push_frame(&mut self, points: &[Vec3]) -> io::Result<()> {
+        let code = self.time_codes.last().map_or(0.0, |last| last + 1.0);
+        self.push_frame_at(code, points)
+    }
+
+    /// Adds a frame at time code `code` (finite, after the last frame's): one point [m] per
+    /// point of the topology, all finite (`InvalidInput` otherwise, and nothing is added).
+    pub fn push_frame_at(&mut self, code: f64, points: &[Vec3]) -> io::Result<()> {
+        if !code.is_finite() || self.time_codes.last().is_some_and(|&last| code <= last) {
+            return Err(invalid_input(format!(
+                "time code {code} of frame {}: a finite code after the last frame's ({:?}) is \
+                 needed",
+                self.frame_count(),
+                self.time_codes.last()
+            )));
+        }
         if self.point_count() == 0 {
             return Err(invalid_input("no curves to write".into()));
         }
@@ -188,6 +230,7 @@ impl UsdCurvesWriter {
             )));
         }
         self.frames.extend_from_slice(points);
+        self.time_codes.push(code);
         Ok(())
     }
 
@@ -199,15 +242,18 @@ impl UsdCurvesWriter {
             return Err(invalid_input("no frame of points to write".into()));
         }
         let mut out = String::with_capacity(64 * 1024);
+        // Time samples where the curves have more than one frame or the mesh moves.
+        let animated = frames > 1 || self.mesh.as_ref().is_some_and(|m| m.samples.len() > 1);
         out.push_str("#usda 1.0\n(\n");
         let _ = writeln!(out, "    defaultPrim = \"{}\"", self.prim_name);
         out.push_str("    doc = \"hairlod BasisCurves export (metres, +Y up)\"\n");
-        if frames > 1 {
-            let _ = writeln!(out, "    endTimeCode = {}", frames - 1);
+        let (first, last) = (self.time_codes[0], self.time_codes[frames - 1]);
+        if animated {
+            let _ = writeln!(out, "    endTimeCode = {last}");
         }
         out.push_str("    metersPerUnit = 1\n");
-        if frames > 1 {
-            out.push_str("    startTimeCode = 0\n");
+        if animated {
+            let _ = writeln!(out, "    startTimeCode = {first}");
             let _ = writeln!(
                 out,
                 "    timeCodesPerSecond = {}",
@@ -230,7 +276,7 @@ impl UsdCurvesWriter {
             });
             [lo - half_width, hi + half_width]
         };
-        if frames == 1 {
+        if !animated {
             out.push_str("    float3[] extent = ");
             vec3_array(&mut out, &extent(frame(0)));
             out.push_str("\n    point3f[] points = ");
@@ -239,7 +285,7 @@ impl UsdCurvesWriter {
         } else {
             out.push_str("    float3[] extent.timeSamples = {\n");
             for f in 0..frames {
-                let _ = write!(out, "        {f}: ");
+                let _ = write!(out, "        {}: ", self.time_codes[f]);
                 vec3_array(&mut out, &extent(frame(f)));
                 out.push_str(",\n");
             }
@@ -247,7 +293,7 @@ impl UsdCurvesWriter {
             writer.write_all(out.as_bytes())?;
             out.clear();
             for f in 0..frames {
-                let _ = write!(out, "        {f}: ");
+                let _ = write!(out, "        {}: ", self.time_codes[f]);
                 vec3_array(&mut out, frame(f));
                 out.push_str(",\n");
                 writer.write_all(out.as_bytes())?;
@@ -272,7 +318,11 @@ impl UsdCurvesWriter {
             out.push_str("] (\n        interpolation = \"vertex\"\n    )\n");
         }
         out.push_str("}\n");
-        writer.write_all(out.as_bytes())
+        writer.write_all(out.as_bytes())?;
+        if let Some(mesh) = &self.mesh {
+            mesh.write_to(writer, animated)?;
+        }
+        Ok(())
     }
 
     /// The USD text as a string (see [`write_to`](Self::write_to)).
@@ -309,34 +359,6 @@ pub fn write_usda_curves(path: impl AsRef<Path>, curves: &Curves) -> io::Result<
 /// [`write_usda_curves`] into a string.
 pub fn write_usda_curves_string(curves: &Curves) -> io::Result<String> {
     UsdCurvesWriter::from_curves(curves)?.to_usda_string()
-}
-
-/// Appends `x` (finite) in its shortest form that reads back to the same bits.
-fn push_float(out: &mut String, x: f32) {
-    let magnitude = x.abs();
-    let _ = if x == 0.0 {
-        // `-0` could be read as the integer 0; `-0.0` keeps the sign.
-        write!(out, "{}", if x.is_sign_negative() { "-0.0" } else { "0" })
-    } else if (1e-5..1e16).contains(&magnitude) {
-        write!(out, "{x}")
-    } else {
-        write!(out, "{x:e}")
-    };
-}
-
-/// Appends `[(x, y, z), …]`.
-fn vec3_array(out: &mut String, values: &[Vec3]) {
-    out.push('[');
-    for (i, v) in values.iter().enumerate() {
-        out.push_str(if i > 0 { ", (" } else { "(" });
-        push_float(out, v.x);
-        out.push_str(", ");
-        push_float(out, v.y);
-        out.push_str(", ");
-        push_float(out, v.z);
-        out.push(')');
-    }
-    out.push(']');
 }
 
 #[cfg(test)]

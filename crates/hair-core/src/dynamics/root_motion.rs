@@ -120,6 +120,56 @@ impl RootCarrier {
     }
 }
 
+/// Where each of a groom's skeleton chains has its root at one moment: on the rigid head, or
+/// carried by a deforming body and then by the head. What reads the state at one time and needs
+/// the roots (the hand-over between levels, the strands' frames) asks it per chain.
+#[derive(Debug, Clone, Copy)]
+pub struct ChainRoots<'a> {
+    head: RigidTransform,
+    carried: Option<(&'a DeformingBody, &'a [SurfaceAttachment], f64)>,
+}
+
+impl<'a> ChainRoots<'a> {
+    /// Every root on the head posed by `head`.
+    pub fn rigid(head: RigidTransform) -> Self {
+        Self {
+            head,
+            carried: None,
+        }
+    }
+
+    /// Chain `c`'s root carried by `body` at `time` [s] from its `attachments[c]` (one per
+    /// chain of the groom), then by `head` (the head's pose at `time`).
+    pub fn carried(
+        head: RigidTransform,
+        body: &'a DeformingBody,
+        attachments: &'a [SurfaceAttachment],
+        time: f64,
+    ) -> Self {
+        Self {
+            head,
+            carried: Some((body, attachments, time)),
+        }
+    }
+
+    /// The head's pose.
+    pub fn head(&self) -> &RigidTransform {
+        &self.head
+    }
+
+    /// The pose that takes chain `chain`'s rest root (head space) to where it is. Panics when a
+    /// carried `chain` has no attachment.
+    #[inline]
+    pub fn pose(&self, chain: usize) -> RigidTransform {
+        match self.carried {
+            None => self.head,
+            Some((body, attachments, time)) => {
+                self.head.after(&body.carry(&attachments[chain], time))
+            }
+        }
+    }
+}
+
 /// The roots' poses over one step, as the kernels read them: the head's at the substep
 /// boundaries, shared by every chain, or with a [`RootCarrier`] each chain's own.
 #[derive(Debug, Clone, Copy)]

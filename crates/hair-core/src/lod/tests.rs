@@ -4,6 +4,7 @@ use glam::Vec3;
 
 use super::*;
 use crate::camera::Camera;
+use crate::dynamics::ChainRoots;
 use crate::level::Level;
 use crate::scene::Scene;
 use crate::transform::RigidTransform;
@@ -440,7 +441,7 @@ fn split_then_merge_returns_the_parent_exactly_and_the_centre_child_is_the_paren
                 child,
                 &mut child_positions,
                 &mut child_velocities,
-                &head,
+                &ChainRoots::rigid(head),
             )
             .unwrap();
             // The centre child inherits the centre parent exactly (bitwise).
@@ -495,7 +496,7 @@ fn split_then_merge_returns_the_parent_exactly_and_the_centre_child_is_the_paren
                 parent,
                 &mut parent_positions,
                 &mut parent_velocities,
-                &head,
+                &ChainRoots::rigid(head),
             )
             .unwrap();
             let m = groom
@@ -530,7 +531,7 @@ fn hand_over_rejects_wrong_sizes() {
         Level::Cluster,
         &mut out,
         &mut out_v,
-        &RigidTransform::IDENTITY,
+        &ChainRoots::rigid(RigidTransform::IDENTITY),
     )
     .unwrap_err();
     assert!(error.to_string().contains("source positions"), "{error}");

@@ -7,6 +7,7 @@ use glam::{Quat, Vec3};
 
 use super::tests::rest_section;
 use super::*;
+use crate::dynamics::ChainRoots;
 use crate::level::Level;
 use crate::scene::Scene;
 use crate::transform::RigidTransform;
@@ -66,7 +67,7 @@ fn at_rest_the_rebuilt_strand_groups_are_their_rest_skeletons() {
                     Level::StrandGroup,
                     &mut handed,
                     &mut handed_velocities,
-                    &head,
+                    &ChainRoots::rigid(head),
                 )
                 .unwrap();
                 eprintln!(

@@ -5,13 +5,12 @@
 
 use glam::Vec3;
 
-use crate::dynamics::follow_the_leader;
+use crate::dynamics::{ChainRoots, follow_the_leader};
 use crate::error::{HairError, Result};
 use crate::frame::Frame;
 use crate::groom::Groom;
 use crate::level::Level;
 use crate::skeleton::node_frames;
-use crate::transform::RigidTransform;
 
 /// Node positions [m] and velocities [m/s] of one section's skeletons at one level: its 1, 3 or 5
 /// chains one after the other, each with the groom's node count for that chain.
@@ -24,7 +23,8 @@ pub struct SectionStateRef<'a> {
 }
 
 /// Writes into `to_positions` / `to_velocities` the state of section `section` at level `to`
-/// handed over from its state `from` at level `from_level`, with the head posed by `head`.
+/// handed over from its state `from` at level `from_level`, with the roots where `roots` puts
+/// them (on the posed head, or carried by a deforming body, chain by chain).
 ///
 /// Target chain `j` sits at offset `u_j` across the section ([`Section::child_offset`]
 /// (crate::Section::child_offset)). A source chain at the same offset is copied exactly (the
@@ -32,7 +32,7 @@ pub struct SectionStateRef<'a> {
 /// gets, node by node, the linear interpolation of their positions and velocities by offset. A
 /// target beyond the outermost source is that source moved by `u_j − u_source` along its node
 /// frames' binormals (the direction across the section), with its velocities. Interpolated chains
-/// are then put on their own root (the head carries it) and given their rest segment lengths by a
+/// are then put on their own root (`roots` places it) and given their rest segment lengths by a
 /// follow-the-leader pass; exact copies are left untouched.
 ///
 /// Allocates a little scratch (transitions are rare, unlike steps).
@@ -45,7 +45,7 @@ pub fn hand_over(
     to: Level,
     to_positions: &mut [Vec3],
     to_velocities: &mut [Vec3],
-    head: &RigidTransform,
+    roots: &ChainRoots<'_>,
 ) -> Result<()> {
     let skeletons = &groom.skeletons;
     let source_nodes = section_nodes(groom, section, from_level)?;
@@ -128,10 +128,9 @@ pub fn hand_over(
                 let source_positions = &from.positions[source_range.clone()];
                 frames.clear();
                 frames.resize(source_positions.len(), Frame::default());
-                let root_frame = skeletons.world_root_frame(
-                    groom.section_chains(section, from_level).start + nearest,
-                    head,
-                );
+                let source_chain = groom.section_chains(section, from_level).start + nearest;
+                let root_frame =
+                    skeletons.world_root_frame(source_chain, &roots.pose(source_chain));
                 node_frames(&root_frame, source_positions, &mut frames);
                 let shift = offset - source_offsets[nearest];
                 for k in 0..positions.len() {
@@ -141,7 +140,9 @@ pub fn hand_over(
                 }
             }
         }
-        positions[0] = head.transform_point(skeletons.root_positions[target_chain]);
+        positions[0] = roots
+            .pose(target_chain)
+            .transform_point(skeletons.root_positions[target_chain]);
         follow_the_leader(
             positions,
             &skeletons.segment_rest_lengths[skeletons.nodes(target_chain)],
