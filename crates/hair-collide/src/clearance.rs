@@ -11,11 +11,13 @@ use crate::layout::{ChainShape, CollisionChain};
 /// A lower bound on a node's distance to a body, valid at a position in head space: while the
 /// node stays within `clearance` of `local_position` it cannot have crossed the surface (the
 /// distance to a surface is 1-Lipschitz, and head space moves with the bodies). The default
-/// (zero clearance) certifies nothing.
+/// (zero clearance) certifies nothing. `triangle` is the body's triangle found closest when it
+/// was measured: the next search starts from it.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct Clearance {
     pub local_position: Vec3,
     pub clearance: f32,
+    pub triangle: u32,
 }
 
 /// Rounding allowance \[m\] of the clearance test (the head transform's f32 rounding at 1 m).
@@ -96,6 +98,7 @@ mod tests {
         Clearance {
             local_position: Vec3::new(x, 0.0, 0.0),
             clearance: 0.01,
+            triangle: 0,
         }
     }
 

@@ -15,13 +15,15 @@ use crate::surface::SurfacePoint;
 /// `pair[1]`, by the least angle (bisection) that puts `pair[1]`, at the segment's length, at
 /// least half the skin outside: length and position then hold together. Only where even the
 /// normal direction does not reach outside (the parent itself inside, a root set in the scalp)
-/// does the position win and the segment keep the stretch, which the caller reports.
+/// does the position win and the segment keep the stretch, which the caller reports. The
+/// searches start from triangle `hint` (where `pair[1]` was projected to).
 pub(crate) fn restore_length(
     body: &CollisionBody,
     pair: &mut [Vec3],
     velocity: &mut Vec3,
     length: f32,
     skin: f32,
+    hint: u32,
     surface_velocity: impl Fn(Vec3) -> Vec3 + Copy,
 ) {
     const ROUNDS: usize = 4;
@@ -36,7 +38,7 @@ pub(crate) fn restore_length(
         }
         pair[1] = parent + direction * length;
         if let Projection::Outside { .. } =
-            project_out(body, &mut pair[1], velocity, skin, surface_velocity)
+            project_out(body, &mut pair[1], velocity, skin, hint, surface_velocity)
         {
             return;
         }
@@ -48,7 +50,7 @@ pub(crate) fn restore_length(
     let Some(start) = (pair[1] - parent).try_normalize() else {
         return;
     };
-    let Some(surface) = body.closest_surface_point(pair[1]) else {
+    let Some(surface) = body.closest_surface_point_near(pair[1], hint) else {
         return;
     };
     let normal = surface.normal;
@@ -58,7 +60,7 @@ pub(crate) fn restore_length(
             .map(|d| parent + d * length)
     };
     let outside = |p: Vec3| {
-        body.closest_surface_point(p)
+        body.closest_surface_point_near(p, hint)
             .is_none_or(|s| s.signed_distance >= 0.5 * skin)
     };
     // The far end is the normal direction itself; where even that is inside, the position wins.
@@ -95,26 +97,33 @@ const TURN_BISECTIONS: usize = 20;
 
 /// Where a point lies against a body.
 pub(crate) enum Probe {
-    /// Outside, at least `clearance` \[m\] from the surface.
-    Outside { clearance: f32 },
+    /// Outside, at least `clearance` \[m\] from the surface; `triangle` is the closest one where
+    /// it was searched for (else the hint given).
+    Outside { clearance: f32, triangle: u32 },
     /// Inside: the closest surface point.
     Inside(SurfacePoint),
 }
 
 /// Where `position` (world) lies against `body`, without moving it: points outside the body's
-/// bounding ball are outside without a search (their clearance is the distance to the ball).
-pub(crate) fn probe(body: &CollisionBody, position: Vec3) -> Probe {
+/// bounding ball are outside without a search (their clearance is the distance to the ball);
+/// the search starts from triangle `hint` (the one found closest last time).
+pub(crate) fn probe(body: &CollisionBody, position: Vec3, hint: u32) -> Probe {
     let bound = body.bounding_volume();
     let from_centre = position.distance(bound.center);
     if from_centre > bound.radius {
         return Probe::Outside {
             clearance: from_centre - bound.radius,
+            triangle: hint,
         };
     }
-    match body.closest_surface_point(position) {
-        None => Probe::Outside { clearance: 0.0 },
+    match body.closest_surface_point_near(position, hint) {
+        None => Probe::Outside {
+            clearance: 0.0,
+            triangle: hint,
+        },
         Some(surface) if surface.signed_distance >= 0.0 => Probe::Outside {
             clearance: surface.signed_distance,
+            triangle: surface.triangle,
         },
         Some(surface) => Probe::Inside(surface),
     }
@@ -122,24 +131,34 @@ pub(crate) fn probe(body: &CollisionBody, position: Vec3) -> Probe {
 
 /// What [`project_out`] found.
 pub(crate) enum Projection {
-    /// The point is outside, at least `clearance` \[m\] from the surface.
-    Outside { clearance: f32 },
-    /// The point was `depth` \[m\] inside and has been moved out.
-    Moved { depth: f32 },
+    /// The point is outside, at least `clearance` \[m\] from the surface, `triangle` the
+    /// closest.
+    Outside { clearance: f32, triangle: u32 },
+    /// The point was `depth` \[m\] inside and has been moved out, onto `triangle`.
+    Moved { depth: f32, triangle: u32 },
 }
 
 /// Moves `position` out of `body` when it is inside (to the closest surface point plus `skin`
 /// along the way out) and removes the inward normal part of `velocity` relative to the surface
-/// velocity `surface_velocity(p)`; where it is outside, see [`probe`].
+/// velocity `surface_velocity(p)`; where it is outside, see [`probe`] (`hint` starts its search).
 pub(crate) fn project_out(
     body: &CollisionBody,
     position: &mut Vec3,
     velocity: &mut Vec3,
     skin: f32,
+    hint: u32,
     surface_velocity: impl Fn(Vec3) -> Vec3,
 ) -> Projection {
-    let surface = match probe(body, *position) {
-        Probe::Outside { clearance } => return Projection::Outside { clearance },
+    let surface = match probe(body, *position, hint) {
+        Probe::Outside {
+            clearance,
+            triangle,
+        } => {
+            return Projection::Outside {
+                clearance,
+                triangle,
+            };
+        }
         Probe::Inside(surface) => surface,
     };
     let depth = -surface.signed_distance;
@@ -152,5 +171,8 @@ pub(crate) fn project_out(
     if inward < 0.0 {
         *velocity -= surface.normal * inward;
     }
-    Projection::Moved { depth }
+    Projection::Moved {
+        depth,
+        triangle: surface.triangle,
+    }
 }

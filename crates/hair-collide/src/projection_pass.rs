@@ -67,16 +67,23 @@ impl ProjectionPass<'_> {
         } else {
             None
         };
-        let clearance = match certified {
-            Some(clearance) => clearance,
-            None => match probe(body, position) {
-                Probe::Outside { clearance } => clearance,
-                Probe::Inside(_) => return false,
+        let (clearance, triangle) = match certified {
+            Some(clearance) => (clearance, cache.triangle),
+            None => match probe(body, position, cache.triangle) {
+                Probe::Outside {
+                    clearance,
+                    triangle,
+                } => (clearance, triangle),
+                Probe::Inside(surface) => {
+                    cache.triangle = surface.triangle;
+                    return false;
+                }
             },
         };
         *cache = Clearance {
             local_position: local,
             clearance,
+            triangle,
         };
         true
     }
@@ -187,16 +194,24 @@ impl ProjectionPass<'_> {
                     &mut positions[m],
                     &mut velocities[m],
                     self.skin,
+                    cache.triangle,
                     surface_velocity,
                 ) {
-                    Projection::Outside { clearance } => {
+                    Projection::Outside {
+                        clearance,
+                        triangle,
+                    } => {
                         *cache = Clearance {
                             local_position: self.to_head.transform_point(positions[m]),
                             clearance,
+                            triangle,
                         }
                     }
-                    Projection::Moved { depth } => {
-                        *cache = Clearance::default();
+                    Projection::Moved { depth, triangle } => {
+                        *cache = Clearance {
+                            triangle,
+                            ..Clearance::default()
+                        };
                         dragged = true;
                         report.projected_nodes += 1;
                         report.max_depth = report.max_depth.max(depth);
@@ -208,6 +223,7 @@ impl ProjectionPass<'_> {
                                 &mut velocities[m],
                                 length,
                                 self.skin,
+                                triangle,
                                 surface_velocity,
                             );
                             let reached = positions[m].distance(positions[m - 1]);

@@ -53,12 +53,38 @@ impl CollisionBody {
     /// [`closest_surface_point`](Self::closest_surface_point) of a point `p` \[m\] given in the
     /// body's own frame, answered in that frame.
     pub fn closest_local_surface_point(&self, p: Vec3) -> Option<SurfacePoint> {
+        self.closest_local_surface_point_near(p, None)
+    }
+
+    /// [`closest_surface_point`](Self::closest_surface_point) starting from a guess: triangle
+    /// `hint` (the one found for this point last time, say) bounds the search by its own
+    /// distance, so the tree search only visits what could be closer. The answer is the
+    /// unhinted one's distance exactly; where triangles tie, the hint is kept.
+    pub(crate) fn closest_surface_point_near(&self, p: Vec3, hint: u32) -> Option<SurfacePoint> {
+        if !p.is_finite() {
+            return None;
+        }
+        let found = self.closest_local_surface_point_near(self.to_local(p), Some(hint))?;
+        Some(SurfacePoint {
+            point: self.to_world(found.point),
+            normal: self.pose().0 * found.normal,
+            ..found
+        })
+    }
+
+    /// The closest surface point to `p` (body frame), the search bounded by triangle `hint`'s
+    /// distance where one is given (an index out of range is no hint).
+    fn closest_local_surface_point_near(&self, p: Vec3, hint: Option<u32>) -> Option<SurfacePoint> {
         if !p.is_finite() {
             return None;
         }
         let triangles = self.local_triangles();
-        let (triangle, (_, (point, feature))) = self.bvh().find_best(
-            f32::MAX,
+        let hinted = hint
+            .filter(|&t| (t as usize) < triangles.len())
+            .map(|t| (t, closest_point_on_triangle(p, &triangles[t as usize])));
+        let bound = hinted.map_or(f32::MAX, |(_, (q, _))| q.distance(p));
+        let best = self.bvh().find_best(
+            bound,
             |node, _| {
                 let aabb = node.aabb();
                 p.clamp(aabb.mins, aabb.maxs).distance(p)
@@ -67,7 +93,12 @@ impl CollisionBody {
                 let (q, feature) = closest_point_on_triangle(p, &triangles[leaf as usize]);
                 Some((q.distance(p), (q, feature)))
             },
-        )?;
+        );
+        let (triangle, (point, feature)) = match (best, hinted) {
+            (Some((triangle, (_, found))), _) => (triangle, found),
+            (None, Some(hinted)) => hinted,
+            (None, None) => return None,
+        };
         let pseudonormals = &self.shape.pseudonormals;
         let normal = match feature {
             TriangleFeature::Face => triangles[triangle as usize].normal,
@@ -98,5 +129,46 @@ impl CollisionBody {
     /// point.
     pub fn signed_distance(&self, p: Vec3) -> Option<f32> {
         self.closest_surface_point(p).map(|s| s.signed_distance)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Quat, Vec3};
+    use hair_core::{Head, HeadParams};
+
+    use crate::body::CollisionBody;
+
+    #[test]
+    fn a_search_started_from_any_triangle_finds_the_same_distance() {
+        let mesh = Head::procedural(&HeadParams::default()).unwrap().mesh;
+        let mut body = CollisionBody::from_mesh(&mesh).unwrap();
+        body.set_pose(Quat::from_rotation_y(0.4), Vec3::new(0.01, 0.02, -0.03))
+            .unwrap();
+        let triangles = body.triangle_count() as u32;
+        for i in 0..400u32 {
+            // Points around and inside the head, hints spread over the mesh (near and far).
+            let t = i as f32 * 0.618;
+            let p = Vec3::new(
+                t.sin() * 0.14,
+                (t * 1.3).cos() * 0.16,
+                (t * 0.7).sin() * 0.13,
+            );
+            let hint = (i * 7919) % triangles;
+            let (a, b) = (
+                body.closest_surface_point(p).unwrap(),
+                body.closest_surface_point_near(p, hint).unwrap(),
+            );
+            // The same closest distance: the hint only bounds the search (ties may report
+            // another triangle at the same distance).
+            assert_eq!(a.signed_distance.abs(), b.signed_distance.abs(), "at {p}");
+            assert_eq!(a.signed_distance, b.signed_distance, "sign at {p}");
+        }
+        // A hint past the triangles is no hint.
+        let p = Vec3::new(0.0, 0.2, 0.0);
+        assert_eq!(
+            body.closest_surface_point(p),
+            body.closest_surface_point_near(p, u32::MAX)
+        );
     }
 }
