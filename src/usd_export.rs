@@ -90,6 +90,11 @@ impl HairUsd {
         Ok(())
     }
 
+    /// Whether the body is written beside the strands (the head deforms).
+    pub fn has_body(&self) -> bool {
+        self.body.is_some()
+    }
+
     /// Frames added so far.
     pub fn frame_count(&self) -> usize {
         self.writer.as_ref().map_or(0, UsdCurvesWriter::frame_count)

@@ -356,7 +356,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             counts.strands,
             usd.frame_count(),
             usd.time_codes_per_second(),
-            if usd.body_track().is_some() {
+            if usd.has_body() {
                 ", with the deforming body"
             } else {
                 ""

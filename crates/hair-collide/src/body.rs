@@ -25,8 +25,9 @@ use crate::volume::Pss;
 /// shared by the body's copies.
 #[derive(Debug)]
 pub(crate) struct BodyShape {
-    /// Per triangle, its three vertex indices into the mesh.
-    pub indices: Vec<[u32; 3]>,
+    /// Per triangle, its three vertex indices into the mesh (shared by a deforming body's
+    /// instants: the topology does not change).
+    pub indices: Arc<[[u32; 3]]>,
     /// The triangles with their unit normals \[m\] (body frame), indexed by triangle id.
     pub triangles: Vec<Triangle>,
     /// The ball around the vertices that triangles use \[m\] (body frame).
@@ -78,6 +79,22 @@ fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     let v = (d11 * d20 - d01 * d21) / denominator;
     let w = (d00 * d21 - d01 * d20) / denominator;
     Vec3::new(1.0 - v - w, v, w)
+}
+
+/// Checks per-vertex values `values` (`what`, for the error): one per vertex of `count`, each
+/// finite.
+pub(crate) fn check_vertex_values(what: &'static str, values: &[Vec3], count: usize) -> Result<()> {
+    if values.len() != count {
+        return Err(CollideError::SizeMismatch {
+            what,
+            actual: values.len(),
+            expected: count,
+        });
+    }
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(CollideError::NonFinite { what, index }),
+        None => Ok(()),
+    }
 }
 
 /// The ball `local` (body frame) placed by the pose: the same ball, padded for the rounding of
@@ -158,7 +175,7 @@ impl CollisionBody {
         );
         let shape = BodyShape {
             pseudonormals: Pseudonormals::of(mesh),
-            indices: mesh.triangles.clone(),
+            indices: mesh.triangles.as_slice().into(),
             triangles,
             bound,
             bvh,
@@ -179,19 +196,7 @@ impl CollisionBody {
     /// ([`CollisionBody::deformation_velocity`]). Errors on a count that is not the vertices' or
     /// a velocity that is not finite.
     pub fn from_moving_mesh(mesh: &TriangleMesh, velocities: Vec<Vec3>) -> Result<Self> {
-        if velocities.len() != mesh.positions.len() {
-            return Err(CollideError::SizeMismatch {
-                what: "vertex velocities",
-                actual: velocities.len(),
-                expected: mesh.positions.len(),
-            });
-        }
-        if let Some(index) = velocities.iter().position(|v| !v.is_finite()) {
-            return Err(CollideError::NonFinite {
-                what: "vertex velocities",
-                index,
-            });
-        }
+        check_vertex_values("vertex velocities", &velocities, mesh.positions.len())?;
         let mut body = Self::from_mesh(mesh)?;
         Arc::get_mut(&mut body.shape)
             .expect("a body just built holds its shape alone")

@@ -5,8 +5,8 @@
 
 use std::sync::{Arc, OnceLock};
 
-use crate::body::{BodyShape, CollisionBody, triangle_aabb};
-use crate::error::{CollideError, Result};
+use crate::body::{BodyShape, CollisionBody, check_vertex_values, triangle_aabb};
+use crate::error::Result;
 use crate::geometry::Triangle;
 use crate::volume::Pss;
 use glam::Vec3;
@@ -18,32 +18,15 @@ impl CollisionBody {
     /// triangle tree refitted (its topology kept: queries stay exact, the tree's quality drops
     /// only as far as the deformation reorders the triangles) and the edge structure kept. The
     /// pose is this body's; the bounding ball keeps its centre and grows to the farthest vertex.
+    /// The topology (triangle indices, edge structure) is shared with this body, not copied.
     ///
     /// Errors on a count that is not the mesh's vertices or a position or velocity that is not
     /// finite.
     pub fn deformed(&self, positions: &[Vec3], velocities: Vec<Vec3>) -> Result<Self> {
         let shape = &self.shape;
         let vertex_count = shape.pseudonormals.vertex.len();
-        for (what, actual) in [
-            ("deformed positions", positions.len()),
-            ("vertex velocities", velocities.len()),
-        ] {
-            if actual != vertex_count {
-                return Err(CollideError::SizeMismatch {
-                    what,
-                    actual,
-                    expected: vertex_count,
-                });
-            }
-        }
-        for (what, values) in [
-            ("deformed positions", positions),
-            ("vertex velocities", velocities.as_slice()),
-        ] {
-            if let Some(index) = values.iter().position(|v| !v.is_finite()) {
-                return Err(CollideError::NonFinite { what, index });
-            }
-        }
+        check_vertex_values("deformed positions", positions, vertex_count)?;
+        check_vertex_values("vertex velocities", &velocities, vertex_count)?;
         let triangles: Vec<Triangle> = shape
             .indices
             .iter()

@@ -5,6 +5,7 @@
 //! vertex, the sum of its faces' normals weighted by the face angles at the vertex.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use glam::Vec3;
 use hair_core::TriangleMesh;
@@ -16,8 +17,9 @@ pub(crate) struct Pseudonormals {
     pub vertex: Vec<Vec3>,
     /// Unit pseudonormal per edge.
     pub edge: Vec<Vec3>,
-    /// Per triangle, the edge id of its edges `k → k + 1`.
-    pub triangle_edges: Vec<[u32; 3]>,
+    /// Per triangle, the edge id of its edges `k → k + 1` (shared by a deforming body's
+    /// instants).
+    pub triangle_edges: Arc<[[u32; 3]]>,
     /// Whether every edge has exactly two triangles that traverse it in opposite directions.
     pub closed: bool,
 }
@@ -52,7 +54,7 @@ impl Pseudonormals {
         let mut pseudonormals = Pseudonormals {
             vertex: Vec::new(),
             edge: vec![Vec3::ZERO; edge_uses.len()],
-            triangle_edges,
+            triangle_edges: triangle_edges.into(),
             closed,
         };
         pseudonormals.update(&mesh.triangles, &mesh.positions);
@@ -65,7 +67,7 @@ impl Pseudonormals {
         self.vertex.clear();
         self.vertex.resize(positions.len(), Vec3::ZERO);
         self.edge.iter_mut().for_each(|e| *e = Vec3::ZERO);
-        for (indices, ids) in triangles.iter().zip(&self.triangle_edges) {
+        for (indices, ids) in triangles.iter().zip(self.triangle_edges.iter()) {
             let p = indices.map(|i| positions[i as usize]);
             let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
             for k in 0..3 {
