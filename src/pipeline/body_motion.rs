@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use hair_collide::{CollisionBody, attach_roots};
+use hair_collide::{CollisionBody, RestField, attach_roots};
 use hair_core::dynamics::{ChainRoots, DeformingBody, RootCarrier, SurfaceAttachment};
 use hair_core::representation::geometry::strand_polylines;
 use hair_core::{RigidTransform, Scene, TriangleMesh};
@@ -25,6 +25,8 @@ pub(crate) struct BodyRide {
     pub(crate) strand_roots: Vec<Vec3>,
     /// Where each strand's root rides (its closest point on the rest mesh).
     pub(crate) strand_attachments: Vec<SurfaceAttachment>,
+    /// The rest mesh's distance field that the collision bodies read (field contacts), if any.
+    pub(crate) rest_field: Option<RestField>,
 }
 
 impl BodyRide {
@@ -67,6 +69,7 @@ impl BodyRide {
             attachments: surface(&groom.skeletons.root_positions)?,
             strand_attachments: surface(&strand_roots)?,
             strand_roots,
+            rest_field: None,
         }))
     }
 
@@ -112,7 +115,8 @@ impl BodyRide {
     /// The collision body of the mesh at `time` [s] (head space; posed by the collision stage),
     /// its vertices moving at their mean velocity over the `time_step` [s] before it, and the
     /// farthest any vertex moved over that step [m]. From `previous` (the body at an earlier
-    /// time) its tree is refitted ([`CollisionBody::deformed`]); without it, built.
+    /// time) its tree is refitted ([`CollisionBody::deformed`]); without it, built. With a rest
+    /// field, the body reads it.
     pub(crate) fn collision_body(
         &self,
         time: f64,
@@ -142,7 +146,11 @@ impl BodyRide {
                     normals: Vec::new(),
                     triangles: sequence.triangles().to_vec(),
                 };
-                CollisionBody::from_moving_mesh(&mesh, velocities)?
+                let body = CollisionBody::from_moving_mesh(&mesh, velocities)?;
+                match &self.rest_field {
+                    Some(rest) => body.reading_rest_field(rest)?,
+                    None => body,
+                }
             }
         };
         Ok((body, moved))

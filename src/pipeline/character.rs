@@ -4,7 +4,7 @@
 //! working memory from the pipeline). Nothing here is state: a resumed run rebuilds it all from
 //! the state ([`CharacterRun::restore`]).
 
-use hair_collide::{BroadPhase, CollisionBody};
+use hair_collide::{BroadPhase, CollisionBody, RestField};
 use hair_core::dynamics::Environment;
 use hair_core::lod::{
     ErrorModel, LevelDeviation, LodSelector, SectionChoice, SectionObservation, SectionWork,
@@ -52,6 +52,8 @@ pub(crate) struct CharacterWork {
     /// stepped ends, which the levels' bodies become between the step and the projection, and
     /// the farthest its surface moved over the step [m].
     pub(crate) body_at_end: Option<(CollisionBody, f32)>,
+    /// The time [s] `body_at_end` is at.
+    pub(crate) body_at_end_time: f64,
     /// The level selector (automatic levels): its constants and scratch; its memory (choices,
     /// depths, tolerance) is the state's.
     pub(crate) selector: Option<LodSelector>,
@@ -115,14 +117,20 @@ pub(crate) fn build_character(
         (true, Some(body)) => Some(body.clone()),
         (true, None) => Some(CollisionBody::from_mesh(&model.scene.head.mesh)?),
     };
-    let ride = BodyRide::of(&model.scene, body.as_ref())?;
-    // A deforming body is built again every frame: the hierarchies need no field, which would
-    // be built again every frame too.
-    let broad_phase = match ride {
-        Some(_) => BroadPhase::Hierarchies,
-        None => settings.broad_phase,
+    let mut ride = BodyRide::of(&model.scene, body.as_ref())?;
+    // A deforming body is built again every frame. Its field contacts read the rest mesh's
+    // field moved with it (`RestField`, built once); the other broad phases take the
+    // hierarchies, since a field of one instant would be built again every frame.
+    let broad_phase = match (&mut ride, &body) {
+        (Some(ride), Some(body)) if settings.broad_phase == BroadPhase::FieldContacts => {
+            ride.rest_field = Some(RestField::of(body));
+            BroadPhase::FieldContacts
+        }
+        (Some(_), _) => BroadPhase::Hierarchies,
+        (None, _) => settings.broad_phase,
     };
     if broad_phase != BroadPhase::Hierarchies
+        && ride.is_none()
         && let Some(body) = &body
     {
         // Built with the character (once per mesh, shared by its copies), not in the first
@@ -148,6 +156,7 @@ pub(crate) fn build_character(
         body,
         ride,
         body_at_end: None,
+        body_at_end_time: f64::NAN,
         selector,
         section_work: super::drawn::section_work(groom),
         section_pixels: vec![0.0; sections],
@@ -197,8 +206,14 @@ impl CharacterRun<'_> {
     pub(crate) fn pose_body(&mut self) -> Result<()> {
         let head = self.head_pose();
         if let (Some(ride), Some(_)) = (&self.work.ride, &self.work.body) {
-            let (body, _) =
-                ride.collision_body(self.state.time, self.settings.dynamics.time_step, None)?;
+            // The body where the last step ended is the body now (built for the projection).
+            let body = match &self.work.body_at_end {
+                Some((end, _)) if self.work.body_at_end_time == self.state.time => end.clone(),
+                _ => {
+                    ride.collision_body(self.state.time, self.settings.dynamics.time_step, None)?
+                        .0
+                }
+            };
             for (_, level) in self.work.work.levels.iter_mut() {
                 for copy in level.bodies.iter_mut() {
                     *copy = body.clone();
@@ -220,6 +235,7 @@ impl CharacterRun<'_> {
             (Some(ride), Some(body)) => {
                 let step = self.settings.dynamics.time_step;
                 let previous = previous.as_ref().map_or(body, |(previous, _)| previous);
+                self.work.body_at_end_time = time + f64::from(step);
                 Some(ride.collision_body(time + f64::from(step), step, Some(previous))?)
             }
             _ => None,

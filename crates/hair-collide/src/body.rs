@@ -18,6 +18,7 @@ use crate::distance_field::{DEFAULT_CELL, DistanceField};
 use crate::error::{CollideError, Result, require_pose};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
+use crate::moving_field::Deformation;
 use crate::pseudonormals::Pseudonormals;
 use crate::volume::Pss;
 
@@ -41,6 +42,24 @@ pub(crate) struct BodyShape {
     /// A deforming body's vertex velocities \[m/s\] (body frame), one per vertex; empty for a
     /// body that only moves rigidly.
     pub vertex_velocities: Vec<Vec3>,
+    /// Where a deforming body reads its rest mesh's field (`moving_field.rs`).
+    pub deformation: Option<Deformation>,
+}
+
+impl BodyShape {
+    /// This shape reading `deformation` (its field, a fresh one, unbuilt).
+    pub(crate) fn with_deformation(&self, deformation: Option<Deformation>) -> BodyShape {
+        BodyShape {
+            indices: self.indices.clone(),
+            triangles: self.triangles.clone(),
+            bound: self.bound,
+            bvh: self.bvh.clone(),
+            pseudonormals: self.pseudonormals.clone(),
+            field: OnceLock::new(),
+            vertex_velocities: self.vertex_velocities.clone(),
+            deformation,
+        }
+    }
 }
 
 /// A rigid triangle mesh that hair collides with, placed in the world by a pose.
@@ -122,14 +141,22 @@ impl DistanceField {
     /// Cost: one closest-point search per vertex near the surface, and a linear pass over the
     /// grid (the 12k-triangle procedural head at 2 mm: about 0.3 s in a release build).
     pub fn of(body: &CollisionBody, cell: f32) -> Self {
+        Self::of_reaching(body, cell, crate::distance_field::EXACT_REACH)
+    }
+
+    /// [`DistanceField::of`] with every point within `exact_reach` \[m\] of the surface (at
+    /// least [`EXACT_REACH`](crate::distance_field::EXACT_REACH)) in an exact cell: more
+    /// seeds, for volumes of larger radius.
+    pub fn of_reaching(body: &CollisionBody, cell: f32, exact_reach: f32) -> Self {
         DistanceField::of_surface(
             body.local_triangles(),
             body.is_closed(),
             |p| {
                 body.closest_local_surface_point(p)
-                    .map(|surface| surface.signed_distance)
+                    .map(|surface| (surface.signed_distance, surface.triangle))
             },
             cell,
+            exact_reach,
         )
     }
 }
@@ -181,6 +208,7 @@ impl CollisionBody {
             bvh,
             field: OnceLock::new(),
             vertex_velocities: Vec::new(),
+            deformation: None,
         };
         Ok(Self {
             shape: Arc::new(shape),
@@ -242,6 +270,21 @@ impl CollisionBody {
             .map(|v| velocities[v as usize])
             .sum();
         sum / (3 * ids.len()) as f32
+    }
+
+    /// The velocity \[m/s\] (body frame) of the deforming surface at the point of triangle
+    /// `triangle` with barycentric `weights` (besides the pose's motion): the blend of its
+    /// vertices' velocities. Zero for a rigid body or a triangle out of range.
+    pub fn local_deformation_velocity_at(&self, triangle: u32, weights: Vec3) -> Vec3 {
+        let velocities = &self.shape.vertex_velocities;
+        match self.shape.indices.get(triangle as usize) {
+            Some(&[i, j, k]) if !velocities.is_empty() => {
+                velocities[i as usize] * weights.x
+                    + velocities[j as usize] * weights.y
+                    + velocities[k as usize] * weights.z
+            }
+            _ => Vec3::ZERO,
+        }
     }
 
     /// Places the body: world = `rotation` · local + `translation` \[m\]. Only the pose changes

@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::geometry::Triangle;
 use crate::volume::Pss;
 use glam::Vec3;
+use rayon::prelude::*;
 
 impl CollisionBody {
     /// This body's triangles over `positions` [m] (its own frame, one per vertex of the mesh it
@@ -19,6 +20,8 @@ impl CollisionBody {
     /// only as far as the deformation reorders the triangles) and the edge structure kept. The
     /// pose is this body's; the bounding ball keeps its centre and grows to the farthest vertex.
     /// The topology (triangle indices, edge structure) is shared with this body, not copied.
+    /// A body reading a rest field ([`CollisionBody::reading_rest_field`]) keeps reading it,
+    /// fitted to the new positions.
     ///
     /// Errors on a count that is not the mesh's vertices or a position or velocity that is not
     /// finite.
@@ -29,7 +32,8 @@ impl CollisionBody {
         check_vertex_values("vertex velocities", &velocities, vertex_count)?;
         let triangles: Vec<Triangle> = shape
             .indices
-            .iter()
+            .par_iter()
+            .with_min_len(1024)
             .map(|t| {
                 let [a, b, c] = t.map(|i| positions[i as usize]);
                 Triangle::new(a, b, c)
@@ -43,14 +47,18 @@ impl CollisionBody {
         let mut pseudonormals = shape.pseudonormals.clone();
         pseudonormals.update(&shape.indices, positions);
         let center = shape.bound.center;
-        let radius = shape
-            .indices
-            .iter()
-            .flatten()
-            .map(|&v| positions[v as usize].distance_squared(center))
-            .fold(0.0f32, f32::max)
+        // The vertices that triangles use: each triangle's corners.
+        let radius = triangles
+            .par_iter()
+            .with_min_len(1024)
+            .map(|t| {
+                let [a, b, c] = t.vertices.map(|v| v.distance_squared(center));
+                a.max(b).max(c)
+            })
+            .reduce(|| 0.0f32, f32::max)
             .sqrt();
         let bound = Pss { center, radius };
+        let deformation = shape.deformation.as_ref().map(|d| d.at(&triangles));
         let deformed = BodyShape {
             indices: shape.indices.clone(),
             triangles,
@@ -59,6 +67,7 @@ impl CollisionBody {
             pseudonormals,
             field: OnceLock::new(),
             vertex_velocities: velocities,
+            deformation,
         };
         Ok(self.with_shape(Arc::new(deformed)))
     }

@@ -84,18 +84,28 @@ pub struct DistanceField {
     /// The cells whose eight corners are seeds (their values exact), which
     /// [`DistanceField::sample`] interpolates, stored apart in bricks.
     bricks: ExactBricks,
+    /// Every point within this distance \[m\] of the surface lies in an exact cell.
+    exact_reach: f32,
 }
 
 impl DistanceField {
     /// The field of the surface made of `triangles`, whose exact signed distance at a point
-    /// \[m\] `signed_distance` gives (`None` where it cannot), with cells of at least `cell`
-    /// \[m\]; signed when `closed`. [`DistanceField::of`] builds it from a body.
+    /// \[m\] and closest triangle `closest` gives (`None` where it cannot), with cells of at
+    /// least `cell` \[m\]; signed when `closed`; every point within `exact_reach` \[m\] of
+    /// the surface (at least [`EXACT_REACH`]) in an exact cell. [`DistanceField::of`] builds it
+    /// from a body.
     pub fn of_surface(
         triangles: &[Triangle],
         closed: bool,
-        signed_distance: impl Fn(Vec3) -> Option<f32> + Sync,
+        closest: impl Fn(Vec3) -> Option<(f32, u32)> + Sync,
         cell: f32,
+        exact_reach: f32,
     ) -> Self {
+        let exact_reach = if exact_reach.is_finite() {
+            exact_reach.max(EXACT_REACH)
+        } else {
+            EXACT_REACH
+        };
         let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
         for triangle in triangles {
             for v in triangle.vertices {
@@ -114,7 +124,7 @@ impl DistanceField {
         // Hair hangs around a body: the grid reaches a quarter of its size beyond it (and at
         // least past the seeds), where the bound is sharp; beyond, the bounds' distance is.
         let pad_for = |h: f32| {
-            let reach = (SEED_CELLS * h).max(EXACT_REACH + h * 3.0f32.sqrt());
+            let reach = (SEED_CELLS * h).max(exact_reach + h * 3.0f32.sqrt());
             (2.0 * (reach + h)).max(PADDING * extent.max_element())
         };
         let dims_for = |h: f32| {
@@ -126,7 +136,7 @@ impl DistanceField {
         }
         let dims = dims_for(h);
         let origin = low - Vec3::splat(pad_for(h));
-        let reach = (SEED_CELLS * h).max(EXACT_REACH + h * 3.0f32.sqrt());
+        let reach = (SEED_CELLS * h).max(exact_reach + h * 3.0f32.sqrt());
         let count = dims[0] * dims[1] * dims[2];
         let index = |i: usize, j: usize, k: usize| i + dims[0] * (j + dims[1] * k);
         let position =
@@ -153,23 +163,26 @@ impl DistanceField {
         let slice = dims[0] * dims[1];
         let mut values = vec![f32::NAN; count];
         let mut is_seed = vec![false; count];
+        let mut closest_triangles = vec![u32::MAX; count];
         values
             .par_chunks_mut(slice)
             .zip(is_seed.par_chunks_mut(slice))
+            .zip(closest_triangles.par_chunks_mut(slice))
             .enumerate()
-            .for_each(|(kz, (values, is_seed))| {
+            .for_each(|(kz, ((values, is_seed), closest_triangles))| {
                 for jy in 0..dims[1] {
                     for ix in 0..dims[0] {
                         let at = ix + dims[0] * jy;
                         if !candidate[at + slice * kz] {
                             continue;
                         }
-                        let Some(distance) = signed_distance(position(ix, jy, kz)) else {
+                        let Some((distance, triangle)) = closest(position(ix, jy, kz)) else {
                             continue;
                         };
                         if distance.abs() <= reach {
                             values[at] = if signed { distance } else { distance.abs() };
                             is_seed[at] = true;
+                            closest_triangles[at] = triangle;
                         }
                     }
                 }
@@ -187,7 +200,7 @@ impl DistanceField {
         if signed {
             spread_signs(&mut values, &is_seed, dims);
         }
-        let bricks = ExactBricks::new(&values, &is_seed, dims);
+        let bricks = ExactBricks::new(&values, &closest_triangles, &is_seed, dims);
         DistanceField {
             origin,
             cell: h,
@@ -198,6 +211,7 @@ impl DistanceField {
             bounds: (low, high),
             seeds,
             bricks,
+            exact_reach,
         }
     }
 
@@ -328,11 +342,31 @@ impl DistanceField {
         Some((distance, gradient))
     }
 
+    /// The closest triangle of the grid vertex nearest `p` \[m\] (body frame) among the
+    /// corners of its cell, where that cell is exact (as [`sample`](Self::sample) answers);
+    /// `None` elsewhere. Within a cell (a few millimetres) of the triangle closest to `p`
+    /// itself: a starting point for whoever needs the surface near `p`.
+    pub fn nearby_triangle(&self, p: Vec3) -> Option<u32> {
+        if !p.is_finite() {
+            return None;
+        }
+        let t = (p - self.origin) * self.inverse_cell;
+        if t.min_element() < 0.0 {
+            return None;
+        }
+        let [i, j, k] = [t.x as usize, t.y as usize, t.z as usize];
+        if i >= self.dims[0] - 1 || j >= self.dims[1] - 1 || k >= self.dims[2] - 1 {
+            return None;
+        }
+        let f = t - Vec3::new(i as f32, j as f32, k as f32);
+        self.bricks.nearest_triangle([i, j, k], f.to_array())
+    }
+
     /// How close to the surface \[m\] every point samples exactly: a point where
     /// [`sample`](Self::sample) answers `None` inside the grid is farther than this from the
     /// surface ([`EXACT_REACH`], less the rounding allowance).
     pub fn exact_reach(&self) -> f32 {
-        EXACT_REACH - ROUNDING
+        self.exact_reach - ROUNDING
     }
 
     /// Whether `p` \[m\] (body frame) is certified outside the body by more than `margin` \[m\]:

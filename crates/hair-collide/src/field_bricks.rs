@@ -31,12 +31,16 @@ pub(crate) struct ExactBricks {
     /// Per stored brick: bit `i + 4j + 16k` set where cell `(i, j, k)` of the brick has eight
     /// exact corners.
     exact: Vec<u64>,
+    /// Per stored brick: its 5³ corners' closest triangles (as `values`; [`EMPTY`] where none
+    /// was recorded).
+    triangles: Vec<u32>,
 }
 
 impl ExactBricks {
     /// The bricks of a grid of `dims` vertices (x fastest) holding `values`, of which those
-    /// flagged in `exact` are exact.
-    pub fn new(values: &[f32], exact: &[bool], dims: [usize; 3]) -> Self {
+    /// flagged in `exact` are exact, and each vertex's closest triangle in `triangles` (the
+    /// same layout; empty when none were recorded).
+    pub fn new(values: &[f32], triangles: &[u32], exact: &[bool], dims: [usize; 3]) -> Self {
         let cells = dims.map(|d| d.saturating_sub(1));
         let bricks = cells.map(|c| c.div_ceil(CELLS));
         let vertex = |i: usize, j: usize, k: usize| i + dims[0] * (j + dims[1] * k);
@@ -82,6 +86,11 @@ impl ExactBricks {
                                 } else {
                                     0.0
                                 });
+                                stored.triangles.push(if inside {
+                                    triangles.get(vertex(i, j, k)).copied().unwrap_or(EMPTY)
+                                } else {
+                                    EMPTY
+                                });
                             }
                         }
                     }
@@ -116,9 +125,30 @@ impl ExactBricks {
         ])
     }
 
+    /// The closest triangle recorded at the corner of exact cell `(i, j, k)` nearest the
+    /// point at fractions `f` (each in `[0, 1]`) across the cell; `None` where the cell is not
+    /// exact or no triangle was recorded there.
+    #[inline]
+    pub fn nearest_triangle(&self, [i, j, k]: [usize; 3], f: [f32; 3]) -> Option<u32> {
+        let [bx, by, bz] = [i / CELLS, j / CELLS, k / CELLS];
+        let brick = self.index[bx + self.bricks[0] * (by + self.bricks[1] * bz)];
+        if brick == EMPTY {
+            return None;
+        }
+        let brick = brick as usize;
+        let [ci, cj, ck] = [i % CELLS, j % CELLS, k % CELLS];
+        if self.exact[brick] & (1 << (ci + CELLS * cj + CELLS * CELLS * ck)) == 0 {
+            return None;
+        }
+        let [ri, rj, rk] = f.map(|f| usize::from(f >= 0.5));
+        let at = brick * VALUES + (ci + ri) + SIDE * (cj + rj) + SIDE * SIDE * (ck + rk);
+        self.triangles.get(at).copied().filter(|&t| t != EMPTY)
+    }
+
     /// Bytes held.
     pub fn memory_bytes(&self) -> usize {
         self.index.len() * std::mem::size_of::<u32>()
+            + self.triangles.len() * std::mem::size_of::<u32>()
             + self.values.len() * std::mem::size_of::<f32>()
             + self.exact.len() * std::mem::size_of::<u64>()
     }
@@ -151,7 +181,8 @@ mod tests {
                 (state >> 33) % 5 != 0
             })
             .collect();
-        let bricks = ExactBricks::new(&values, &exact, dims);
+        let triangles: Vec<u32> = (0..count as u32).map(|v| v * 7).collect();
+        let bricks = ExactBricks::new(&values, &triangles, &exact, dims);
         let vertex = |i: usize, j: usize, k: usize| i + dims[0] * (j + dims[1] * k);
         let (mut some, mut none) = (0, 0);
         for k in 0..dims[2] - 1 {
@@ -164,6 +195,9 @@ mod tests {
                             .map(|(x, y)| [values[corner(x, y, 0)], values[corner(x, y, 1)]])
                     });
                     assert_eq!(bricks.corners(i, j, k), expected, "cell {i} {j} {k}");
+                    // The nearest corner's triangle: the far corner at fractions ≥ ½.
+                    let nearest = bricks.nearest_triangle([i, j, k], [0.7, 0.2, 0.5]);
+                    assert_eq!(nearest, all.then(|| triangles[corner(1, 0, 1)]));
                     if all {
                         some += 1;
                     } else {

@@ -24,6 +24,7 @@ use rayon::prelude::*;
 use crate::body::CollisionBody;
 use crate::bvh::aabb_padding;
 use crate::distance_field::DistanceField;
+use crate::moving_field::MovedField;
 use crate::query::{CHUNK, aabb_touches_ball, ball_padding, for_each_touched};
 use crate::volume::SweptSphere;
 
@@ -34,11 +35,23 @@ pub struct FieldContacts {
     /// `(segment, normal)` of each segment that touches the body, ascending by segment: the
     /// normal is unit and outward, in the body's own frame.
     pub contacts: Vec<(u32, Vec3)>,
+    /// Per contact of a deforming body, in the order of `contacts`: the surface's own velocity
+    /// \[m/s\] (body frame) where the segment touches it, blended from its carrier triangle's
+    /// vertices (the touched triangles' mean on the exact path). Empty for a rigid body.
+    pub velocities: Vec<Vec3>,
     /// Segments of the last query that the field could not decide and the exact triangle tests
     /// did (see the module documentation).
     pub exact_fallbacks: usize,
-    /// Per chunk of volumes: its contacts and fallbacks, found side by side.
-    chunks: Vec<(Vec<(u32, Vec3)>, usize)>,
+    /// Per chunk of volumes: what it found, side by side.
+    chunks: Vec<ChunkContacts>,
+}
+
+/// What one chunk of volumes found.
+#[derive(Debug, Clone, Default)]
+struct ChunkContacts {
+    contacts: Vec<(u32, Vec3)>,
+    velocities: Vec<Vec3>,
+    fallbacks: usize,
 }
 
 impl FieldContacts {
@@ -52,33 +65,71 @@ impl FieldContacts {
 enum Verdict {
     /// Clear of the body.
     Clear,
-    /// Touching, with the outward unit normal (body frame).
-    Touching(Vec3),
+    /// Touching, with the outward unit normal (body frame) and, through a moving field, the
+    /// carrier triangle and the weights of its vertices there.
+    Touching(Vec3, Option<(u32, Vec3)>),
     /// The field cannot decide: take the exact path.
     Undecided,
 }
 
-/// The lowest interpolated distance over `samples` (each point with its
-/// [`DistanceField::sample`]) and the gradient there (`None` when no point is in an exact cell),
-/// or `Err(())` when a point outside the exact cells may lie within `radius` \[m\] of the
-/// surface, so that the samples cannot decide. A point outside the exact cells lies farther than
-/// [`DistanceField::exact_reach`] from the surface (inside the grid; beyond it, the certified
-/// bound says how far): where that exceeds the radius, it cannot make the volume touch, and is
-/// left out.
+/// One field sample: distance \[m\], gradient, and the carrier (triangle, weights) of a
+/// moving field.
+type Sample = (f32, Vec3, Option<(u32, Vec3)>);
+
+/// A field that contacts are read from: a rigid body's own, or a deforming body's moving one.
+trait Sampler {
+    /// The interpolated signed distance and its gradient at `p`, where the field is exact.
+    fn sample(&self, p: Vec3) -> Option<Sample>;
+    /// A certified lower bound on the distance at `p`.
+    fn bound(&self, p: Vec3) -> f32;
+    /// How close to the surface every point samples exactly.
+    fn exact_reach(&self) -> f32;
+}
+
+impl Sampler for DistanceField {
+    fn sample(&self, p: Vec3) -> Option<Sample> {
+        DistanceField::sample(self, p).map(|(d, g)| (d, g, None))
+    }
+    fn bound(&self, p: Vec3) -> f32 {
+        DistanceField::bound(self, p).0
+    }
+    fn exact_reach(&self) -> f32 {
+        DistanceField::exact_reach(self)
+    }
+}
+
+impl Sampler for MovedField<'_> {
+    fn sample(&self, p: Vec3) -> Option<Sample> {
+        MovedField::sample(self, p).map(|s| (s.distance, s.gradient, Some((s.triangle, s.weights))))
+    }
+    fn bound(&self, p: Vec3) -> f32 {
+        MovedField::bound(self, p).0
+    }
+    fn exact_reach(&self) -> f32 {
+        MovedField::exact_reach(self)
+    }
+}
+
+/// The lowest interpolated distance over `samples` (each point with its sample) and the
+/// gradient there (`None` when no point is in an exact cell), or `Err(())` when a point outside
+/// the exact cells may lie within `radius` \[m\] of the surface, so that the samples cannot
+/// decide. A point outside the exact cells lies farther than the field's exact reach from the
+/// surface (inside the grid; beyond it, the certified bound says how far): where that exceeds
+/// the radius, it cannot make the volume touch, and is left out.
 fn lowest(
-    field: &DistanceField,
+    field: &impl Sampler,
     radius: f32,
-    samples: impl IntoIterator<Item = (Vec3, Option<(f32, Vec3)>)>,
-) -> Result<Option<(f32, Vec3)>, ()> {
-    let mut best: Option<(f32, Vec3)> = None;
+    samples: impl IntoIterator<Item = (Vec3, Option<Sample>)>,
+) -> Result<Option<Sample>, ()> {
+    let mut best: Option<Sample> = None;
     for (p, sample) in samples {
         match sample {
-            Some((d, g)) => {
-                if best.is_none_or(|(b, _)| d < b) {
-                    best = Some((d, g));
+            Some(sample) => {
+                if best.is_none_or(|(b, _, _)| sample.0 < b) {
+                    best = Some(sample);
                 }
             }
-            None if field.exact_reach() > radius || field.bound(p).0 > radius => {}
+            None if field.exact_reach() > radius || field.bound(p) > radius => {}
             None => return Err(()),
         }
     }
@@ -86,7 +137,7 @@ fn lowest(
 }
 
 /// The field's verdict on `volume` (body frame).
-fn verdict(field: &DistanceField, volume: &SweptSphere) -> Verdict {
+fn verdict(field: &impl Sampler, volume: &SweptSphere) -> Verdict {
     let radius = volume.radius();
     let sampled_at = |p: Vec3| (p, field.sample(p));
     let sampled = match volume {
@@ -95,21 +146,26 @@ fn verdict(field: &DistanceField, volume: &SweptSphere) -> Verdict {
             let axis = v.end - v.start;
             let samples = [v.start, v.start + axis * 0.5, v.end].map(sampled_at);
             lowest(field, radius, samples).map(|best| {
-                let (d, g) = best?;
+                let (d, _, _) = best?;
                 // The parabola through the three distances (all exact): its vertex, where inside.
-                if let [(_, Some((d0, _))), (_, Some((d1, _))), (_, Some((d2, _)))] = samples {
+                if let [
+                    (_, Some((d0, _, _))),
+                    (_, Some((d1, _, _))),
+                    (_, Some((d2, _, _))),
+                ] = samples
+                {
                     let a = 2.0 * (d0 - 2.0 * d1 + d2);
                     let t = -(d2 - d0 - a) / (2.0 * a);
                     if a > 0.0
                         && t > 0.0
                         && t < 1.0
-                        && let Some((dt, gt)) = field.sample(v.start + axis * t)
-                        && dt < d
+                        && let Some(vertex) = field.sample(v.start + axis * t)
+                        && vertex.0 < d
                     {
-                        return Some((dt, gt));
+                        return Some(vertex);
                     }
                 }
-                Some((d, g))
+                best
             })
         }
         SweptSphere::Rectangle(v) => {
@@ -127,10 +183,10 @@ fn verdict(field: &DistanceField, volume: &SweptSphere) -> Verdict {
     match sampled {
         Err(()) => Verdict::Undecided,
         Ok(None) => Verdict::Clear,
-        Ok(Some((d, _))) if d > radius => Verdict::Clear,
-        Ok(Some((_, g))) => g
+        Ok(Some((d, _, _))) if d > radius => Verdict::Clear,
+        Ok(Some((_, g, carrier))) => g
             .try_normalize()
-            .map_or(Verdict::Undecided, Verdict::Touching),
+            .map_or(Verdict::Undecided, |n| Verdict::Touching(n, carrier)),
     }
 }
 
@@ -146,22 +202,28 @@ pub fn query_body_field(
     contacts: &mut FieldContacts,
 ) {
     contacts.contacts.clear();
+    contacts.velocities.clear();
     contacts.exact_fallbacks = 0;
     if body.triangle_count() == 0 {
         return;
     }
     let bound = body.local_bounding_volume();
     let bound_padding = ball_padding(&bound);
-    let field = body.distance_field();
+    // A deforming body reads its rest field moved with it, or (reading none) takes the exact
+    // path everywhere: a field of one instant would be built again at the next.
+    let moved = body.moved_field();
+    let rigid = (!body.is_deforming()).then(|| body.distance_field());
+    let deforming = body.is_deforming();
     let triangles = body.local_triangles();
     let chunks = volumes.len().div_ceil(CHUNK);
     contacts.chunks.resize_with(chunks, Default::default);
     contacts.chunks[..chunks]
         .par_iter_mut()
         .enumerate()
-        .for_each(|(chunk, (found, fallbacks))| {
-            found.clear();
-            *fallbacks = 0;
+        .for_each(|(chunk, found)| {
+            found.contacts.clear();
+            found.velocities.clear();
+            found.fallbacks = 0;
             let first = chunk * CHUNK;
             let end = (first + CHUNK).min(volumes.len());
             for (segment, volume) in (first..end).zip(&volumes[first..end]) {
@@ -171,22 +233,47 @@ pub fn query_body_field(
                 if !aabb_touches_ball(&volume.aabb(padding), &bound, bound_padding) {
                     continue;
                 }
-                match verdict(field, volume) {
+                let said = match (rigid, &moved) {
+                    (Some(field), _) => verdict(field, volume),
+                    (None, Some(moved)) => verdict(moved, volume),
+                    (None, None) => Verdict::Undecided,
+                };
+                match said {
                     Verdict::Clear => {}
-                    Verdict::Touching(normal) => found.push((segment as u32, normal)),
+                    Verdict::Touching(normal, carrier) => {
+                        found.contacts.push((segment as u32, normal));
+                        if deforming {
+                            let velocity = carrier.map_or(Vec3::ZERO, |(t, weights)| {
+                                body.local_deformation_velocity_at(t, weights)
+                            });
+                            found.velocities.push(velocity);
+                        }
+                    }
                     Verdict::Undecided => {
-                        *fallbacks += 1;
-                        let mut sum = Vec3::ZERO;
-                        for_each_touched(volume, body, |t| sum += triangles[t as usize].normal);
+                        found.fallbacks += 1;
+                        let (mut sum, mut count) = (Vec3::ZERO, 0);
+                        let mut velocity = Vec3::ZERO;
+                        for_each_touched(volume, body, |t| {
+                            sum += triangles[t as usize].normal;
+                            count += 1;
+                            if deforming {
+                                velocity +=
+                                    body.local_deformation_velocity_at(t, Vec3::splat(1.0 / 3.0));
+                            }
+                        });
                         if let Some(normal) = sum.try_normalize() {
-                            found.push((segment as u32, normal));
+                            found.contacts.push((segment as u32, normal));
+                            if deforming {
+                                found.velocities.push(velocity / count as f32);
+                            }
                         }
                     }
                 }
             }
         });
-    for (found, fallbacks) in &contacts.chunks[..chunks] {
-        contacts.contacts.extend_from_slice(found);
-        contacts.exact_fallbacks += fallbacks;
+    for found in &contacts.chunks[..chunks] {
+        contacts.contacts.extend_from_slice(&found.contacts);
+        contacts.velocities.extend_from_slice(&found.velocities);
+        contacts.exact_fallbacks += found.fallbacks;
     }
 }

@@ -13,6 +13,7 @@
 //! - [`attach`]: [`attach_roots`], roots attached to a body's closest triangle (barycentric).
 //! - [`query`]: [`query_body`] and its brute-force reference [`query_body_brute_force`].
 //! - [`field_contacts`]: [`query_body_field`], contacts from a body's distance field.
+//! - [`RestField`]: a deforming body's field, its rest mesh's read through the deformation.
 //! - [`sight`]: [`LineOfSight`], whether a body hides a point from an eye.
 //!
 //! Units are metres; vectors are `glam::Vec3` (the same type parry3d 0.31 uses).
@@ -34,6 +35,7 @@ mod gather;
 pub mod geometry;
 pub mod hair_hair;
 pub mod layout;
+mod moving_field;
 mod other_forces;
 mod projection;
 mod projection_pass;
@@ -58,6 +60,7 @@ pub use hair_hair::{HairHairSettings, add_repulsion_forces};
 pub use layout::{
     ChainShape, CollisionChain, groom_active_chains, groom_chain, groom_level_chains,
 };
+pub use moving_field::RestField;
 pub use query::{
     SegmentContacts, query_body, query_body_brute_force, query_body_near, query_body_volumes,
 };

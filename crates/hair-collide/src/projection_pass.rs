@@ -62,8 +62,7 @@ impl ProjectionPass<'_> {
             return true;
         }
         let certified = if self.use_field {
-            body.distance_field()
-                .outside_clearance(local, CLEARANCE_ROUNDING)
+            body.field_clearance(local, CLEARANCE_ROUNDING)
         } else {
             None
         };

@@ -191,7 +191,8 @@ fn query_volumes(
     if body.triangle_count() > 0 {
         let bound = body.local_bounding_volume();
         let bound_padding = ball_padding(&bound);
-        let field = use_field.then(|| body.distance_field());
+        // A deforming instant's own field would be built again at the next instant.
+        let field = (use_field && !body.is_deforming()).then(|| body.distance_field());
         let chunks = volumes.len().div_ceil(CHUNK);
         contacts.chunk_pairs.resize_with(chunks, Vec::new);
         contacts.chunk_pairs[..chunks]

@@ -285,6 +285,8 @@ impl CollisionSolver {
                 report.exact_fallbacks += self.field_contacts.exact_fallbacks;
                 self.segment_normals
                     .extend_from_slice(&self.field_contacts.contacts);
+                self.segment_surface
+                    .extend_from_slice(&self.field_contacts.velocities);
             } else {
                 if use_field {
                     query_body_near(hierarchy.volumes(), body, &mut self.contacts);
@@ -328,7 +330,8 @@ impl CollisionSolver {
                     };
                     let deformation = match self.segment_surface.get(index) {
                         Some(local) => head.rotation * *local,
-                        // Field contacts name no triangles: the closest point's.
+                        // A rigid body's field contacts name no surface velocity: the
+                        // closest point's (zero on a rigid body).
                         None => body.deformation_velocity(p),
                     };
                     let surface =

@@ -1,0 +1,464 @@
+//! A deforming body's distance field, moving with it (issues 51 and 53): the rest mesh's field
+//! ([`DistanceField`], built once), read at each instant through the deformation, so that hair
+//! collides with a talking, squashing head through a few field samples per segment, as it does
+//! with a rigid one, instead of descending a refitted triangle tree.
+//!
+//! **A point's rest image.** A point `p` near the deformed surface is written in the frame of a
+//! *carrier* triangle `t` (its current vertices `a, b, c` and unit normal `n`):
+//! `p = a + u (b − a) + v (c − a) + h n`, and sent to the same coordinates over the rest
+//! triangle: `q = A + u (B − A) + v (C − A) + h N`. The normal offset `h` is kept, so a point
+//! above the inside of its carrier keeps its distance to the surface exactly; the in-plane
+//! coordinates stretch with the triangle. The carrier is the closest triangle recorded at the
+//! rest field's grid vertex nearest the image ([`DistanceField::nearby_triangle`]): a first
+//! image comes from a rigid transform fitted to the whole deformation (below), then at most two
+//! more through the carrier found, until the carrier no longer changes. The field's distance at
+//! `q` is the sample's distance, and its gradient, turned from the rest triangle's frame to the
+//! current one's, the sample's normal.
+//!
+//! **Its error.** Above the inside of the carrier the distance is exact up to the rest field's
+//! own interpolation (`h²/R`, µm). Where the closest point lies on another triangle (over edges,
+//! a neighbour of the carrier), the in-plane stretch `ε` of the triangles between them moves the
+//! image by at most `ε` times the point's distance to the surface: 8 % stretch at 5 mm off the
+//! surface is 0.4 mm. Contacts carry that error, as a rigid body's field contacts carry the
+//! samples' (`field_contacts.rs`); the positional guarantee is the exact projection's, whatever
+//! the field says.
+//!
+//! **Certified bounds.** Every vertex of the deformed mesh lies within `δ` of its rest position
+//! moved by the fitted rigid transform `F` (`δ` is measured at each instant), and so does every
+//! point of every triangle (a convex combination of its vertices'). So the distance from `p` to
+//! the deformed surface is at least the rest surface's distance at `F⁻¹ p` less `δ`, and where
+//! that is positive the straight-line morph from `F(rest)` to the deformed surface never crosses
+//! `p`: the rest field's sign holds. This is what the projection skips clear nodes with.
+//!
+//! **The fit.** `F` is the rotation and translation that best map the rest vertices onto the
+//! current ones in least squares (Kabsch): the rotation is the polar factor of the
+//! cross-covariance of the centred positions, found by Higham's iteration
+//! `R ← (R + R⁻ᵀ) / 2`. It only has to be a good first guess and a small `δ`; the bounds hold for
+//! any rigid transform.
+
+use std::sync::Arc;
+
+use glam::{Mat3, Vec3};
+
+use crate::body::{BodyShape, CollisionBody};
+use crate::distance_field::{DEFAULT_CELL, DistanceField};
+use crate::error::{CollideError, Result};
+use crate::geometry::Triangle;
+
+/// The rest mesh that a deforming body's instants read their field from
+/// ([`CollisionBody::reading_rest_field`]): its triangles, its distance field (built once, by
+/// [`RestField::of`]) and its vertices. Cloning shares it.
+#[derive(Debug, Clone)]
+pub struct RestField {
+    rest: Arc<RestBody>,
+}
+
+/// What [`RestField`] shares.
+#[derive(Debug)]
+struct RestBody {
+    /// The rest body's shape: its triangles.
+    shape: Arc<BodyShape>,
+    /// The rest mesh's distance field, exact within [`MOVING_REACH`] of the surface.
+    field: DistanceField,
+    /// Per vertex that a triangle uses: a triangle and corner where it appears.
+    corners: Vec<(u32, u8)>,
+    /// Those vertices at rest \[m\] (body frame), centred on `centroid`.
+    centred: Vec<Vec3>,
+    /// The mean of those vertices at rest \[m\].
+    centroid: Vec3,
+}
+
+/// A rigid transform fitted to a deformation: current ≈ `rotation` · rest + `translation`, with
+/// every vertex within `deviation` \[m\] of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RigidFit {
+    rotation: Mat3,
+    translation: Vec3,
+    deviation: f32,
+}
+
+/// A deforming body's instant read through its rest field.
+#[derive(Debug, Clone)]
+pub(crate) struct Deformation {
+    rest: RestField,
+    fit: RigidFit,
+}
+
+/// How far from the surface \[m\] a rest field samples exactly: the presets' widest segment
+/// volumes (strand groups about 10 mm in radius) decide from the samples, where a rigid body's
+/// field (exact within [`EXACT_REACH`](crate::distance_field::EXACT_REACH)) would leave them to
+/// its certified bound, which a deformation loosens by the fit's deviation.
+pub const MOVING_REACH: f32 = 0.016;
+
+impl RestField {
+    /// The rest field of `rest`, a body built from the deforming mesh at rest (its pose is not
+    /// read): builds its distance field, exact within [`MOVING_REACH`] of the surface (about
+    /// 1 s for a 20k-triangle head in a release build on two cores).
+    pub fn of(rest: &CollisionBody) -> Self {
+        let field = DistanceField::of_reaching(rest, DEFAULT_CELL, MOVING_REACH);
+        let shape = rest.shape.clone();
+        let vertex_count = shape.pseudonormals.vertex.len();
+        let mut corner_of = vec![None; vertex_count];
+        for (t, indices) in shape.indices.iter().enumerate() {
+            for (k, &v) in indices.iter().enumerate() {
+                corner_of[v as usize].get_or_insert((t as u32, k as u8));
+            }
+        }
+        let corners: Vec<(u32, u8)> = corner_of.into_iter().flatten().collect();
+        let at = |&(t, k): &(u32, u8)| shape.triangles[t as usize].vertices[k as usize];
+        let centroid = corners.iter().map(at).sum::<Vec3>() / (corners.len().max(1) as f32);
+        let centred = corners.iter().map(|c| at(c) - centroid).collect();
+        RestField {
+            rest: Arc::new(RestBody {
+                shape,
+                field,
+                corners,
+                centred,
+                centroid,
+            }),
+        }
+    }
+
+    /// The rest distance field.
+    pub fn field(&self) -> &DistanceField {
+        &self.rest.field
+    }
+
+    /// Whether `triangles` (an instant's) are this rest mesh's, in the same order.
+    fn matches(&self, indices: &[[u32; 3]]) -> bool {
+        *self.rest.shape.indices == *indices
+    }
+
+    /// The rigid fit of the instant whose triangles are `current` (see the module
+    /// documentation).
+    fn fit(&self, current: &[Triangle]) -> RigidFit {
+        let rest = &self.rest;
+        let at = |&(t, k): &(u32, u8)| current[t as usize].vertices[k as usize];
+        let count = rest.corners.len().max(1) as f32;
+        let centroid = rest.corners.iter().map(at).sum::<Vec3>() / count;
+        // Cross-covariance Σ (x − x̄)(X − X̄)ᵀ, column by column.
+        let mut covariance = Mat3::ZERO;
+        for (corner, rest_offset) in rest.corners.iter().zip(&rest.centred) {
+            let offset = at(corner) - centroid;
+            covariance += Mat3::from_cols(
+                offset * rest_offset.x,
+                offset * rest_offset.y,
+                offset * rest_offset.z,
+            );
+        }
+        let rotation = polar_rotation(covariance).unwrap_or(Mat3::IDENTITY);
+        let translation = centroid - rotation * rest.centroid;
+        let deviation = rest
+            .corners
+            .iter()
+            .zip(&rest.centred)
+            .map(|(corner, rest_offset)| {
+                at(corner).distance(rotation * (*rest_offset + rest.centroid) + translation)
+            })
+            .fold(0.0f32, f32::max);
+        RigidFit {
+            rotation,
+            translation,
+            deviation,
+        }
+    }
+}
+
+/// The rotation nearest `m` (its polar factor) by Higham's iteration; `None` where `m` is
+/// singular or a reflection (a mesh too flat or turned inside out to fit).
+fn polar_rotation(m: Mat3) -> Option<Mat3> {
+    let scale = m
+        .to_cols_array()
+        .iter()
+        .map(|x| x.abs())
+        .fold(0.0, f32::max);
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let mut r = m / scale;
+    if r.determinant() <= 1e-6 {
+        return None;
+    }
+    for _ in 0..40 {
+        let next = (r + r.inverse().transpose()) * 0.5;
+        let change = (next - r)
+            .to_cols_array()
+            .iter()
+            .map(|x| x.abs())
+            .sum::<f32>();
+        r = next;
+        if change < 1e-6 {
+            break;
+        }
+    }
+    r.is_finite().then_some(r)
+}
+
+impl Deformation {
+    /// `rest` read at the instant whose triangles are `current`.
+    pub(crate) fn of(rest: &RestField, current: &[Triangle]) -> Self {
+        Deformation {
+            rest: rest.clone(),
+            fit: rest.fit(current),
+        }
+    }
+
+    /// The same rest field at the instant whose triangles are `current`.
+    pub(crate) fn at(&self, current: &[Triangle]) -> Self {
+        Self::of(&self.rest, current)
+    }
+
+    /// How far \[m\] any vertex strays from the fitted rigid transform.
+    pub(crate) fn deviation(&self) -> f32 {
+        self.fit.deviation
+    }
+}
+
+/// An instant's field: its deformation and the body at that instant.
+#[derive(Clone, Copy)]
+pub(crate) struct MovedField<'a> {
+    deformation: &'a Deformation,
+    current: &'a [Triangle],
+    body: &'a CollisionBody,
+}
+
+/// A point's place on its carrier triangle: `p = a + u (b − a) + v (c − a) + h n`.
+#[derive(Debug, Clone, Copy)]
+struct OnTriangle {
+    u: f32,
+    v: f32,
+    h: f32,
+}
+
+/// `p` on `triangle` (see [`OnTriangle`]); `None` on a degenerate triangle.
+fn on_triangle(triangle: &Triangle, p: Vec3) -> Option<OnTriangle> {
+    let [a, b, c] = triangle.vertices;
+    let (e1, e2, d) = (b - a, c - a, p - a);
+    let (g11, g12, g22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let det = g11 * g22 - g12 * g12;
+    // Degenerate (or not finite): no plane to measure in.
+    if det.is_nan() || det <= f32::EPSILON * g11 * g22 {
+        return None;
+    }
+    let (r1, r2) = (d.dot(e1), d.dot(e2));
+    Some(OnTriangle {
+        u: (g22 * r1 - g12 * r2) / det,
+        v: (g11 * r2 - g12 * r1) / det,
+        h: d.dot(triangle.normal),
+    })
+}
+
+/// The point at `place` over `triangle`.
+fn at_place(triangle: &Triangle, place: OnTriangle) -> Vec3 {
+    let [a, b, c] = triangle.vertices;
+    a + (b - a) * place.u + (c - a) * place.v + triangle.normal * place.h
+}
+
+/// An orthonormal frame of `triangle`: its first edge's direction, the in-plane normal to it,
+/// its normal.
+fn frame(triangle: &Triangle) -> [Vec3; 3] {
+    let [a, b, _] = triangle.vertices;
+    let x = (b - a).normalize_or_zero();
+    [x, triangle.normal.cross(x), triangle.normal]
+}
+
+/// A field sample through the deformation: the distance \[m\] (positive outside), its gradient
+/// turned into the current frame, and the carrier triangle with the point's barycentric
+/// weights on it (clamped into the triangle).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MovedSample {
+    pub distance: f32,
+    pub gradient: Vec3,
+    pub triangle: u32,
+    pub weights: Vec3,
+}
+
+impl<'a> MovedField<'a> {
+    /// The field of `body`, an instant of `deformation`.
+    pub(crate) fn new(deformation: &'a Deformation, body: &'a CollisionBody) -> Self {
+        MovedField {
+            deformation,
+            current: &body.shape.triangles,
+            body,
+        }
+    }
+
+    fn rest(&self) -> &RestBody {
+        &self.deformation.rest.rest
+    }
+
+    fn field(&self) -> &DistanceField {
+        self.deformation.rest.field()
+    }
+
+    /// `p` \[m\] (current body frame) moved back by the fitted rigid transform.
+    fn fitted_back(&self, p: Vec3) -> Vec3 {
+        let fit = &self.deformation.fit;
+        fit.rotation.transpose() * (p - fit.translation)
+    }
+
+    /// The rest image of `p` through carrier `t`, with `p`'s place on it.
+    fn image(&self, t: u32, p: Vec3) -> Option<(Vec3, OnTriangle)> {
+        let place = on_triangle(self.current.get(t as usize)?, p)?;
+        let rest = self.rest().shape.triangles.get(t as usize)?;
+        Some((at_place(rest, place), place))
+    }
+
+    /// The rest image of `p` (see the module documentation), its carrier and place; `None`
+    /// where no carrier is found (the image is not within a cell of the rest field's exact
+    /// shell) or a carrier is degenerate.
+    fn locate(&self, p: Vec3) -> Option<(Vec3, u32, OnTriangle)> {
+        let field = self.field();
+        let fitted_back = self.fitted_back(p);
+        let mut carrier = match field.nearby_triangle(fitted_back) {
+            Some(carrier) => carrier,
+            // Where the deformation strays from the fit, the fitted-back point may miss the
+            // exact shell: unless the bound puts `p` beyond it, the closest triangle is found.
+            None if self.bound(p).0 < field.exact_reach() => {
+                self.body.closest_local_surface_point(p)?.triangle
+            }
+            None => return None,
+        };
+        let (mut image, mut place) = self.image(carrier, p)?;
+        for _ in 0..2 {
+            match field.nearby_triangle(image) {
+                Some(next) if next != carrier => {
+                    carrier = next;
+                    (image, place) = self.image(carrier, p)?;
+                }
+                _ => break,
+            }
+        }
+        Some((image, carrier, place))
+    }
+
+    /// The field's distance and gradient at `p` \[m\] (current body frame), with the carrier
+    /// (see the module documentation for the error); `None` where the rest field has no exact
+    /// cell at the image (farther than about [`DistanceField::exact_reach`] from the surface)
+    /// or no carrier is found.
+    pub(crate) fn sample(&self, p: Vec3) -> Option<MovedSample> {
+        let (image, carrier, place) = self.locate(p)?;
+        let (distance, rest_gradient) = self.field().sample(image)?;
+        let rest_frame = frame(&self.rest().shape.triangles[carrier as usize]);
+        let current_frame = frame(&self.current[carrier as usize]);
+        let gradient = rest_frame
+            .iter()
+            .zip(current_frame)
+            .map(|(r, c)| c * rest_gradient.dot(*r))
+            .sum();
+        let (u, v) = (place.u.clamp(0.0, 1.0), place.v.clamp(0.0, 1.0));
+        let (u, v) = if u + v > 1.0 {
+            (u / (u + v), v / (u + v))
+        } else {
+            (u, v)
+        };
+        Some(MovedSample {
+            distance,
+            gradient,
+            triangle: carrier,
+            weights: Vec3::new(1.0 - u - v, u, v),
+        })
+    }
+
+    /// A certified bound at `p` \[m\] (current body frame), as [`DistanceField::bound`]:
+    /// `(bound, sign)`, the rest field's at the fitted-back point less the fit's deviation
+    /// (see the module documentation).
+    pub(crate) fn bound(&self, p: Vec3) -> (f32, f32) {
+        let (bound, sign) = self.field().bound(self.fitted_back(p));
+        let bound = bound - self.deformation.fit.deviation;
+        if bound > 0.0 {
+            (bound, sign)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// Whether `p` is certified outside by more than `margin` \[m\], as
+    /// [`DistanceField::outside_clearance`].
+    pub(crate) fn outside_clearance(&self, p: Vec3, margin: f32) -> Option<f32> {
+        let (bound, sign) = self.bound(p);
+        (sign > 0.0 && bound > margin).then_some(bound)
+    }
+
+    /// See [`DistanceField::exact_reach`].
+    pub(crate) fn exact_reach(&self) -> f32 {
+        self.field().exact_reach()
+    }
+}
+
+impl CollisionBody {
+    /// This deforming body read through `rest`'s field: its contacts
+    /// ([`crate::query_body_field`]) and the projection's certified clear nodes then come from
+    /// the rest mesh's distance field moved with the body (see `moving_field.rs`), and every
+    /// later instant made by [`CollisionBody::deformed`] keeps reading it. Errors where the
+    /// body's triangles are not the rest mesh's (count and vertex indices).
+    pub fn reading_rest_field(&self, rest: &RestField) -> Result<Self> {
+        if !rest.matches(&self.shape.indices) {
+            return Err(CollideError::InvalidParameter {
+                name: "rest field",
+                value: format!(
+                    "a mesh of {} triangles, read by a body of {}",
+                    rest.rest.shape.indices.len(),
+                    self.shape.indices.len()
+                ),
+                allowed: "the body's own mesh at rest (the same triangles over the same vertices)",
+            });
+        }
+        let deformation = Deformation::of(rest, &self.shape.triangles);
+        Ok(self.with_shape(Arc::new(self.shape.with_deformation(Some(deformation)))))
+    }
+
+    /// The moving field of this instant, where the body reads a rest field.
+    pub(crate) fn moved_field(&self) -> Option<MovedField<'_>> {
+        let deformation = self.shape.deformation.as_ref()?;
+        Some(MovedField::new(deformation, self))
+    }
+
+    /// How far \[m\] the body's vertices stray from the rigid transform fitted to its
+    /// deformation from the rest field's mesh; `None` where it reads none
+    /// ([`CollisionBody::reading_rest_field`]).
+    pub fn deviation_from_rest(&self) -> Option<f32> {
+        Some(self.shape.deformation.as_ref()?.deviation())
+    }
+
+    /// Whether `local` \[m\] (body frame) is certified outside by more than `margin` \[m\]:
+    /// through the body's distance field for a rigid body, its moving field for a deforming
+    /// one that reads a rest field, nothing otherwise (building no field for a deforming
+    /// instant).
+    pub(crate) fn field_clearance(&self, local: Vec3, margin: f32) -> Option<f32> {
+        if self.is_deforming() {
+            self.moved_field()?.outside_clearance(local, margin)
+        } else {
+            self.distance_field().outside_clearance(local, margin)
+        }
+    }
+}
+
+impl CollisionBody {
+    /// The signed distance \[m\] (positive outside) and its gradient that this body's field
+    /// contacts read at `local` \[m\] (body frame): its distance field's
+    /// ([`DistanceField::sample`]) for a rigid body, its rest field's read through the
+    /// deformation for a deforming one that reads a rest field (see `moving_field.rs` for the
+    /// error); `None` where the field is not exact there, or a deforming body reads none.
+    pub fn local_field_sample(&self, local: Vec3) -> Option<(f32, Vec3)> {
+        if self.is_deforming() {
+            let sample = self.moved_field()?.sample(local)?;
+            Some((sample.distance, sample.gradient))
+        } else {
+            self.distance_field().sample(local)
+        }
+    }
+
+    /// A certified bound at `local` \[m\] (body frame), as [`DistanceField::bound`]: the
+    /// distance field's for a rigid body, the rest field's less the fit's deviation for a
+    /// deforming one that reads a rest field (`(0, 0)`, nothing certified, for one that reads
+    /// none).
+    pub fn local_field_bound(&self, local: Vec3) -> (f32, f32) {
+        if self.is_deforming() {
+            self.moved_field()
+                .map_or((0.0, 0.0), |field| field.bound(local))
+        } else {
+            self.distance_field().bound(local)
+        }
+    }
+}
