@@ -18,8 +18,8 @@ use crate::distance_field::{DEFAULT_CELL, DistanceField};
 use crate::error::{CollideError, Result, require_pose};
 use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
-use crate::moving_field::Deformation;
 use crate::pseudonormals::Pseudonormals;
+use crate::rest_field::Deformation;
 use crate::volume::Pss;
 
 /// What a body is in its own frame: built once by [`CollisionBody::from_mesh`], never changed,

@@ -42,6 +42,7 @@ mod projection_pass;
 mod pseudonormals;
 pub mod query;
 pub mod response;
+mod rest_field;
 pub mod sight;
 pub mod solver;
 mod solver_settings;
@@ -60,10 +61,10 @@ pub use hair_hair::{HairHairSettings, add_repulsion_forces};
 pub use layout::{
     ChainShape, CollisionChain, groom_active_chains, groom_chain, groom_level_chains,
 };
-pub use moving_field::RestField;
 pub use query::{
     SegmentContacts, query_body, query_body_brute_force, query_body_near, query_body_volumes,
 };
+pub use rest_field::{MOVING_REACH, RestField};
 pub use sight::LineOfSight;
 pub use solver::{
     CollisionSettings, CollisionSolver, CollisionStepReport, ContactReport, PENETRATION_TOLERANCE,

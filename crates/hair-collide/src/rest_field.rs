@@ -1,0 +1,192 @@
+//! The rest mesh that a deforming body reads its distance field from ([`RestField`]), and each
+//! instant's rigid fit to it ([`Deformation`]); `moving_field.rs` reads the field through them.
+
+use std::sync::Arc;
+
+use glam::{Mat3, Vec3};
+
+use crate::distance_field::DistanceField;
+use crate::geometry::Triangle;
+
+/// The rest mesh that a deforming body's instants read their field from
+/// ([`CollisionBody::reading_rest_field`](crate::CollisionBody::reading_rest_field)): its triangles, its distance field (built once, by
+/// [`RestField::of`]) and its vertices. Cloning shares it.
+#[derive(Debug, Clone)]
+pub struct RestField {
+    rest: Arc<RestBody>,
+}
+
+/// What [`RestField`] shares.
+#[derive(Debug)]
+struct RestBody {
+    /// Per triangle, its vertex indices.
+    indices: Arc<[[u32; 3]]>,
+    /// The triangles at rest (body frame).
+    triangles: Vec<Triangle>,
+    /// The rest mesh's distance field, exact within [`MOVING_REACH`] of the surface.
+    field: DistanceField,
+    /// Per vertex that a triangle uses: a triangle and corner where it appears.
+    corners: Vec<(u32, u8)>,
+    /// Those vertices at rest \[m\] (body frame), centred on `centroid`.
+    centred: Vec<Vec3>,
+    /// The mean of those vertices at rest \[m\].
+    centroid: Vec3,
+}
+
+/// A rigid transform fitted to a deformation: current ≈ `rotation` · rest + `translation`, with
+/// every vertex within `deviation` \[m\] of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RigidFit {
+    pub(crate) rotation: Mat3,
+    pub(crate) translation: Vec3,
+    pub(crate) deviation: f32,
+}
+
+/// A deforming body's instant read through its rest field.
+#[derive(Debug, Clone)]
+pub(crate) struct Deformation {
+    pub(crate) rest: RestField,
+    pub(crate) fit: RigidFit,
+}
+
+/// How far from the surface \[m\] a rest field samples exactly: the presets' widest segment
+/// volumes (strand groups about 10 mm in radius) decide from the samples, where a rigid body's
+/// field (exact within [`EXACT_REACH`](crate::distance_field::EXACT_REACH)) would leave them to
+/// its certified bound, which a deformation loosens by the fit's deviation.
+pub const MOVING_REACH: f32 = 0.016;
+
+impl RestField {
+    /// The rest field of a mesh of `triangles` (each with its `indices` into `vertex_count`
+    /// vertices) whose distance field is `field`.
+    pub(crate) fn from_parts(
+        indices: Arc<[[u32; 3]]>,
+        triangles: Vec<Triangle>,
+        vertex_count: usize,
+        field: DistanceField,
+    ) -> Self {
+        let mut corner_of = vec![None; vertex_count];
+        for (t, corners) in indices.iter().enumerate() {
+            for (k, &v) in corners.iter().enumerate() {
+                corner_of[v as usize].get_or_insert((t as u32, k as u8));
+            }
+        }
+        let corners: Vec<(u32, u8)> = corner_of.into_iter().flatten().collect();
+        let at = |&(t, k): &(u32, u8)| triangles[t as usize].vertices[k as usize];
+        let centroid = corners.iter().map(at).sum::<Vec3>() / (corners.len().max(1) as f32);
+        let centred = corners.iter().map(|c| at(c) - centroid).collect();
+        RestField {
+            rest: Arc::new(RestBody {
+                indices,
+                triangles,
+                field,
+                corners,
+                centred,
+                centroid,
+            }),
+        }
+    }
+
+    /// The rest mesh's triangles (body frame).
+    pub(crate) fn triangles(&self) -> &[Triangle] {
+        &self.rest.triangles
+    }
+
+    /// Its triangles' vertex indices.
+    pub(crate) fn indices(&self) -> &[[u32; 3]] {
+        &self.rest.indices
+    }
+
+    /// The rest distance field.
+    pub fn field(&self) -> &DistanceField {
+        &self.rest.field
+    }
+
+    /// Whether `triangles` (an instant's) are this rest mesh's, in the same order.
+    pub(crate) fn matches(&self, indices: &[[u32; 3]]) -> bool {
+        *self.rest.indices == *indices
+    }
+
+    /// The rigid fit of the instant whose triangles are `current` (see the module
+    /// documentation).
+    fn fit(&self, current: &[Triangle]) -> RigidFit {
+        let rest = &self.rest;
+        let at = |&(t, k): &(u32, u8)| current[t as usize].vertices[k as usize];
+        let count = rest.corners.len().max(1) as f32;
+        let centroid = rest.corners.iter().map(at).sum::<Vec3>() / count;
+        // Cross-covariance Σ (x − x̄)(X − X̄)ᵀ, column by column.
+        let mut covariance = Mat3::ZERO;
+        for (corner, rest_offset) in rest.corners.iter().zip(&rest.centred) {
+            let offset = at(corner) - centroid;
+            covariance += Mat3::from_cols(
+                offset * rest_offset.x,
+                offset * rest_offset.y,
+                offset * rest_offset.z,
+            );
+        }
+        let rotation = polar_rotation(covariance).unwrap_or(Mat3::IDENTITY);
+        let translation = centroid - rotation * rest.centroid;
+        let deviation = rest
+            .corners
+            .iter()
+            .zip(&rest.centred)
+            .map(|(corner, rest_offset)| {
+                at(corner).distance(rotation * (*rest_offset + rest.centroid) + translation)
+            })
+            .fold(0.0f32, f32::max);
+        RigidFit {
+            rotation,
+            translation,
+            deviation,
+        }
+    }
+}
+
+/// The rotation nearest `m` (its polar factor) by Higham's iteration; `None` where `m` is
+/// singular or a reflection (a mesh too flat or turned inside out to fit).
+fn polar_rotation(m: Mat3) -> Option<Mat3> {
+    let scale = m
+        .to_cols_array()
+        .iter()
+        .map(|x| x.abs())
+        .fold(0.0, f32::max);
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let mut r = m / scale;
+    if r.determinant() <= 1e-6 {
+        return None;
+    }
+    for _ in 0..40 {
+        let next = (r + r.inverse().transpose()) * 0.5;
+        let change = (next - r)
+            .to_cols_array()
+            .iter()
+            .map(|x| x.abs())
+            .sum::<f32>();
+        r = next;
+        if change < 1e-6 {
+            break;
+        }
+    }
+    r.is_finite().then_some(r)
+}
+
+impl Deformation {
+    /// `rest` read at the instant whose triangles are `current`.
+    pub(crate) fn of(rest: &RestField, current: &[Triangle]) -> Self {
+        Deformation {
+            rest: rest.clone(),
+            fit: rest.fit(current),
+        }
+    }
+
+    /// The same rest field at the instant whose triangles are `current`.
+    pub(crate) fn at(&self, current: &[Triangle]) -> Self {
+        Self::of(&self.rest, current)
+    }
+
+    /// How far \[m\] any vertex strays from the fitted rigid transform.
+    pub(crate) fn deviation(&self) -> f32 {
+        self.fit.deviation
+    }
+}
