@@ -1,6 +1,6 @@
 //! A deforming body's next instant from its last one ([`CollisionBody::deformed`]): the same
 //! triangles over new vertex positions, the triangle tree refitted instead of built again, the
-//! pseudonormals recomputed on the edge structure already found. What changes each frame costs
+//! pseudonormals found on demand on the edge structure already found. What changes each frame costs
 //! a pass over the triangles; what only depends on the topology is kept.
 
 use std::sync::{Arc, OnceLock};
@@ -27,7 +27,7 @@ impl CollisionBody {
     /// finite.
     pub fn deformed(&self, positions: &[Vec3], velocities: Vec<Vec3>) -> Result<Self> {
         let shape = &self.shape;
-        let vertex_count = shape.pseudonormals.vertex.len();
+        let vertex_count = shape.pseudonormals.vertex_count;
         check_vertex_values("deformed positions", positions, vertex_count)?;
         check_vertex_values("vertex velocities", &velocities, vertex_count)?;
         let triangles: Vec<Triangle> = shape
@@ -44,8 +44,8 @@ impl CollisionBody {
             bvh.update_partially_if_present(triangle_aabb(triangle), id as u32, 0.0);
         }
         bvh.refit_without_opt();
-        let mut pseudonormals = shape.pseudonormals.clone();
-        pseudonormals.update(&shape.indices, positions);
+        // Found when a closest point needs one: most are never read in a frame.
+        let pseudonormals = shape.pseudonormals.on_demand();
         let center = shape.bound.center;
         // The vertices that triangles use: each triangle's corners.
         let radius = triangles

@@ -56,7 +56,7 @@ impl RestField {
         RestField::from_parts(
             shape.indices.clone(),
             shape.triangles.clone(),
-            shape.pseudonormals.vertex.len(),
+            shape.pseudonormals.vertex_count,
             field,
         )
     }

@@ -9,20 +9,85 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use hair_core::TriangleMesh;
+
+use crate::geometry::Triangle;
 use rayon::prelude::*;
 
-/// Pseudonormals of a mesh in its local frame, and its edge structure.
+/// Pseudonormals of a mesh in its local frame, and its edge structure. A rigid body keeps
+/// them all; a deforming body's instant finds the one a closest point needs when it needs it
+/// ([`Pseudonormals::on_demand`]), the same sums in the same order, so the same bits.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Pseudonormals {
-    /// Unit angle-weighted pseudonormal per vertex (zero for unused vertices).
-    pub vertex: Vec<Vec3>,
-    /// Unit pseudonormal per edge.
-    pub edge: Vec<Vec3>,
+    /// Unit angle-weighted pseudonormal per vertex (zero for unused vertices); empty on demand.
+    vertex: Vec<Vec3>,
+    /// Unit pseudonormal per edge; empty on demand.
+    edge: Vec<Vec3>,
+    /// The mesh's vertex count.
+    pub vertex_count: usize,
     /// Per triangle, the edge id of its edges `k → k + 1` (shared by a deforming body's
     /// instants).
     pub triangle_edges: Arc<[[u32; 3]]>,
+    /// The triangles around each vertex and edge (shared by a deforming body's instants).
+    rings: Arc<Rings>,
     /// Whether every edge has exactly two triangles that traverse it in opposite directions.
     pub closed: bool,
+}
+
+/// The triangles around each vertex and each edge, in triangle order (compressed rows).
+#[derive(Debug, Default)]
+struct Rings {
+    /// Per vertex, where its corners start in `vertex_corners` (one more entry than vertices).
+    vertex_offsets: Vec<u32>,
+    /// The corners `(triangle, k)` at each vertex.
+    vertex_corners: Vec<(u32, u8)>,
+    /// Per edge, where its triangles start in `edge_faces` (one more entry than edges).
+    edge_offsets: Vec<u32>,
+    /// The triangles along each edge.
+    edge_faces: Vec<u32>,
+}
+
+impl Rings {
+    /// The rings of `triangles` over `vertex_count` vertices, whose edge ids are
+    /// `triangle_edges` (of `edge_count` edges).
+    fn of(
+        triangles: &[[u32; 3]],
+        triangle_edges: &[[u32; 3]],
+        vertex_count: usize,
+        edge_count: usize,
+    ) -> Self {
+        let mut vertex_offsets = vec![0u32; vertex_count + 1];
+        let mut edge_offsets = vec![0u32; edge_count + 1];
+        for (indices, ids) in triangles.iter().zip(triangle_edges) {
+            for k in 0..3 {
+                vertex_offsets[indices[k] as usize + 1] += 1;
+                edge_offsets[ids[k] as usize + 1] += 1;
+            }
+        }
+        for offsets in [&mut vertex_offsets, &mut edge_offsets] {
+            for i in 1..offsets.len() {
+                offsets[i] += offsets[i - 1];
+            }
+        }
+        let mut vertex_corners = vec![(0, 0); triangles.len() * 3];
+        let mut edge_faces = vec![0; triangles.len() * 3];
+        let (mut vertex_next, mut edge_next) = (vertex_offsets.clone(), edge_offsets.clone());
+        for (t, (indices, ids)) in triangles.iter().zip(triangle_edges).enumerate() {
+            for k in 0..3 {
+                let v = indices[k] as usize;
+                vertex_corners[vertex_next[v] as usize] = (t as u32, k as u8);
+                vertex_next[v] += 1;
+                let e = ids[k] as usize;
+                edge_faces[edge_next[e] as usize] = t as u32;
+                edge_next[e] += 1;
+            }
+        }
+        Rings {
+            vertex_offsets,
+            vertex_corners,
+            edge_offsets,
+            edge_faces,
+        }
+    }
 }
 
 impl Pseudonormals {
@@ -52,21 +117,74 @@ impl Pseudonormals {
             triangle_edges.push(ids);
         }
         let closed = !edge_uses.is_empty() && edge_uses.iter().all(|&uses| uses == (1, 1));
+        let rings = Rings::of(
+            &mesh.triangles,
+            &triangle_edges,
+            mesh.positions.len(),
+            edge_uses.len(),
+        );
         let mut pseudonormals = Pseudonormals {
             vertex: Vec::new(),
             edge: vec![Vec3::ZERO; edge_uses.len()],
+            vertex_count: mesh.positions.len(),
             triangle_edges: triangle_edges.into(),
+            rings: Arc::new(rings),
             closed,
         };
         pseudonormals.update(&mesh.triangles, &mesh.positions);
         pseudonormals
     }
 
-    /// Recomputes the pseudonormals for the same triangles `triangles` (the ones the edge
-    /// structure was built from) over new vertex positions `positions` [m]: a deforming body.
-    /// The triangles' normals and corner angles are found side by side (the same values
+    /// The same mesh's pseudonormals over other vertex positions, found when asked for
+    /// ([`Pseudonormals::edge_normal`], [`Pseudonormals::vertex_normal`]) from the triangles
+    /// then: a deforming body's instant, which pays nothing for the many it never reads.
+    pub fn on_demand(&self) -> Self {
+        Pseudonormals {
+            vertex: Vec::new(),
+            edge: Vec::new(),
+            vertex_count: self.vertex_count,
+            triangle_edges: self.triangle_edges.clone(),
+            rings: self.rings.clone(),
+            closed: self.closed,
+        }
+    }
+
+    /// The unit pseudonormal of edge `edge` of the mesh whose triangles are `triangles`: the
+    /// sum of its faces' normals.
+    pub fn edge_normal(&self, triangles: &[Triangle], edge: u32) -> Vec3 {
+        if let Some(normal) = self.edge.get(edge as usize) {
+            return *normal;
+        }
+        let rings = &self.rings;
+        let range = rings.edge_offsets[edge as usize] as usize
+            ..rings.edge_offsets[edge as usize + 1] as usize;
+        let mut sum = Vec3::ZERO;
+        for &t in &rings.edge_faces[range] {
+            sum += triangles[t as usize].normal;
+        }
+        sum.normalize_or_zero()
+    }
+
+    /// The unit angle-weighted pseudonormal of vertex `vertex` of the mesh whose triangles are
+    /// `triangles`.
+    pub fn vertex_normal(&self, triangles: &[Triangle], vertex: u32) -> Vec3 {
+        if let Some(normal) = self.vertex.get(vertex as usize) {
+            return *normal;
+        }
+        let rings = &self.rings;
+        let range = rings.vertex_offsets[vertex as usize] as usize
+            ..rings.vertex_offsets[vertex as usize + 1] as usize;
+        let mut sum = Vec3::ZERO;
+        for &(t, k) in &rings.vertex_corners[range] {
+            sum += triangle_corners(triangles[t as usize].vertices)[k as usize];
+        }
+        sum.normalize_or_zero()
+    }
+
+    /// Computes every pseudonormal of the triangles `triangles` (the ones the edge structure
+    /// was built from) over vertex positions `positions` [m]. The triangles' normals and corner angles are found side by side (the same values
     /// whatever the thread count), then summed onto the vertices and edges in triangle order.
-    pub fn update(&mut self, triangles: &[[u32; 3]], positions: &[Vec3]) {
+    fn update(&mut self, triangles: &[[u32; 3]], positions: &[Vec3]) {
         let mut corners = vec![[Vec3::ZERO; 4]; triangles.len()];
         corners
             .par_chunks_mut(1024)
@@ -155,6 +273,38 @@ mod tests {
                 error <= 2e-8 + 1.2e-7,
                 "acos({x}): {} against {exact}",
                 acos(x)
+            );
+        }
+    }
+
+    /// On demand, every vertex's and edge's pseudonormal is the precomputed one, bit for bit
+    /// (the same sums in the same order), on the procedural head.
+    #[test]
+    fn on_demand_pseudonormals_are_the_precomputed_ones() {
+        let mesh = hair_core::Head::procedural(&hair_core::HeadParams::default())
+            .unwrap()
+            .mesh;
+        let all = Pseudonormals::of(&mesh);
+        let triangles: Vec<Triangle> = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+                Triangle::new(a, b, c)
+            })
+            .collect();
+        let demand = all.on_demand();
+        assert!(demand.vertex.is_empty() && demand.edge.is_empty());
+        for v in 0..mesh.positions.len() as u32 {
+            assert_eq!(
+                demand.vertex_normal(&triangles, v),
+                all.vertex_normal(&triangles, v)
+            );
+        }
+        for e in 0..all.edge.len() as u32 {
+            assert_eq!(
+                demand.edge_normal(&triangles, e),
+                all.edge_normal(&triangles, e)
             );
         }
     }

@@ -102,12 +102,12 @@ impl CollisionBody {
         let pseudonormals = &self.shape.pseudonormals;
         let normal = match feature {
             TriangleFeature::Face => triangles[triangle as usize].normal,
-            TriangleFeature::Edge(k) => {
-                pseudonormals.edge
-                    [pseudonormals.triangle_edges[triangle as usize][k as usize] as usize]
-            }
+            TriangleFeature::Edge(k) => pseudonormals.edge_normal(
+                triangles,
+                pseudonormals.triangle_edges[triangle as usize][k as usize],
+            ),
             TriangleFeature::Vertex(k) => {
-                pseudonormals.vertex[self.triangle_vertex(triangle, k) as usize]
+                pseudonormals.vertex_normal(triangles, self.triangle_vertex(triangle, k))
             }
         };
         let offset = p - point;
