@@ -44,6 +44,9 @@ pub struct FieldContacts {
     pub exact_fallbacks: usize,
     /// Per chunk of volumes: what it found, side by side.
     chunks: Vec<ChunkContacts>,
+    /// Per segment, the carrier triangle a moving field last found for it (`moving_field.rs`):
+    /// where its next samples start. A stale one (the segments renumbered) only costs lookups.
+    carriers: Vec<Option<u32>>,
 }
 
 /// What one chunk of volumes found.
@@ -78,8 +81,9 @@ type Sample = (f32, Vec3, Option<(u32, Vec3)>);
 
 /// A field that contacts are read from: a rigid body's own, or a deforming body's moving one.
 trait Sampler {
-    /// The interpolated signed distance and its gradient at `p`, where the field is exact.
-    fn sample(&self, p: Vec3) -> Option<Sample>;
+    /// The interpolated signed distance and its gradient at `p`, where the field is exact;
+    /// `carrier` is a moving field's carrier to start from, and becomes this point's.
+    fn sample(&self, p: Vec3, carrier: &mut Option<u32>) -> Option<Sample>;
     /// A certified lower bound on the distance at `p`.
     fn bound(&self, p: Vec3) -> f32;
     /// How close to the surface every point samples exactly.
@@ -87,7 +91,7 @@ trait Sampler {
 }
 
 impl Sampler for DistanceField {
-    fn sample(&self, p: Vec3) -> Option<Sample> {
+    fn sample(&self, p: Vec3, _: &mut Option<u32>) -> Option<Sample> {
         DistanceField::sample(self, p).map(|(d, g)| (d, g, None))
     }
     fn bound(&self, p: Vec3) -> f32 {
@@ -99,8 +103,9 @@ impl Sampler for DistanceField {
 }
 
 impl Sampler for MovedField<'_> {
-    fn sample(&self, p: Vec3) -> Option<Sample> {
-        MovedField::sample(self, p).map(|s| (s.distance, s.gradient, Some((s.triangle, s.weights))))
+    fn sample(&self, p: Vec3, carrier: &mut Option<u32>) -> Option<Sample> {
+        MovedField::sample(self, p, carrier)
+            .map(|s| (s.distance, s.gradient, Some((s.triangle, s.weights))))
     }
     fn bound(&self, p: Vec3) -> f32 {
         MovedField::bound(self, p).0
@@ -136,15 +141,22 @@ fn lowest(
     Ok(best)
 }
 
-/// The field's verdict on `volume` (body frame).
-fn verdict(field: &impl Sampler, volume: &SweptSphere) -> Verdict {
+/// The field's verdict on `volume` (body frame); `carrier` is a moving field's carrier to start
+/// from (this segment's last), and becomes the last one its samples found.
+fn verdict(field: &impl Sampler, volume: &SweptSphere, carrier_out: &mut Option<u32>) -> Verdict {
     let radius = volume.radius();
-    let sampled_at = |p: Vec3| (p, field.sample(p));
+    let carrier = std::cell::Cell::new(*carrier_out);
+    let sampled_at = |p: Vec3| {
+        let mut hint = carrier.get();
+        let sample = field.sample(p, &mut hint);
+        carrier.set(hint);
+        (p, sample)
+    };
     let sampled = match volume {
         SweptSphere::Point(v) => lowest(field, radius, [sampled_at(v.center)]),
         SweptSphere::Line(v) => {
             let axis = v.end - v.start;
-            let samples = [v.start, v.start + axis * 0.5, v.end].map(sampled_at);
+            let samples = [v.start, v.start + axis * 0.5, v.end].map(&sampled_at);
             lowest(field, radius, samples).map(|best| {
                 let (d, _, _) = best?;
                 // The parabola through the three distances (all exact): its vertex, where inside.
@@ -159,7 +171,7 @@ fn verdict(field: &impl Sampler, volume: &SweptSphere) -> Verdict {
                     if a > 0.0
                         && t > 0.0
                         && t < 1.0
-                        && let Some(vertex) = field.sample(v.start + axis * t)
+                        && let Some(vertex) = sampled_at(v.start + axis * t).1
                         && vertex.0 < d
                     {
                         return Some(vertex);
@@ -180,6 +192,7 @@ fn verdict(field: &impl Sampler, volume: &SweptSphere) -> Verdict {
             )
         }
     };
+    *carrier_out = carrier.get();
     match sampled {
         Err(()) => Verdict::Undecided,
         Ok(None) => Verdict::Clear,
@@ -217,10 +230,13 @@ pub fn query_body_field(
     let triangles = body.local_triangles();
     let chunks = volumes.len().div_ceil(CHUNK);
     contacts.chunks.resize_with(chunks, Default::default);
+    // Each segment's last carrier (a moving field's), where the next frame's samples start.
+    contacts.carriers.resize(volumes.len(), None);
     contacts.chunks[..chunks]
         .par_iter_mut()
+        .zip(contacts.carriers.par_chunks_mut(CHUNK))
         .enumerate()
-        .for_each(|(chunk, found)| {
+        .for_each(|(chunk, (found, carriers))| {
             found.contacts.clear();
             found.velocities.clear();
             found.fallbacks = 0;
@@ -233,9 +249,10 @@ pub fn query_body_field(
                 if !aabb_touches_ball(&volume.aabb(padding), &bound, bound_padding) {
                     continue;
                 }
+                let carrier = &mut carriers[segment - first];
                 let said = match (rigid, &moved) {
-                    (Some(field), _) => verdict(field, volume),
-                    (None, Some(moved)) => verdict(moved, volume),
+                    (Some(field), _) => verdict(field, volume, carrier),
+                    (None, Some(moved)) => verdict(moved, volume, carrier),
                     (None, None) => Verdict::Undecided,
                 };
                 match said {

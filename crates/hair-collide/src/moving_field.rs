@@ -155,26 +155,36 @@ impl<'a> MovedField<'a> {
     /// The rest image of `p` (see the module documentation), its carrier and place; `None`
     /// where no carrier is found (the image is not within a cell of the rest field's exact
     /// shell) or a carrier is degenerate.
-    fn locate(&self, p: Vec3) -> Option<(Vec3, u32, OnTriangle)> {
+    fn locate(&self, p: Vec3, hint: Option<u32>) -> Option<(Vec3, u32, OnTriangle)> {
         let field = self.field();
-        let fitted_back = self.fitted_back(p);
-        let mut carrier = match field.nearby_triangle(fitted_back) {
-            Some(carrier) => carrier,
+        let first = || match field.nearby_triangle(self.fitted_back(p)) {
+            Some(carrier) => Some(carrier),
             // Where the deformation strays from the fit, the fitted-back point may miss the
-            // exact shell: unless the bound puts `p` beyond it, the closest triangle is found.
-            None if self.bound(p).0 < field.exact_reach() => {
-                self.body.closest_local_surface_point(p)?.triangle
-            }
-            None => return None,
+            // exact shell: the closest triangle within the reach is found in the tree (none,
+            // quickly, for a point beyond it).
+            None => self
+                .body
+                .closest_local_triangle_within(p, field.exact_reach()),
+        };
+        let mut hinted = hint.filter(|&t| (t as usize) < self.current.len());
+        let mut carrier = match hinted {
+            Some(t) => t,
+            None => first()?,
         };
         let (mut image, mut place) = self.image(carrier, p)?;
-        for _ in 0..2 {
+        for _ in 0..3 {
             match field.nearby_triangle(image) {
                 Some(next) if next != carrier => {
                     carrier = next;
                     (image, place) = self.image(carrier, p)?;
                 }
-                _ => break,
+                Some(_) => break,
+                // The hint led off the exact shell: start afresh, once.
+                None if hinted.take().is_some() => {
+                    carrier = first()?;
+                    (image, place) = self.image(carrier, p)?;
+                }
+                None => break,
             }
         }
         Some((image, carrier, place))
@@ -183,9 +193,12 @@ impl<'a> MovedField<'a> {
     /// The field's distance and gradient at `p` \[m\] (current body frame), with the carrier
     /// (see the module documentation for the error); `None` where the rest field has no exact
     /// cell at the image (farther than about [`DistanceField::exact_reach`] from the surface)
-    /// or no carrier is found.
-    pub(crate) fn sample(&self, p: Vec3) -> Option<MovedSample> {
-        let (image, carrier, place) = self.locate(p)?;
+    /// or no carrier is found. `hint` is a carrier to start from (a nearby point's, say), and
+    /// becomes this point's carrier where one is found: a hint only saves lookups where it is
+    /// near, and the carrier found is checked against the field either way.
+    pub(crate) fn sample(&self, p: Vec3, hint: &mut Option<u32>) -> Option<MovedSample> {
+        let (image, carrier, place) = self.locate(p, *hint)?;
+        *hint = Some(carrier);
         let (distance, rest_gradient) = self.field().sample(image)?;
         let rest_frame = frame(&self.rest().triangles()[carrier as usize]);
         let current_frame = frame(&self.current[carrier as usize]);
@@ -290,7 +303,7 @@ impl CollisionBody {
     /// error); `None` where the field is not exact there, or a deforming body reads none.
     pub fn local_field_sample(&self, local: Vec3) -> Option<(f32, Vec3)> {
         if self.is_deforming() {
-            let sample = self.moved_field()?.sample(local)?;
+            let sample = self.moved_field()?.sample(local, &mut None)?;
             Some((sample.distance, sample.gradient))
         } else {
             self.distance_field().sample(local)

@@ -72,6 +72,29 @@ impl CollisionBody {
         })
     }
 
+    /// The triangle closest to `p` \[m\] (body frame) among those within `reach` \[m\] of
+    /// it; `None` where none is: the tree search is bounded by `reach`, so a far point costs a
+    /// few boxes.
+    pub(crate) fn closest_local_triangle_within(&self, p: Vec3, reach: f32) -> Option<u32> {
+        if !p.is_finite() {
+            return None;
+        }
+        let triangles = self.local_triangles();
+        self.bvh()
+            .find_best(
+                reach,
+                |node, _| {
+                    let aabb = node.aabb();
+                    p.clamp(aabb.mins, aabb.maxs).distance(p)
+                },
+                |leaf, _| {
+                    let (q, _) = closest_point_on_triangle(p, &triangles[leaf as usize]);
+                    Some((q.distance(p), ()))
+                },
+            )
+            .map(|(triangle, _)| triangle)
+    }
+
     /// The closest surface point to `p` (body frame), the search bounded by triangle `hint`'s
     /// distance where one is given (an index out of range is no hint).
     fn closest_local_surface_point_near(&self, p: Vec3, hint: Option<u32>) -> Option<SurfacePoint> {
