@@ -136,3 +136,68 @@ fn the_shipped_talking_head_scene_deforms() {
     let report = pipeline.advance(&shot.camera(0)).unwrap();
     assert!(report.body_update > 0.0, "{report:?}");
 }
+
+/// The level selection's occluder boxes on the talking head (`carried_occluders` through the
+/// rest field's rigid fit, as the pipeline carries them every frame): at every frame of its 2 s
+/// animation, every point of a 5 × 5 × 5 grid over every carried box is inside the deformed
+/// mesh (the exact signed distance is negative), and no box is shrunk away. The reference is
+/// the deformed mesh itself.
+#[test]
+fn carried_occluder_boxes_stay_inside_the_talking_head() {
+    use hairlod::collide::RestField;
+    let shot = SceneFile::parse("[body]\nanimation = \"talk\"\n")
+        .unwrap()
+        .resolve()
+        .unwrap();
+    let scene = shot.build_scene().unwrap();
+    let motion = scene.body_motion.clone().expect("a deforming head");
+    let rest_boxes = scene.head.occluder_boxes();
+    let volume = |boxes: &[(Vec3, Vec3)]| -> f32 {
+        boxes
+            .iter()
+            .map(|(l, h)| (*h - *l).max(Vec3::ZERO).element_product())
+            .sum()
+    };
+    let field = RestField::of(&CollisionBody::from_mesh(&scene.head.mesh).unwrap());
+    let prepared = field.boxes(&rest_boxes);
+    let (mut carried, mut worst, mut least_kept, mut rest_out) = (Vec::new(), f32::MIN, 1.0f32, 0);
+    let mut fewest = usize::MAX;
+    for frame in 0..120 {
+        let mesh = motion.mesh_at(frame as f64 / 60.0);
+        let zero = vec![Vec3::ZERO; mesh.positions.len()];
+        let body = CollisionBody::from_moving_mesh(&mesh, zero)
+            .unwrap()
+            .reading_rest_field(&field)
+            .unwrap();
+        assert!(body.carried_occluders(&prepared, &mut carried));
+        least_kept = least_kept.min(volume(&carried) / volume(&rest_boxes));
+        fewest = fewest.min(carried.len());
+        let grid = |(low, high): (Vec3, Vec3)| {
+            (0..125).map(move |i| {
+                let t = Vec3::new((i % 5) as f32, ((i / 5) % 5) as f32, (i / 25) as f32) / 4.0;
+                low + (high - low) * t
+            })
+        };
+        let depth = |p: Vec3| body.closest_local_surface_point(p).unwrap().signed_distance;
+        for p in carried.iter().flat_map(|&b| grid(b)) {
+            worst = worst.max(depth(p));
+        }
+        rest_out += rest_boxes
+            .iter()
+            .flat_map(|&b| grid(b))
+            .filter(|&p| depth(p) > 0.0)
+            .count();
+    }
+    eprintln!(
+        "carried boxes: nearest the surface {} m inside, at least {least_kept} of their volume \
+         kept; rest boxes' grid points outside the deformed head: {rest_out}",
+        -worst
+    );
+    assert!(
+        worst < 0.0,
+        "a carried box's point {worst} m outside the deformed head"
+    );
+    // Every box survives every frame: the head's boxes lie well inside it, and the talk
+    // moves its surface by millimetres near them.
+    assert_eq!(fewest, rest_boxes.len(), "boxes shrunk away");
+}

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use hair_collide::{CollisionBody, RestField, attach_roots};
+use hair_collide::{CollisionBody, RestBoxes, RestField, attach_roots};
 use hair_core::dynamics::{ChainRoots, DeformingBody, RootCarrier, SurfaceAttachment};
 use hair_core::representation::geometry::strand_polylines;
 use hair_core::{RigidTransform, Scene, TriangleMesh};
@@ -27,6 +27,8 @@ pub(crate) struct BodyRide {
     pub(crate) strand_attachments: Vec<SurfaceAttachment>,
     /// The rest mesh's distance field that the collision bodies read (field contacts), if any.
     pub(crate) rest_field: Option<RestField>,
+    /// The head's occluder boxes prepared on the rest field, to follow the body.
+    pub(crate) rest_occluders: Option<RestBoxes>,
 }
 
 impl BodyRide {
@@ -70,6 +72,7 @@ impl BodyRide {
             strand_attachments: surface(&strand_roots)?,
             strand_roots,
             rest_field: None,
+            rest_occluders: None,
         }))
     }
 

@@ -54,6 +54,8 @@ pub(crate) struct CharacterWork {
     pub(crate) body_at_end: Option<(CollisionBody, f32)>,
     /// The time [s] `body_at_end` is at.
     pub(crate) body_at_end_time: f64,
+    /// The occluder boxes carried to the body now (scratch).
+    pub(crate) occluders: Vec<(glam::Vec3, glam::Vec3)>,
     /// The level selector (automatic levels): its constants and scratch; its memory (choices,
     /// depths, tolerance) is the state's.
     pub(crate) selector: Option<LodSelector>,
@@ -123,7 +125,9 @@ pub(crate) fn build_character(
     // hierarchies, since a field of one instant would be built again every frame.
     let broad_phase = match (&mut ride, &body) {
         (Some(ride), Some(body)) if settings.broad_phase == BroadPhase::FieldContacts => {
-            ride.rest_field = Some(RestField::of(body));
+            let rest = RestField::of(body);
+            ride.rest_occluders = Some(rest.boxes(&occluders));
+            ride.rest_field = Some(rest);
             BroadPhase::FieldContacts
         }
         (Some(_), _) => BroadPhase::Hierarchies,
@@ -157,6 +161,7 @@ pub(crate) fn build_character(
         ride,
         body_at_end: None,
         body_at_end_time: f64::NAN,
+        occluders: Vec::new(),
         selector,
         section_work: super::drawn::section_work(groom),
         section_pixels: vec![0.0; sections],
@@ -225,6 +230,25 @@ impl CharacterRun<'_> {
             body.set_pose(head.rotation, head.translation)?;
         }
         Ok(())
+    }
+
+    /// With a deforming head read through its rest field, the selector's occluder boxes carried
+    /// to the body at the state's time (`CollisionBody::carried_occluders`: the rest boxes moved
+    /// by the deformation's rigid fit and shrunk by how far the surface near each strays from
+    /// it, so that they stay inside the deformed body). Otherwise the boxes stay the rest
+    /// body's.
+    pub(crate) fn follow_occluders(&mut self) {
+        let work = &mut *self.work;
+        let (Some(ride), Some(body), Some(selector)) = (&work.ride, &work.body, &mut work.selector)
+        else {
+            return;
+        };
+        let Some(rest) = &ride.rest_occluders else {
+            return;
+        };
+        if body.carried_occluders(rest, &mut work.occluders) {
+            selector.set_occluders(&work.occluders);
+        }
     }
 
     /// With a deforming head and collision, builds the collision body at the end of the step

@@ -28,6 +28,7 @@ impl CharacterRun<'_> {
     ) -> Result<&[SectionOptions]> {
         let started = Instant::now();
         let head = self.head_pose();
+        self.follow_occluders();
         self.observe_sections(camera)?;
         let work = &mut *self.work;
         let Some(selector) = work.selector.as_mut() else {
@@ -63,6 +64,7 @@ impl CharacterRun<'_> {
         let mut times = StageTimes::default();
         let started = Instant::now();
         let head = self.head_pose();
+        self.follow_occluders();
         let (levels, visibility) = match given {
             Some(levels) => self.select_levels(LevelSource::Given(levels))?,
             None => {

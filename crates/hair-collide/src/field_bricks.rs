@@ -104,17 +104,7 @@ impl ExactBricks {
     /// `c[y·2 + x][z]`, where all eight are exact; `None` elsewhere.
     #[inline]
     pub fn corners(&self, i: usize, j: usize, k: usize) -> Option<[[f32; 2]; 4]> {
-        let [bx, by, bz] = [i / CELLS, j / CELLS, k / CELLS];
-        let brick = self.index[bx + self.bricks[0] * (by + self.bricks[1] * bz)];
-        if brick == EMPTY {
-            return None;
-        }
-        let brick = brick as usize;
-        let [ci, cj, ck] = [i % CELLS, j % CELLS, k % CELLS];
-        if self.exact[brick] & (1 << (ci + CELLS * cj + CELLS * CELLS * ck)) == 0 {
-            return None;
-        }
-        let at = brick * VALUES + ci + SIDE * cj + SIDE * SIDE * ck;
+        let at = self.exact_cell(i, j, k)?;
         let v = &self.values[at..at + SIDE * SIDE + SIDE + 2];
         let (y, z) = (SIDE, SIDE * SIDE);
         Some([
@@ -130,6 +120,15 @@ impl ExactBricks {
     /// exact or no triangle was recorded there.
     #[inline]
     pub fn nearest_triangle(&self, [i, j, k]: [usize; 3], f: [f32; 3]) -> Option<u32> {
+        let [ri, rj, rk] = f.map(|f| usize::from(f >= 0.5));
+        let at = self.exact_cell(i, j, k)? + ri + SIDE * rj + SIDE * SIDE * rk;
+        self.triangles.get(at).copied().filter(|&t| t != EMPTY)
+    }
+
+    /// Where the lowest corner of cell `(i, j, k)` (a cell of the grid) is stored, where the
+    /// cell is exact; `None` elsewhere.
+    #[inline]
+    fn exact_cell(&self, i: usize, j: usize, k: usize) -> Option<usize> {
         let [bx, by, bz] = [i / CELLS, j / CELLS, k / CELLS];
         let brick = self.index[bx + self.bricks[0] * (by + self.bricks[1] * bz)];
         if brick == EMPTY {
@@ -140,9 +139,7 @@ impl ExactBricks {
         if self.exact[brick] & (1 << (ci + CELLS * cj + CELLS * CELLS * ck)) == 0 {
             return None;
         }
-        let [ri, rj, rk] = f.map(|f| usize::from(f >= 0.5));
-        let at = brick * VALUES + (ci + ri) + SIDE * (cj + rj) + SIDE * SIDE * (ck + rk);
-        self.triangles.get(at).copied().filter(|&t| t != EMPTY)
+        Some(brick * VALUES + ci + SIDE * cj + SIDE * SIDE * ck)
     }
 
     /// Bytes held.

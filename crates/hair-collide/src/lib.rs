@@ -61,6 +61,7 @@ pub use hair_hair::{HairHairSettings, add_repulsion_forces};
 pub use layout::{
     ChainShape, CollisionChain, groom_active_chains, groom_chain, groom_level_chains,
 };
+pub use moving_field::RestBoxes;
 pub use query::{
     SegmentContacts, query_body, query_body_brute_force, query_body_near, query_body_volumes,
 };

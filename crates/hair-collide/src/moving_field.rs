@@ -38,7 +38,7 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 
 use crate::body::CollisionBody;
 use crate::distance_field::{DEFAULT_CELL, DistanceField};
@@ -282,6 +282,15 @@ impl CollisionBody {
         Some(self.shape.deformation.as_ref()?.deviation())
     }
 
+    /// The rigid transform fitted to the body's deformation from the rest field's mesh (body
+    /// frame: current ≈ `rotation` · rest + `translation` \[m\]) and how far \[m\] any
+    /// vertex strays from it ([`CollisionBody::deviation_from_rest`]); `None` where it reads no
+    /// rest field.
+    pub fn rigid_fit(&self) -> Option<(Mat3, Vec3, f32)> {
+        let fit = &self.shape.deformation.as_ref()?.fit;
+        Some((fit.rotation, fit.translation, fit.deviation))
+    }
+
     /// Whether `local` \[m\] (body frame) is certified outside by more than `margin` \[m\]:
     /// through the body's distance field for a rigid body, its moving field for a deforming
     /// one that reads a rest field, nothing otherwise (building no field for a deforming
@@ -321,5 +330,106 @@ impl CollisionBody {
         } else {
             self.distance_field().bound(local)
         }
+    }
+}
+
+/// Boxes inside a rest mesh (the level selection's occluder boxes, head space \[m\]) prepared
+/// to follow its deformation ([`CollisionBody::carried_occluders`]): per box and triangle, how
+/// far the triangle lies from the box at rest, at least.
+#[derive(Debug, Clone)]
+pub struct RestBoxes {
+    boxes: Vec<(Vec3, Vec3)>,
+    /// Per box, per triangle: the distance \[m\] from the triangle's bounding box to the box
+    /// (every point of the triangle is at least this far from the box).
+    apart: Vec<Vec<f32>>,
+}
+
+impl RestField {
+    /// `boxes` (`(low, high)` corners, inside the rest mesh) prepared to follow the
+    /// deformation.
+    pub fn boxes(&self, boxes: &[(Vec3, Vec3)]) -> RestBoxes {
+        let apart = boxes
+            .iter()
+            .map(|&(low, high)| {
+                self.triangles()
+                    .iter()
+                    .map(|t| {
+                        let [a, b, c] = t.vertices;
+                        let (t_low, t_high) = (a.min(b).min(c), a.max(b).max(c));
+                        // The gap between two boxes, axis by axis.
+                        (low - t_high).max(t_low - high).max(Vec3::ZERO).length()
+                    })
+                    .collect()
+            })
+            .collect();
+        RestBoxes {
+            boxes: boxes.to_vec(),
+            apart,
+        }
+    }
+}
+
+impl CollisionBody {
+    /// Writes into `out` the boxes of `rest` carried to this instant, each inside the deformed
+    /// body: a box is moved by a rigid transform (the deformation's fit,
+    /// [`CollisionBody::rigid_fit`], or none) and shrunk by the most that a triangle strays
+    /// from its rest place so moved beyond its distance from the box. Every point of the
+    /// carried box is then inside (the surface, morphing from the moved rest mesh, never
+    /// crosses it: each triangle point moves less than its distance from the point). Of the two
+    /// transforms each box takes the one that keeps more of it; a box shrunk away is left out
+    /// ([`hair_core::lod::carried_boxes`]). Returns `false`, writing nothing, where the body
+    /// reads no rest field or `rest` was prepared on another mesh.
+    pub fn carried_occluders(&self, rest: &RestBoxes, out: &mut Vec<(Vec3, Vec3)>) -> bool {
+        let Some(deformation) = self.shape.deformation.as_ref() else {
+            return false;
+        };
+        let current = &self.shape.triangles;
+        if rest.apart.iter().any(|apart| apart.len() != current.len()) {
+            return false;
+        }
+        let fit = &deformation.fit;
+        let rest_triangles = deformation.rest.triangles();
+        let transforms = [
+            (fit.rotation, fit.translation),
+            (Mat3::IDENTITY, Vec3::ZERO),
+        ];
+        let mut best: Vec<Option<(f32, (Vec3, Vec3))>> = vec![None; rest.boxes.len()];
+        let mut carried = Vec::new();
+        for (rotation, translation) in transforms {
+            // Per triangle, how far its vertices stray from their rest places so moved.
+            let strays = current.iter().zip(rest_triangles).map(|(now, then)| {
+                now.vertices
+                    .iter()
+                    .zip(then.vertices)
+                    .map(|(x, r)| x.distance(rotation * r + translation))
+                    .fold(0.0f32, f32::max)
+            });
+            let mut shrinks = vec![0.0f32; rest.boxes.len()];
+            for (t, stray) in strays.enumerate() {
+                for (shrink, apart) in shrinks.iter_mut().zip(&rest.apart) {
+                    *shrink = shrink.max(stray - apart[t]);
+                }
+            }
+            for (i, shrink) in shrinks.iter().enumerate() {
+                // A hair's breadth more: a box touching the bound would touch the surface.
+                let one = [rest.boxes[i]];
+                hair_core::lod::carried_boxes(
+                    &one,
+                    rotation,
+                    translation,
+                    &[shrink + 1e-6],
+                    &mut carried,
+                );
+                if let Some(&(low, high)) = carried.first() {
+                    let volume = (high - low).element_product();
+                    if best[i].is_none_or(|(kept, _)| volume > kept) {
+                        best[i] = Some((volume, (low, high)));
+                    }
+                }
+            }
+        }
+        out.clear();
+        out.extend(best.into_iter().flatten().map(|(_, b)| b));
+        true
     }
 }

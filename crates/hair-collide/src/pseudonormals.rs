@@ -285,26 +285,20 @@ mod tests {
             .unwrap()
             .mesh;
         let all = Pseudonormals::of(&mesh);
-        let triangles: Vec<Triangle> = mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-                Triangle::new(a, b, c)
-            })
-            .collect();
+        let body = crate::CollisionBody::from_mesh(&mesh).unwrap();
+        let triangles = body.local_triangles();
         let demand = all.on_demand();
         assert!(demand.vertex.is_empty() && demand.edge.is_empty());
         for v in 0..mesh.positions.len() as u32 {
             assert_eq!(
-                demand.vertex_normal(&triangles, v),
-                all.vertex_normal(&triangles, v)
+                demand.vertex_normal(triangles, v),
+                all.vertex_normal(triangles, v)
             );
         }
         for e in 0..all.edge.len() as u32 {
             assert_eq!(
-                demand.edge_normal(&triangles, e),
-                all.edge_normal(&triangles, e)
+                demand.edge_normal(triangles, e),
+                all.edge_normal(triangles, e)
             );
         }
     }

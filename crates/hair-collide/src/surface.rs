@@ -79,20 +79,26 @@ impl CollisionBody {
         if !p.is_finite() {
             return None;
         }
+        self.closest_in_tree(p, reach).map(|(triangle, _)| triangle)
+    }
+
+    /// The tree search for the triangle closest to `p` (body frame) among those nearer than
+    /// `bound` \[m\], with the closest point and its feature.
+    fn closest_in_tree(&self, p: Vec3, bound: f32) -> Option<(u32, (Vec3, TriangleFeature))> {
         let triangles = self.local_triangles();
         self.bvh()
             .find_best(
-                reach,
+                bound,
                 |node, _| {
                     let aabb = node.aabb();
                     p.clamp(aabb.mins, aabb.maxs).distance(p)
                 },
                 |leaf, _| {
-                    let (q, _) = closest_point_on_triangle(p, &triangles[leaf as usize]);
-                    Some((q.distance(p), ()))
+                    let (q, feature) = closest_point_on_triangle(p, &triangles[leaf as usize]);
+                    Some((q.distance(p), (q, feature)))
                 },
             )
-            .map(|(triangle, _)| triangle)
+            .map(|(triangle, (_, found))| (triangle, found))
     }
 
     /// The closest surface point to `p` (body frame), the search bounded by triangle `hint`'s
@@ -106,19 +112,9 @@ impl CollisionBody {
             .filter(|&t| (t as usize) < triangles.len())
             .map(|t| (t, closest_point_on_triangle(p, &triangles[t as usize])));
         let bound = hinted.map_or(f32::MAX, |(_, (q, _))| q.distance(p));
-        let best = self.bvh().find_best(
-            bound,
-            |node, _| {
-                let aabb = node.aabb();
-                p.clamp(aabb.mins, aabb.maxs).distance(p)
-            },
-            |leaf, _| {
-                let (q, feature) = closest_point_on_triangle(p, &triangles[leaf as usize]);
-                Some((q.distance(p), (q, feature)))
-            },
-        );
+        let best = self.closest_in_tree(p, bound);
         let (triangle, (point, feature)) = match (best, hinted) {
-            (Some((triangle, (_, found))), _) => (triangle, found),
+            (Some((triangle, found)), _) => (triangle, found),
             (None, Some(hinted)) => hinted,
             (None, None) => return None,
         };

@@ -31,26 +31,10 @@ fn distance_tolerance(h: f32, bend: f32) -> f32 {
 
 /// The largest angle [rad] between the normals of two faces that share an edge.
 fn largest_bend(mesh: &hair_core::TriangleMesh) -> f32 {
-    let mut edges: std::collections::HashMap<(u32, u32), Vec<usize>> = Default::default();
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            edges.entry((a.min(b), a.max(b))).or_default().push(t);
-        }
-    }
-    let normal = |t: usize| {
-        let [a, b, c] = mesh.triangles[t].map(|i| mesh.positions[i as usize]);
-        (b - a).cross(c - a).normalize_or_zero()
-    };
-    edges
+    support::mesh_edges(mesh)
         .values()
         .filter(|faces| faces.len() == 2)
-        .map(|faces| {
-            normal(faces[0])
-                .dot(normal(faces[1]))
-                .clamp(-1.0, 1.0)
-                .acos()
-        })
+        .map(|faces| support::bend_between(mesh, faces[0], faces[1]))
         .fold(0.0, f32::max)
 }
 

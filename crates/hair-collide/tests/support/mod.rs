@@ -218,3 +218,26 @@ pub fn groom_simulation(groom: &hair_core::Groom) -> hair_core::dynamics::Simula
     )
     .unwrap()
 }
+
+/// Each edge of `mesh` (its two vertex indices, lower first) with the triangles along it.
+pub fn mesh_edges(
+    mesh: &hair_core::TriangleMesh,
+) -> std::collections::HashMap<(u32, u32), Vec<usize>> {
+    let mut edges: std::collections::HashMap<(u32, u32), Vec<usize>> = Default::default();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(t);
+        }
+    }
+    edges
+}
+
+/// The angle [rad] between the normals of triangles `f` and `g` of `mesh`.
+pub fn bend_between(mesh: &hair_core::TriangleMesh, f: usize, g: usize) -> f32 {
+    let normal = |t: usize| {
+        let [a, b, c] = mesh.triangles[t].map(|i| mesh.positions[i as usize]);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    normal(f).dot(normal(g)).clamp(-1.0, 1.0).acos()
+}

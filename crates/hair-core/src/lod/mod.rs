@@ -24,6 +24,7 @@ pub mod criteria;
 mod deviation;
 mod greedy;
 mod observation;
+mod occluders;
 mod section_choice;
 mod selector;
 mod settings;
@@ -50,6 +51,7 @@ pub use deviation::{
 };
 pub use greedy::{BudgetOutcome, SectionOptions, refine_within_budget};
 pub use observation::{SIGHT_SAMPLES, SectionObservation};
+pub use occluders::carried_boxes;
 pub use section_choice::{Reason, SectionChoice, covered_pixels};
 pub use selector::LodSelector;
 pub use settings::{ErrorModel, LodSettings, OcclusionTest};

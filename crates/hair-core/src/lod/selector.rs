@@ -50,6 +50,13 @@ pub struct LodSelector {
 }
 
 impl LodSelector {
+    /// The occluding boxes (head space \[m\], inside the head) the next choices test against:
+    /// a deforming body's, which follow it ([`carried_boxes`](crate::lod::carried_boxes)).
+    pub fn set_occluders(&mut self, occluders: &[(Vec3, Vec3)]) {
+        self.occluders.clear();
+        self.occluders.extend_from_slice(occluders);
+    }
+
     /// A selector for `groom` on a head whose occluding boxes are `occluders` (head space [m],
     /// inside the head: [`Head::occluder_boxes`](crate::Head::occluder_boxes)); every section
     /// starts as a visible patch. With the error-driven model the sections' deviations are
