@@ -393,23 +393,24 @@ impl CollisionBody {
             (fit.rotation, fit.translation),
             (Mat3::IDENTITY, Vec3::ZERO),
         ];
-        let mut best: Vec<Option<(f32, (Vec3, Vec3))>> = vec![None; rest.boxes.len()];
-        let mut carried = Vec::new();
-        for (rotation, translation) in transforms {
-            // Per triangle, how far its vertices stray from their rest places so moved.
-            let strays = current.iter().zip(rest_triangles).map(|(now, then)| {
-                now.vertices
-                    .iter()
-                    .zip(then.vertices)
-                    .map(|(x, r)| x.distance(rotation * r + translation))
-                    .fold(0.0f32, f32::max)
-            });
-            let mut shrinks = vec![0.0f32; rest.boxes.len()];
-            for (t, stray) in strays.enumerate() {
-                for (shrink, apart) in shrinks.iter_mut().zip(&rest.apart) {
-                    *shrink = shrink.max(stray - apart[t]);
+        // Per transform and box, the shrink: one pass over the triangles, each straying from
+        // its rest place so moved by its farthest vertex.
+        let mut shrinks = vec![[0.0f32; 2]; rest.boxes.len()];
+        for (t, (now, then)) in current.iter().zip(rest_triangles).enumerate() {
+            let mut strays = [0.0f32; 2];
+            for (x, r) in now.vertices.iter().zip(then.vertices) {
+                strays[0] = strays[0].max(x.distance(fit.rotation * r + fit.translation));
+                strays[1] = strays[1].max(x.distance(r));
+            }
+            for (shrink, apart) in shrinks.iter_mut().zip(&rest.apart) {
+                for (s, stray) in shrink.iter_mut().zip(strays) {
+                    *s = s.max(stray - apart[t]);
                 }
             }
+        }
+        let mut best: Vec<Option<(f32, (Vec3, Vec3))>> = vec![None; rest.boxes.len()];
+        let mut carried = Vec::new();
+        for (k, (rotation, translation)) in transforms.into_iter().enumerate() {
             for (i, shrink) in shrinks.iter().enumerate() {
                 // A hair's breadth more: a box touching the bound would touch the surface.
                 let one = [rest.boxes[i]];
@@ -417,7 +418,7 @@ impl CollisionBody {
                     &one,
                     rotation,
                     translation,
-                    &[shrink + 1e-6],
+                    &[shrink[k] + 1e-6],
                     &mut carried,
                 );
                 if let Some(&(low, high)) = carried.first() {
