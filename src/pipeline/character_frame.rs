@@ -64,10 +64,11 @@ impl CharacterRun<'_> {
         let mut times = StageTimes::default();
         let started = Instant::now();
         let head = self.head_pose();
-        self.follow_occluders();
         let (levels, visibility) = match given {
+            // Given levels were chosen by `budget_options`, which carried the occluders.
             Some(levels) => self.select_levels(LevelSource::Given(levels))?,
             None => {
+                self.follow_occluders();
                 self.observe_sections(camera)?;
                 let observations = std::mem::take(&mut self.work.observations);
                 let chosen = self.select_levels(LevelSource::Tolerance {

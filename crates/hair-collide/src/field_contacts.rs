@@ -224,9 +224,9 @@ pub fn query_body_field(
     let bound_padding = ball_padding(&bound);
     // A deforming body reads its rest field moved with it, or (reading none) takes the exact
     // path everywhere: a field of one instant would be built again at the next.
-    let moved = body.moved_field();
-    let rigid = (!body.is_deforming()).then(|| body.distance_field());
     let deforming = body.is_deforming();
+    let moved = body.moved_field();
+    let rigid = (!deforming).then(|| body.distance_field());
     let triangles = body.local_triangles();
     let chunks = volumes.len().div_ceil(CHUNK);
     contacts.chunks.resize_with(chunks, Default::default);

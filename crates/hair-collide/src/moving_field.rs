@@ -40,6 +40,8 @@ use std::sync::Arc;
 
 use glam::{Mat3, Vec3};
 
+use hair_core::dynamics::triangle_frame;
+
 use crate::body::CollisionBody;
 use crate::distance_field::{DEFAULT_CELL, DistanceField};
 use crate::error::{CollideError, Result};
@@ -100,14 +102,6 @@ fn on_triangle(triangle: &Triangle, p: Vec3) -> Option<OnTriangle> {
 fn at_place(triangle: &Triangle, place: OnTriangle) -> Vec3 {
     let [a, b, c] = triangle.vertices;
     a + (b - a) * place.u + (c - a) * place.v + triangle.normal * place.h
-}
-
-/// An orthonormal frame of `triangle`: its first edge's direction, the in-plane normal to it,
-/// its normal.
-fn frame(triangle: &Triangle) -> [Vec3; 3] {
-    let [a, b, _] = triangle.vertices;
-    let x = (b - a).normalize_or_zero();
-    [x, triangle.normal.cross(x), triangle.normal]
 }
 
 /// A field sample through the deformation: the distance \[m\] (positive outside), its gradient
@@ -200,13 +194,10 @@ impl<'a> MovedField<'a> {
         let (image, carrier, place) = self.locate(p, *hint)?;
         *hint = Some(carrier);
         let (distance, rest_gradient) = self.field().sample(image)?;
-        let rest_frame = frame(&self.rest().triangles()[carrier as usize]);
-        let current_frame = frame(&self.current[carrier as usize]);
-        let gradient = rest_frame
-            .iter()
-            .zip(current_frame)
-            .map(|(r, c)| c * rest_gradient.dot(*r))
-            .sum();
+        // Turned from the rest triangle's frame to the current one's.
+        let rest_frame = triangle_frame(self.rest().triangles()[carrier as usize].vertices)?;
+        let current_frame = triangle_frame(self.current[carrier as usize].vertices)?;
+        let gradient = current_frame * (rest_frame.transpose() * rest_gradient);
         let (u, v) = (place.u.clamp(0.0, 1.0), place.v.clamp(0.0, 1.0));
         let (u, v) = if u + v > 1.0 {
             (u / (u + v), v / (u + v))

@@ -90,7 +90,7 @@ pub use params::{
     DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind, RootMode,
     SimulationSettings,
 };
-pub use root_motion::{ChainRoots, DeformingBody, RootCarrier, SurfaceAttachment};
+pub use root_motion::{ChainRoots, DeformingBody, RootCarrier, SurfaceAttachment, triangle_frame};
 pub use sag_free::{
     MAX_NATURAL_TURN, SAG_FREE_MAX_ITERATIONS, SAG_FREE_TOLERANCE, SagFreeReport, TurnLimit,
     make_sag_free,

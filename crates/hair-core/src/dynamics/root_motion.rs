@@ -229,7 +229,9 @@ impl RootPoses<'_> {
 
 /// A triangle's orthonormal frame as matrix columns: the first edge's direction, the in-plane
 /// direction perpendicular to it, the unit normal (counter-clockwise). `None` for zero area.
-fn triangle_frame([a, b, c]: [Vec3; 3]) -> Option<Mat3> {
+/// What a root riding the triangle turns with, and what a deforming body's moving field turns
+/// its gradients with (`hair_collide`).
+pub fn triangle_frame([a, b, c]: [Vec3; 3]) -> Option<Mat3> {
     let edge = (b - a).try_normalize()?;
     let normal = (b - a).cross(c - a).try_normalize()?;
     Some(Mat3::from_cols(edge, normal.cross(edge), normal))
