@@ -118,13 +118,15 @@ impl BodyRide {
     /// The collision body of the mesh at `time` [s] (head space; posed by the collision stage),
     /// its vertices moving at their mean velocity over the `time_step` [s] before it, and the
     /// farthest any vertex moved over that step [m]. From `previous` (the body at an earlier
-    /// time) its tree is refitted ([`CollisionBody::deformed`]); without it, built. With a rest
-    /// field, the body reads it.
+    /// time) its tree is refitted ([`CollisionBody::deformed_reusing`], in the memory of
+    /// `spare`, an instant no longer needed, where nothing else holds it); without it, built.
+    /// With a rest field, the body reads it.
     pub(crate) fn collision_body(
         &self,
         time: f64,
         time_step: f32,
         previous: Option<&CollisionBody>,
+        spare: Option<CollisionBody>,
     ) -> Result<(CollisionBody, f32)> {
         let sequence = self.body.sequence();
         let mut positions = Vec::new();
@@ -141,7 +143,7 @@ impl BodyRide {
             })
             .collect();
         let body = match previous {
-            Some(previous) => previous.deformed(&positions, velocities)?,
+            Some(previous) => previous.deformed_reusing(&positions, velocities, spare)?,
             None => {
                 // Collision needs no vertex normals (its pseudonormals come from the triangles).
                 let mesh = TriangleMesh {

@@ -54,6 +54,9 @@ pub(crate) struct CharacterWork {
     pub(crate) body_at_end: Option<(CollisionBody, f32)>,
     /// The time [s] `body_at_end` is at.
     pub(crate) body_at_end_time: f64,
+    /// A deforming body's instant no longer needed, whose memory the next instant reuses
+    /// ([`hair_collide::CollisionBody::deformed_reusing`]).
+    pub(crate) spare_body: Option<CollisionBody>,
     /// The occluder boxes carried to the body now (scratch).
     pub(crate) occluders: Vec<(glam::Vec3, glam::Vec3)>,
     /// The level selector (automatic levels): its constants and scratch; its memory (choices,
@@ -161,6 +164,7 @@ pub(crate) fn build_character(
         ride,
         body_at_end: None,
         body_at_end_time: f64::NAN,
+        spare_body: None,
         occluders: Vec::new(),
         selector,
         section_work: super::drawn::section_work(groom),
@@ -215,8 +219,13 @@ impl CharacterRun<'_> {
             let body = match &self.work.body_at_end {
                 Some((end, _)) if self.work.body_at_end_time == self.state.time => end.clone(),
                 _ => {
-                    ride.collision_body(self.state.time, self.settings.dynamics.time_step, None)?
-                        .0
+                    ride.collision_body(
+                        self.state.time,
+                        self.settings.dynamics.time_step,
+                        None,
+                        None,
+                    )?
+                    .0
                 }
             };
             for (_, level) in self.work.work.levels.iter_mut() {
@@ -224,7 +233,8 @@ impl CharacterRun<'_> {
                     *copy = body.clone();
                 }
             }
-            self.work.body = Some(body);
+            // The body before is no longer needed: its memory makes the next instant.
+            self.work.spare_body = self.work.body.replace(body);
         }
         if let Some(body) = &mut self.work.body {
             body.set_pose(head.rotation, head.translation)?;
@@ -260,7 +270,8 @@ impl CharacterRun<'_> {
                 let step = self.settings.dynamics.time_step;
                 let previous = previous.as_ref().map_or(body, |(previous, _)| previous);
                 self.work.body_at_end_time = time + f64::from(step);
-                Some(ride.collision_body(time + f64::from(step), step, Some(previous))?)
+                let spare = self.work.spare_body.take();
+                Some(ride.collision_body(time + f64::from(step), step, Some(previous), spare)?)
             }
             _ => None,
         };

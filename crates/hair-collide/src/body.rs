@@ -129,7 +129,11 @@ fn posed_bound(local: Pss, rotation: Quat, translation: Vec3) -> Pss {
 
 /// The tight box of a triangle.
 pub(crate) fn triangle_aabb(triangle: &Triangle) -> Aabb {
-    let [a, b, c] = triangle.vertices;
+    corners_aabb(triangle.vertices)
+}
+
+/// The tight box of a triangle's corners.
+pub(crate) fn corners_aabb([a, b, c]: [Vec3; 3]) -> Aabb {
     Aabb::new(a.min(b).min(c), a.max(b).max(c))
 }
 
@@ -237,11 +241,22 @@ impl CollisionBody {
     /// turned by the pose. Zero for a rigid body (no vertex velocities) and for a non-finite
     /// point.
     pub fn deformation_velocity(&self, p: Vec3) -> Vec3 {
+        self.deformation_velocity_at(p, None)
+    }
+
+    /// [`CollisionBody::deformation_velocity`], the closest point's search starting from
+    /// triangle `near` (the same answer, found sooner where `near` is close to `p`).
+    pub(crate) fn deformation_velocity_near(&self, p: Vec3, near: u32) -> Vec3 {
+        self.deformation_velocity_at(p, Some(near))
+    }
+
+    /// The velocity of [`CollisionBody::deformation_velocity`], the search from `near`.
+    fn deformation_velocity_at(&self, p: Vec3, near: Option<u32>) -> Vec3 {
         let velocities = &self.shape.vertex_velocities;
         if velocities.is_empty() {
             return Vec3::ZERO;
         }
-        let Some(surface) = self.closest_local_surface_point(self.to_local(p)) else {
+        let Some(surface) = self.closest_local_surface_point_near(self.to_local(p), near) else {
             return Vec3::ZERO;
         };
         let t = surface.triangle as usize;

@@ -1,16 +1,21 @@
 //! A deforming body's next instant from its last one ([`CollisionBody::deformed`]): the same
 //! triangles over new vertex positions, the triangle tree refitted instead of built again, the
 //! pseudonormals found on demand on the edge structure already found. What changes each frame costs
-//! a pass over the triangles; what only depends on the topology is kept.
+//! a pass over the triangles; what only depends on the topology is kept, and an instant no longer
+//! needed lends its memory to the next ([`CollisionBody::deformed_reusing`]).
 
 use std::sync::{Arc, OnceLock};
 
-use crate::body::{BodyShape, CollisionBody, check_vertex_values, triangle_aabb};
+use crate::body::{BodyShape, CollisionBody, check_vertex_values, corners_aabb};
 use crate::error::Result;
 use crate::geometry::Triangle;
 use crate::volume::Pss;
 use glam::Vec3;
+use parry3d::partitioning::Bvh;
 use rayon::prelude::*;
+
+/// Triangles per task of the pass over the triangles.
+const TRIANGLES_PER_TASK: usize = 2048;
 
 impl CollisionBody {
     /// This body's triangles over `positions` [m] (its own frame, one per vertex of the mesh it
@@ -26,39 +31,47 @@ impl CollisionBody {
     /// Errors on a count that is not the mesh's vertices or a position or velocity that is not
     /// finite.
     pub fn deformed(&self, positions: &[Vec3], velocities: Vec<Vec3>) -> Result<Self> {
+        self.deformed_reusing(positions, velocities, None)
+    }
+
+    /// [`CollisionBody::deformed`], written into the memory of `spare`, an earlier instant of
+    /// this body that is no longer needed: its triangles and its tree are overwritten instead
+    /// of allocated and copied (a 20k-triangle tree is 1.6 MB). A spare that something else
+    /// still holds (a clone of it lives on), or that is not an instant of this body's mesh, is
+    /// dropped and the memory allocated. The result is the same either way.
+    pub fn deformed_reusing(
+        &self,
+        positions: &[Vec3],
+        velocities: Vec<Vec3>,
+        spare: Option<CollisionBody>,
+    ) -> Result<Self> {
         let shape = &self.shape;
         let vertex_count = shape.pseudonormals.vertex_count;
         check_vertex_values("deformed positions", positions, vertex_count)?;
         check_vertex_values("vertex velocities", &velocities, vertex_count)?;
-        let triangles: Vec<Triangle> = shape
-            .indices
-            .par_iter()
-            .with_min_len(1024)
-            .map(|t| {
-                let [a, b, c] = t.map(|i| positions[i as usize]);
-                Triangle::new(a, b, c)
-            })
-            .collect();
-        let mut bvh = shape.bvh.clone();
-        for (id, triangle) in triangles.iter().enumerate() {
-            bvh.update_partially_if_present(triangle_aabb(triangle), id as u32, 0.0);
-        }
-        bvh.refit_without_opt();
+        let spare = spare
+            .and_then(|spare| Arc::try_unwrap(spare.shape).ok())
+            .filter(|spare| {
+                Arc::ptr_eq(&spare.indices, &shape.indices)
+                    && spare.triangles.len() == shape.triangles.len()
+            });
+        let (mut triangles, mut bvh) = match spare {
+            Some(spare) => (spare.triangles, spare.bvh),
+            None => (
+                vec![Triangle::new(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO); shape.triangles.len()],
+                shape.bvh.clone(),
+            ),
+        };
+        let center = shape.bound.center;
+        refit(&mut bvh, &shape.indices, positions);
+        let radius_squared = write_triangles(&mut triangles, &shape.indices, positions, center);
+        let deformation = shape.deformation.as_ref().map(|d| d.at(&triangles));
         // Found when a closest point needs one: most are never read in a frame.
         let pseudonormals = shape.pseudonormals.on_demand();
-        let center = shape.bound.center;
-        // The vertices that triangles use: each triangle's corners.
-        let radius = triangles
-            .par_iter()
-            .with_min_len(1024)
-            .map(|t| {
-                let [a, b, c] = t.vertices.map(|v| v.distance_squared(center));
-                a.max(b).max(c)
-            })
-            .reduce(|| 0.0f32, f32::max)
-            .sqrt();
-        let bound = Pss { center, radius };
-        let deformation = shape.deformation.as_ref().map(|d| d.at(&triangles));
+        let bound = Pss {
+            center,
+            radius: radius_squared.sqrt(),
+        };
         let deformed = BodyShape {
             indices: shape.indices.clone(),
             triangles,
@@ -71,6 +84,43 @@ impl CollisionBody {
         };
         Ok(self.with_shape(Arc::new(deformed)))
     }
+}
+
+/// The leaves of `bvh` (one per triangle of `indices`) moved to the triangles over
+/// `positions`, and the tree refitted.
+fn refit(bvh: &mut Bvh, indices: &[[u32; 3]], positions: &[Vec3]) {
+    for (id, corners) in indices.iter().enumerate() {
+        let aabb = corners_aabb(corners.map(|i| positions[i as usize]));
+        bvh.update_partially_if_present(aabb, id as u32, 0.0);
+    }
+    bvh.refit_without_opt();
+}
+
+/// Writes the triangles of `indices` over `positions` into `triangles`; returns the largest
+/// squared distance of a corner from `center` \[m²\].
+fn write_triangles(
+    triangles: &mut [Triangle],
+    indices: &[[u32; 3]],
+    positions: &[Vec3],
+    center: Vec3,
+) -> f32 {
+    triangles
+        .par_chunks_mut(TRIANGLES_PER_TASK)
+        .zip(indices.par_chunks(TRIANGLES_PER_TASK))
+        .map(|(out, indices)| {
+            let mut reach = 0.0f32;
+            for (out, corners) in out.iter_mut().zip(indices) {
+                let [a, b, c] = corners.map(|i| positions[i as usize]);
+                *out = Triangle::new(a, b, c);
+                reach = reach.max(
+                    a.distance_squared(center)
+                        .max(b.distance_squared(center))
+                        .max(c.distance_squared(center)),
+                );
+            }
+            reach
+        })
+        .reduce(|| 0.0, f32::max)
 }
 
 #[cfg(test)]
@@ -151,6 +201,76 @@ mod tests {
                 "{p} outside"
             );
         }
+    }
+
+    /// A body's triangles (corners, normal), bounding ball and closest points (signed
+    /// distance, triangle) at 200 points: plain values to compare.
+    type Answers = (Vec<[Vec3; 4]>, (Vec3, f32), Vec<(f32, u32)>);
+
+    /// The [`Answers`] of `body`.
+    fn answers(body: &CollisionBody) -> Answers {
+        let triangles = body
+            .local_triangles()
+            .iter()
+            .map(|t| [t.vertices[0], t.vertices[1], t.vertices[2], t.normal])
+            .collect();
+        let ball = body.local_bounding_volume();
+        let closest = (0..200)
+            .map(|k| {
+                let t = k as f32 * 0.1;
+                let p = Vec3::new(
+                    0.12 * t.sin(),
+                    0.15 * (0.7 * t).cos(),
+                    0.1 * (1.3 * t).sin(),
+                );
+                let found = body.closest_local_surface_point(p).unwrap();
+                (found.signed_distance, found.triangle)
+            })
+            .collect();
+        (triangles, (ball.center, ball.radius), closest)
+    }
+
+    #[test]
+    fn an_instant_made_in_a_spares_memory_is_the_instant_made_afresh_and_a_held_spare_is_left_alone()
+     {
+        let (rest, moved, velocities) = deformed_head();
+        let afresh = rest.deformed(&moved.positions, velocities.clone()).unwrap();
+        // A spare nothing else holds: an earlier instant of the same body, its memory reused.
+        let shrunk: Vec<Vec3> = moved.positions.iter().map(|p| *p * 0.9).collect();
+        let earlier = rest.deformed(&shrunk, velocities.clone()).unwrap();
+        let memory = earlier.local_triangles().as_ptr();
+        let reused = rest
+            .deformed_reusing(&moved.positions, velocities.clone(), Some(earlier))
+            .unwrap();
+        assert_eq!(
+            reused.local_triangles().as_ptr(),
+            memory,
+            "the spare's memory"
+        );
+        assert_eq!(answers(&reused), answers(&afresh));
+        // A spare still held elsewhere keeps its triangles: the memory is allocated instead.
+        let held = rest.deformed(&moved.positions, velocities.clone()).unwrap();
+        let copy = held.clone();
+        let before = answers(&copy);
+        let squashed: Vec<Vec3> = moved.positions.iter().map(|p| *p * 1.1).collect();
+        let other = rest
+            .deformed_reusing(&squashed, velocities.clone(), Some(held))
+            .unwrap();
+        assert_eq!(answers(&copy), before);
+        assert_ne!(
+            other.local_triangles().as_ptr(),
+            copy.local_triangles().as_ptr()
+        );
+        assert_eq!(
+            answers(&other),
+            answers(&rest.deformed(&squashed, velocities.clone()).unwrap())
+        );
+        // A spare of another mesh is not used.
+        let stranger = CollisionBody::from_moving_mesh(&moved, velocities.clone()).unwrap();
+        let third = rest
+            .deformed_reusing(&moved.positions, velocities, Some(stranger))
+            .unwrap();
+        assert_eq!(answers(&third), answers(&afresh));
     }
 
     #[test]

@@ -154,8 +154,9 @@ impl<'a> MovedField<'a> {
         let first = || match field.nearby_triangle(self.fitted_back(p)) {
             Some(carrier) => Some(carrier),
             // Where the deformation strays from the fit, the fitted-back point may miss the
-            // exact shell: the closest triangle within the reach is found in the tree (none,
-            // quickly, for a point beyond it).
+            // exact shell: the closest triangle within the reach is found in the tree, unless
+            // the certified bound puts the point beyond it already.
+            None if self.bound(p).0 > field.exact_reach() => None,
             None => self
                 .body
                 .closest_local_triangle_within(p, field.exact_reach()),
@@ -191,13 +192,31 @@ impl<'a> MovedField<'a> {
     /// becomes this point's carrier where one is found: a hint only saves lookups where it is
     /// near, and the carrier found is checked against the field either way.
     pub(crate) fn sample(&self, p: Vec3, hint: &mut Option<u32>) -> Option<MovedSample> {
+        let sample = self.sample_unturned(p, hint)?;
+        Some(MovedSample {
+            gradient: self.turned(sample.triangle, sample.gradient),
+            ..sample
+        })
+    }
+
+    /// `rest_gradient` (the rest field's, at the image through carrier `triangle`) turned from
+    /// the rest triangle's frame to the current one's; zero on a degenerate triangle.
+    pub(crate) fn turned(&self, triangle: u32, rest_gradient: Vec3) -> Vec3 {
+        let t = triangle as usize;
+        let frames = triangle_frame(self.rest().triangles()[t].vertices)
+            .zip(triangle_frame(self.current[t].vertices));
+        frames.map_or(Vec3::ZERO, |(rest, current)| {
+            current * (rest.transpose() * rest_gradient)
+        })
+    }
+
+    /// [`MovedField::sample`] with the gradient left in the rest triangle's frame
+    /// ([`MovedField::turned`] turns it): most samples only need their distance.
+    pub(crate) fn sample_unturned(&self, p: Vec3, hint: &mut Option<u32>) -> Option<MovedSample> {
         let (image, carrier, place) = self.locate(p, *hint)?;
         *hint = Some(carrier);
-        let (distance, rest_gradient) = self.field().sample(image)?;
-        // Turned from the rest triangle's frame to the current one's.
-        let rest_frame = triangle_frame(self.rest().triangles()[carrier as usize].vertices)?;
-        let current_frame = triangle_frame(self.current[carrier as usize].vertices)?;
-        let gradient = current_frame * (rest_frame.transpose() * rest_gradient);
+        // (A degenerate carrier gives no place on it: `image` found none.)
+        let (distance, gradient) = self.field().sample(image)?;
         let (u, v) = (place.u.clamp(0.0, 1.0), place.v.clamp(0.0, 1.0));
         let (u, v) = if u + v > 1.0 {
             (u / (u + v), v / (u + v))

@@ -24,7 +24,7 @@ pub(crate) fn restore_length(
     length: f32,
     skin: f32,
     hint: u32,
-    surface_velocity: impl Fn(Vec3) -> Vec3 + Copy,
+    surface_velocity: impl Fn(Vec3, u32) -> Vec3 + Copy,
 ) {
     const ROUNDS: usize = 4;
     let parent = pair[0];
@@ -78,7 +78,7 @@ pub(crate) fn restore_length(
     }
     if let Some(p) = at(high) {
         pair[1] = p;
-        let relative = *velocity - surface_velocity(p);
+        let relative = *velocity - surface_velocity(p, surface.triangle);
         let inward = relative.dot(normal);
         if inward < 0.0 {
             *velocity -= normal * inward;
@@ -140,14 +140,15 @@ pub(crate) enum Projection {
 
 /// Moves `position` out of `body` when it is inside (to the closest surface point plus `skin`
 /// along the way out) and removes the inward normal part of `velocity` relative to the surface
-/// velocity `surface_velocity(p)`; where it is outside, see [`probe`] (`hint` starts its search).
+/// velocity `surface_velocity(p, t)` (`t` a triangle near `p`, where a search for its closest
+/// point may start); where it is outside, see [`probe`] (`hint` starts its search).
 pub(crate) fn project_out(
     body: &CollisionBody,
     position: &mut Vec3,
     velocity: &mut Vec3,
     skin: f32,
     hint: u32,
-    surface_velocity: impl Fn(Vec3) -> Vec3,
+    surface_velocity: impl Fn(Vec3, u32) -> Vec3,
 ) -> Projection {
     let surface = match probe(body, *position, hint) {
         Probe::Outside {
@@ -166,7 +167,7 @@ pub(crate) fn project_out(
         .try_normalize()
         .unwrap_or(surface.normal);
     *position = surface.point + outward * skin;
-    let relative = *velocity - surface_velocity(*position);
+    let relative = *velocity - surface_velocity(*position, surface.triangle);
     let inward = relative.dot(surface.normal);
     if inward < 0.0 {
         *velocity -= surface.normal * inward;

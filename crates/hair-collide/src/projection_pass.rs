@@ -180,9 +180,9 @@ impl ProjectionPass<'_> {
             }
             for (b, body) in self.bodies.iter().enumerate() {
                 // The pose's motion, and a deforming body's own.
-                let surface_velocity = |p| {
+                let surface_velocity = |p, near| {
                     rigid_point_velocity(&self.head_before, &self.head, p, self.time_step)
-                        + body.deformation_velocity(p)
+                        + body.deformation_velocity_near(p, near)
                 };
                 let cache = &mut caches[node * body_count + b];
                 if self.clear_of(body, positions[m], cache) {

@@ -130,9 +130,10 @@ impl RestField {
             .iter()
             .zip(&rest.centred)
             .map(|(corner, rest_offset)| {
-                at(corner).distance(rotation * (*rest_offset + rest.centroid) + translation)
+                at(corner).distance_squared(rotation * (*rest_offset + rest.centroid) + translation)
             })
-            .fold(0.0f32, f32::max);
+            .fold(0.0f32, f32::max)
+            .sqrt();
         RigidFit {
             rotation,
             translation,

@@ -103,7 +103,11 @@ impl CollisionBody {
 
     /// The closest surface point to `p` (body frame), the search bounded by triangle `hint`'s
     /// distance where one is given (an index out of range is no hint).
-    fn closest_local_surface_point_near(&self, p: Vec3, hint: Option<u32>) -> Option<SurfacePoint> {
+    pub(crate) fn closest_local_surface_point_near(
+        &self,
+        p: Vec3,
+        hint: Option<u32>,
+    ) -> Option<SurfacePoint> {
         if !p.is_finite() {
             return None;
         }
