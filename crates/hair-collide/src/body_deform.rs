@@ -63,9 +63,13 @@ impl CollisionBody {
             ),
         };
         let center = shape.bound.center;
-        refit(&mut bvh, &shape.indices, positions);
-        let radius_squared = write_triangles(&mut triangles, &shape.indices, positions, center);
-        let deformation = shape.deformation.as_ref().map(|d| d.at(&triangles));
+        let ((), (radius_squared, deformation)) = rayon::join(
+            || refit(&mut bvh, &shape.indices, positions),
+            || {
+                let reach = write_triangles(&mut triangles, &shape.indices, positions, center);
+                (reach, shape.deformation.as_ref().map(|d| d.at(&triangles)))
+            },
+        );
         // Found when a closest point needs one: most are never read in a frame.
         let pseudonormals = shape.pseudonormals.on_demand();
         let bound = Pss {
