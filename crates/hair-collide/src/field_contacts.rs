@@ -120,7 +120,10 @@ impl Sampler for MovedField<'_> {
         MovedField::exact_reach(self)
     }
     fn turned(&self, gradient: Vec3, carrier: Option<(u32, Vec3)>) -> Vec3 {
-        carrier.map_or(Vec3::ZERO, |(triangle, _)| self.turned(triangle, gradient))
+        // A degenerate carrier turns to zero: no normal, so the exact path decides.
+        carrier
+            .and_then(|(triangle, _)| self.turned(triangle, gradient))
+            .unwrap_or(Vec3::ZERO)
     }
 }
 

@@ -194,20 +194,19 @@ impl<'a> MovedField<'a> {
     pub(crate) fn sample(&self, p: Vec3, hint: &mut Option<u32>) -> Option<MovedSample> {
         let sample = self.sample_unturned(p, hint)?;
         Some(MovedSample {
-            gradient: self.turned(sample.triangle, sample.gradient),
+            gradient: self.turned(sample.triangle, sample.gradient)?,
             ..sample
         })
     }
 
     /// `rest_gradient` (the rest field's, at the image through carrier `triangle`) turned from
-    /// the rest triangle's frame to the current one's; zero on a degenerate triangle.
-    pub(crate) fn turned(&self, triangle: u32, rest_gradient: Vec3) -> Vec3 {
+    /// the rest triangle's frame to the current one's; `None` where either triangle is
+    /// degenerate (no frame to turn through).
+    pub(crate) fn turned(&self, triangle: u32, rest_gradient: Vec3) -> Option<Vec3> {
         let t = triangle as usize;
-        let frames = triangle_frame(self.rest().triangles()[t].vertices)
-            .zip(triangle_frame(self.current[t].vertices));
-        frames.map_or(Vec3::ZERO, |(rest, current)| {
-            current * (rest.transpose() * rest_gradient)
-        })
+        let rest = triangle_frame(self.rest().triangles().get(t)?.vertices)?;
+        let current = triangle_frame(self.current.get(t)?.vertices)?;
+        Some(current * (rest.transpose() * rest_gradient))
     }
 
     /// [`MovedField::sample`] with the gradient left in the rest triangle's frame
