@@ -9,9 +9,10 @@
 //! the segment); a rectangle on a 3 × 3 grid (corners, edge midpoints, centre). A segment that
 //! starts where the one before it ended (the next of a chain) takes that end's sample as its
 //! start: about two samples a segment instead of three. On a convex smooth surface of curvature
-//! radius `R` the distance along a core is close to a parabola of curvature `1/R`, so the sampled minimum exceeds the true one by at most about `s²/(8R)` for
-//! samples `s` apart: 0.16 mm for a 2 cm segment on an 8 cm head before the parabola's sample,
-//! far less after it. The field's own interpolation error is of order `h²/R` (µm).
+//! radius `R` the distance along a core is close to a parabola of curvature `1/R`, so the
+//! sampled minimum exceeds the true one by at most about `s²/(8R)` for samples `s` apart:
+//! 0.16 mm for a 2 cm segment on an 8 cm head before the parabola's sample, far less after it.
+//! The field's own interpolation error is of order `h²/R` (µm).
 //!
 //! **Where the field cannot decide** (a sample's cell without exact corners: the core farther
 //! than [`EXACT_REACH`](crate::distance_field::EXACT_REACH) from the surface while the certified
