@@ -35,6 +35,11 @@ pub(crate) struct BodyShape {
     pub bound: Pss,
     /// The triangle tree (leaf data = triangle id), over unpadded triangle AABBs.
     pub bvh: Bvh,
+    /// The triangle ids in the order their leaves lie in the tree's memory, found when a
+    /// deforming body first refits the tree and shared by its instants (whose trees are copies
+    /// of one layout): a refit that walks the leaves in this order writes the tree front to
+    /// back instead of at random.
+    pub leaf_order: Arc<OnceLock<Vec<u32>>>,
     /// Angle-weighted pseudonormals (body frame) and the edge structure.
     pub pseudonormals: Pseudonormals,
     /// The distance field (body frame), built on first use.
@@ -54,6 +59,7 @@ impl BodyShape {
             triangles: self.triangles.clone(),
             bound: self.bound,
             bvh: self.bvh.clone(),
+            leaf_order: self.leaf_order.clone(),
             pseudonormals: self.pseudonormals.clone(),
             field: OnceLock::new(),
             vertex_velocities: self.vertex_velocities.clone(),
@@ -210,6 +216,7 @@ impl CollisionBody {
             triangles,
             bound,
             bvh,
+            leaf_order: Arc::default(),
             field: OnceLock::new(),
             vertex_velocities: Vec::new(),
             deformation: None,

@@ -63,8 +63,9 @@ impl CollisionBody {
             ),
         };
         let center = shape.bound.center;
+        let order = shape.leaf_order.get_or_init(|| leaf_order(&shape.bvh));
         let ((), (radius_squared, deformation)) = rayon::join(
-            || refit(&mut bvh, &shape.indices, positions),
+            || refit(&mut bvh, &shape.indices, order, positions),
             || {
                 let reach = write_triangles(&mut triangles, &shape.indices, positions, center);
                 (reach, shape.deformation.as_ref().map(|d| d.at(&triangles)))
@@ -81,6 +82,7 @@ impl CollisionBody {
             triangles,
             bound,
             bvh,
+            leaf_order: shape.leaf_order.clone(),
             pseudonormals,
             field: OnceLock::new(),
             vertex_velocities: velocities,
@@ -91,13 +93,27 @@ impl CollisionBody {
 }
 
 /// The leaves of `bvh` (one per triangle of `indices`) moved to the triangles over
-/// `positions`, and the tree refitted.
-fn refit(bvh: &mut Bvh, indices: &[[u32; 3]], positions: &[Vec3]) {
-    for (id, corners) in indices.iter().enumerate() {
+/// `positions`, in the tree's memory `order` ([`leaf_order`]), and the tree refitted.
+fn refit(bvh: &mut Bvh, indices: &[[u32; 3]], order: &[u32], positions: &[Vec3]) {
+    for &id in order {
+        let corners = indices[id as usize];
         let aabb = corners_aabb(corners.map(|i| positions[i as usize]));
-        bvh.update_partially_if_present(aabb, id as u32, 0.0);
+        bvh.update_partially_if_present(aabb, id, 0.0);
     }
     bvh.refit_without_opt();
+}
+
+/// The leaf ids of `bvh` (0 up to its leaf count) sorted by where their nodes lie in the tree's
+/// memory. The tree keeps its nodes in one array, so a node's address orders it.
+fn leaf_order(bvh: &Bvh) -> Vec<u32> {
+    let mut placed: Vec<(usize, u32)> = (0..bvh.leaf_count())
+        .filter_map(|id| {
+            bvh.leaf_node(id)
+                .map(|node| (std::ptr::from_ref(node) as usize, id))
+        })
+        .collect();
+    placed.sort_unstable();
+    placed.into_iter().map(|(_, id)| id).collect()
 }
 
 /// Writes the triangles of `indices` over `positions` into `triangles`; returns the largest

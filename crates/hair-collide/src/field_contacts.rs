@@ -92,6 +92,22 @@ trait Sampler {
     fn exact_reach(&self) -> f32;
     /// A sample's gradient in the body's frame now (only the contact's own sample needs it).
     fn turned(&self, gradient: Vec3, carrier: Option<(u32, Vec3)>) -> Vec3;
+    /// Whether a chain's segments carry the certified bound at a far end on to the segments
+    /// after it ([`ChainEnd::far`]): worth it where a sample costs more than a bound.
+    fn carries_far_bounds(&self) -> bool;
+}
+
+/// A chain segment's end, left for the next segment of the chain, which starts there.
+#[derive(Clone, Copy)]
+struct ChainEnd {
+    /// The end \[m\] (body frame).
+    at: Vec3,
+    /// Its sample (`None` where the field is not exact there); `None` where it was not sampled
+    /// (the segment was cleared by `far` alone).
+    sample: Option<Option<Sample>>,
+    /// A certified lower bound on the distance \[m\] from `at` to the surface (0 where none is
+    /// known).
+    far: f32,
 }
 
 impl Sampler for DistanceField {
@@ -106,6 +122,10 @@ impl Sampler for DistanceField {
     }
     fn turned(&self, gradient: Vec3, _: Option<(u32, Vec3)>) -> Vec3 {
         gradient
+    }
+    fn carries_far_bounds(&self) -> bool {
+        // A rigid field's sample is one brick lookup, cheaper than a bound's eight corners.
+        false
     }
 }
 
@@ -125,6 +145,10 @@ impl Sampler for MovedField<'_> {
         carrier
             .and_then(|(triangle, _)| self.turned(triangle, gradient))
             .unwrap_or(Vec3::ZERO)
+    }
+    fn carries_far_bounds(&self) -> bool {
+        // A far sample costs carrier lookups and a bound; a carried bound costs nothing.
+        true
     }
 }
 
@@ -157,14 +181,17 @@ fn lowest(
 /// The field's verdict on `volume` (body frame); `carrier` is a moving field's carrier to start
 /// from (this segment's last), and becomes the last one its samples found.
 ///
-/// `shared` is the last segment's end and its sample: a segment that starts where the last one
-/// ended (the next segment of a chain) reads its start from it instead of sampling it again,
-/// and leaves its own end there.
+/// `shared` is the last segment's end ([`ChainEnd`]): a segment that starts where the last one
+/// ended (the next segment of a chain) reads its start's sample from it instead of sampling it
+/// again, and leaves its own end there. Where that start was far (its certified bound above the
+/// radius), the segment first tries the bound at its own end: the distance to a surface changes
+/// by at most the distance moved, so the two bounds clear the whole segment without a sample
+/// where `(far_start + far_end − length) / 2` exceeds the radius.
 fn verdict(
     field: &impl Sampler,
     volume: &SweptSphere,
     carrier_out: &mut Option<u32>,
-    shared: &mut Option<(Vec3, Option<Sample>)>,
+    shared: &mut Option<ChainEnd>,
 ) -> Verdict {
     let radius = volume.radius();
     let carrier = std::cell::Cell::new(*carrier_out);
@@ -179,18 +206,50 @@ fn verdict(
         SweptSphere::Point(v) => lowest(field, radius, [sampled_at(v.center)]),
         SweptSphere::Line(v) => {
             let axis = v.end - v.start;
+            let last_end = last_end.filter(|end| end.at == v.start);
+            // The end's bound, where the start's is known to exceed the radius: a point `t`
+            // along the segment (length `L`) lies at least `max(far_start − t, far_end −
+            // (L − t)) ≥ (far_start + far_end − L) / 2` from the surface.
+            let far_end = last_end.filter(|end| end.far > radius).map(|end| {
+                let length = axis.length();
+                let far_end = field.bound(v.end).max(end.far - length);
+                (far_end, (end.far + far_end - length) * 0.5)
+            });
+            if let Some((far, least)) = far_end
+                && least > radius
+            {
+                *shared = Some(ChainEnd {
+                    at: v.end,
+                    sample: None,
+                    far,
+                });
+                return Verdict::Clear;
+            }
             let start = match last_end {
-                Some((p, sample)) if p == v.start => {
+                Some(ChainEnd {
+                    at,
+                    sample: Some(sample),
+                    ..
+                }) => {
                     // Its carrier is where the middle's search starts.
                     if let Some((_, _, Some((triangle, _)))) = sample {
                         carrier.set(Some(triangle));
                     }
-                    (p, sample)
+                    (at, sample)
                 }
                 _ => sampled_at(v.start),
             };
             let samples = [start, sampled_at(v.start + axis * 0.5), sampled_at(v.end)];
-            *shared = Some(samples[2]);
+            let far = match (samples[2].1, far_end) {
+                (None, Some((far, _))) => far,
+                (None, None) if field.carries_far_bounds() => field.bound(v.end),
+                _ => 0.0,
+            };
+            *shared = Some(ChainEnd {
+                at: v.end,
+                sample: Some(samples[2].1),
+                far,
+            });
             lowest(field, radius, samples).map(|best| {
                 let (d, _, _) = best?;
                 // The parabola through the three distances (all exact): its vertex, where inside.
@@ -330,5 +389,84 @@ pub fn query_body_field(
         contacts.contacts.extend_from_slice(&found.contacts);
         contacts.velocities.extend_from_slice(&found.velocities);
         contacts.exact_fallbacks += found.fallbacks;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+    use hair_core::{Head, HeadParams};
+
+    use super::{ChainEnd, Verdict, verdict};
+    use crate::body::CollisionBody;
+    use crate::rest_field::RestField;
+    use crate::volume::{Lss, SweptSphere};
+
+    /// Chains on a squashed, stretched and bulged head read through its moving field: each
+    /// leaves the surface along a tilted normal for eight 12 mm segments, then comes back. The
+    /// segments that the carried bounds clear without a sample (the end left unsampled) are
+    /// clear by the exact distance from their core to every triangle (brute force), and a
+    /// segment asked alone says so too; some are cleared, and the returning chains touch.
+    #[test]
+    fn segments_cleared_by_carried_bounds_are_clear_of_every_triangle() {
+        let mesh = Head::procedural(&HeadParams::default()).unwrap().mesh;
+        let field = RestField::of(&CollisionBody::from_mesh(&mesh).unwrap());
+        let moved: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|p| {
+                Vec3::new(p.x * 0.96, p.y * 1.08, p.z * 0.97) + Vec3::Z * 0.01 * (p.y * 20.0).sin()
+            })
+            .collect();
+        let zero = vec![Vec3::ZERO; moved.len()];
+        let body = CollisionBody::from_moving_mesh(&mesh, zero.clone())
+            .unwrap()
+            .reading_rest_field(&field)
+            .unwrap()
+            .deformed(&moved, zero)
+            .unwrap();
+        let moving = body.moved_field().unwrap();
+        let triangles = body.local_triangles();
+        let radius = 5.0e-4;
+        let (mut cleared, mut touching) = (0, 0);
+        for triangle in triangles.iter().step_by(149) {
+            let centre = triangle.vertices.iter().sum::<Vec3>() / 3.0;
+            let normal = triangle.normal;
+            let across = normal.any_orthonormal_vector() * 0.3;
+            let mut start = centre + normal * 1.0e-3;
+            let (mut shared, mut carrier) = (None, None);
+            for segment in 0..16 {
+                let out = if segment < 8 { normal } else { -normal };
+                let end = start + (out + across).normalize() * 0.012;
+                let volume = SweptSphere::Line(Lss { start, end, radius });
+                let said = verdict(&moving, &volume, &mut carrier, &mut shared);
+                if matches!(shared, Some(ChainEnd { sample: None, .. })) {
+                    cleared += 1;
+                    assert!(matches!(said, Verdict::Clear));
+                    let core = SweptSphere::Line(Lss {
+                        start,
+                        end,
+                        radius: 0.0,
+                    });
+                    let nearest = triangles
+                        .iter()
+                        .map(|t| core.triangle_distance(t))
+                        .fold(f32::MAX, f32::min);
+                    assert!(
+                        nearest > radius,
+                        "{start} → {end}: {nearest} m from the head"
+                    );
+                    let alone = verdict(&moving, &volume, &mut None, &mut None);
+                    assert!(matches!(alone, Verdict::Clear), "{start} → {end} alone");
+                } else if matches!(said, Verdict::Touching(..)) {
+                    touching += 1;
+                }
+                start = end;
+            }
+        }
+        assert!(
+            cleared > 500 && touching > 0,
+            "{cleared} cleared, {touching} touching"
+        );
     }
 }
