@@ -7,17 +7,21 @@ use std::collections::HashMap;
 use glam::Vec3;
 
 use crate::layout::{ChainShape, CollisionChain};
+use crate::surface::SurfacePoint;
 
 /// A lower bound on a node's distance to a body, valid at a position in head space: while the
 /// node stays within `clearance` of `local_position` it cannot have crossed the surface (the
 /// distance to a surface is 1-Lipschitz, and head space moves with the bodies). The default
 /// (zero clearance) certifies nothing. `triangle` is the body's triangle found closest when it
-/// was measured: the next search starts from it.
+/// was measured: the next search starts from it. `inside` is what a search found where the node
+/// was inside (the position searched, world, and the closest surface point): the projection of
+/// that very position takes it instead of searching again.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct Clearance {
     pub local_position: Vec3,
     pub clearance: f32,
     pub triangle: u32,
+    pub inside: Option<(Vec3, SurfacePoint)>,
 }
 
 /// Rounding allowance \[m\] of the clearance test (the head transform's f32 rounding at 1 m).
@@ -99,6 +103,7 @@ mod tests {
             local_position: Vec3::new(x, 0.0, 0.0),
             clearance: 0.01,
             triangle: 0,
+            inside: None,
         }
     }
 

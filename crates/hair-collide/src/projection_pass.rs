@@ -75,6 +75,7 @@ impl ProjectionPass<'_> {
                 } => (clearance, triangle),
                 Probe::Inside(surface) => {
                     cache.triangle = surface.triangle;
+                    cache.inside = Some((position, surface));
                     return false;
                 }
             },
@@ -83,6 +84,7 @@ impl ProjectionPass<'_> {
             local_position: local,
             clearance,
             triangle,
+            inside: None,
         };
         true
     }
@@ -185,14 +187,28 @@ impl ProjectionPass<'_> {
                         + body.deformation_velocity_near(p, near)
                 };
                 let cache = &mut caches[node * body_count + b];
-                if self.clear_of(body, positions[m], cache) {
-                    continue;
+                // Found inside at this very position by the first pass (or by `clear_of` just
+                // now): the projection starts from that search's answer. A search from its own
+                // triangle at the same point would give the same one.
+                let found = |cache: &mut Clearance, at: Vec3| {
+                    cache
+                        .inside
+                        .take()
+                        .and_then(|(searched, surface)| (searched == at).then_some(surface))
+                };
+                let mut inside = found(cache, positions[m]);
+                if inside.is_none() {
+                    if self.clear_of(body, positions[m], cache) {
+                        continue;
+                    }
+                    inside = found(cache, positions[m]);
                 }
                 match project_out(
                     body,
                     &mut positions[m],
                     &mut velocities[m],
                     self.skin,
+                    inside,
                     cache.triangle,
                     surface_velocity,
                 ) {
@@ -204,6 +220,7 @@ impl ProjectionPass<'_> {
                             local_position: self.to_head.transform_point(positions[m]),
                             clearance,
                             triangle,
+                            inside: None,
                         }
                     }
                     Projection::Moved { depth, triangle } => {
