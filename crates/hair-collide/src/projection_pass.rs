@@ -6,10 +6,12 @@
 //! Two passes. The first, side by side over blocks of chains, only reads the positions: a node is
 //! *clear* when its clearance cache, the body's distance field (certified bounds) or a
 //! closest-point search shows it outside every body, and each chain learns whether all its nodes
-//! are. Those chains are done. The second pass walks the other chains one by one, in order, as the
-//! projection always did. Clear nodes are left exactly as they were, and every clearance is a
-//! fact about a region of head space, so the result is the one-pass walk's, bit for bit,
-//! whatever the thread count.
+//! are. Those chains are done. The second pass walks the other chains, node by node along each,
+//! as the projection always did; a chain's walk reads and writes only its own nodes, so where
+//! the chains' nodes lie in the state in chain order (as the pipeline lays them out) the chains
+//! walk side by side too, each reporting apart. Clear nodes are left exactly as they were, and
+//! every clearance is a fact about a region of head space, so the result is the one-pass walk's,
+//! bit for bit, whatever the thread count.
 
 use std::ops::Range;
 
@@ -51,6 +53,16 @@ pub(crate) struct ProjectionPass<'a> {
     pub is_root: &'a [bool],
     /// Rest length \[m\] of the segment ending at each model node.
     pub lengths: &'a [f32],
+}
+
+/// The part of the state and the clearances that a walk along chains reads and writes: the
+/// nodes from model node `first_model` on, the clearances from gathered node `first_node` on.
+struct Walk<'a> {
+    positions: &'a mut [Vec3],
+    velocities: &'a mut [Vec3],
+    caches: &'a mut [Clearance],
+    first_model: usize,
+    first_node: usize,
 }
 
 impl ProjectionPass<'_> {
@@ -116,14 +128,14 @@ impl ProjectionPass<'_> {
         }
     }
 
-    /// Projects the chains out of the bodies: `all_clear` is scratch (one per chain), `caches`
-    /// the clearances (node-major, all chains).
+    /// Projects the chains out of the bodies: `all_clear` and `reports` are scratch (one per
+    /// chain), `caches` the clearances (node-major, all chains).
     pub fn run(
         &self,
         positions: &mut [Vec3],
         velocities: &mut [Vec3],
         caches: &mut [Clearance],
-        all_clear: &mut Vec<bool>,
+        (all_clear, reports): (&mut Vec<bool>, &mut Vec<ProjectionReport>),
     ) -> ProjectionReport {
         let chain_count = self.chain_offsets.len().saturating_sub(1);
         all_clear.clear();
@@ -148,33 +160,121 @@ impl ProjectionPass<'_> {
         )| {
             self.certify(read, block, caches.items, clear.items)
         });
+        reports.clear();
+        reports.resize(chain_count, ProjectionReport::default());
+        match self.model_starts(positions.len()) {
+            // Each chain's walk reads and writes its own nodes only, so the chains left walk side
+            // by side, each reporting apart, where their nodes lie in the state in chain order.
+            Some(starts) => {
+                let from = starts(0);
+                let parts = (
+                    (
+                        ChainSlice {
+                            items: &mut positions[from..],
+                            first: starts,
+                        },
+                        ChainSlice {
+                            items: &mut velocities[from..],
+                            first: starts,
+                        },
+                    ),
+                    (
+                        ChainSlice {
+                            items: &mut caches[..],
+                            first: |c: usize| offsets[c] as usize * body_count,
+                        },
+                        ChainSlice {
+                            items: &mut reports[..],
+                            first: |c: usize| c,
+                        },
+                    ),
+                );
+                let all_clear: &[bool] = all_clear;
+                for_chain_blocks(0..chain_count, CHAINS_PER_TASK, parts, &|block,
+                                                                           (
+                    (positions, velocities),
+                    (caches, reports),
+                )| {
+                    let mut walk = Walk {
+                        positions: positions.items,
+                        velocities: velocities.items,
+                        caches: caches.items,
+                        first_model: starts(block.start),
+                        first_node: offsets[block.start] as usize,
+                    };
+                    for chain in block.clone().filter(|&chain| !all_clear[chain]) {
+                        self.project_chain(
+                            chain,
+                            &mut walk,
+                            &mut reports.items[chain - block.start],
+                        );
+                    }
+                });
+            }
+            None => {
+                let mut walk = Walk {
+                    positions,
+                    velocities,
+                    caches,
+                    first_model: 0,
+                    first_node: 0,
+                };
+                for chain in (0..chain_count).filter(|&chain| !all_clear[chain]) {
+                    self.project_chain(chain, &mut walk, &mut reports[chain]);
+                }
+            }
+        }
         let mut report = ProjectionReport::default();
-        for chain in (0..chain_count).filter(|&chain| !all_clear[chain]) {
-            self.project_chain(chain, positions, velocities, caches, &mut report);
+        for own in reports.iter() {
+            report.projected_nodes += own.projected_nodes;
+            report.max_depth = report.max_depth.max(own.max_depth);
+            report.max_stretch = report.max_stretch.max(own.max_stretch);
         }
         report
     }
 
+    /// Where each chain's nodes start in the state (`chain count` gives the end), where every
+    /// chain has nodes and they lie after the last chain's within `state_nodes`; `None`
+    /// otherwise.
+    fn model_starts(&self, state_nodes: usize) -> Option<impl Fn(usize) -> usize + Copy + Send> {
+        let offsets = self.chain_offsets;
+        let model = self.model_nodes;
+        let chain_count = offsets.len().saturating_sub(1);
+        let mut end = 0usize;
+        for c in 0..chain_count {
+            let nodes = offsets[c] as usize..offsets[c + 1] as usize;
+            let (Some(&first), Some(&last)) = (model.get(nodes.start), model.get(nodes.end - 1))
+            else {
+                return None;
+            };
+            if nodes.is_empty() || (c > 0 && (first as usize) < end) {
+                return None;
+            }
+            end = last as usize + 1;
+        }
+        (end <= state_nodes).then_some(move |c: usize| {
+            if c >= chain_count {
+                end
+            } else {
+                model[offsets[c] as usize] as usize
+            }
+        })
+    }
+
     /// The walk along one chain: projects each node inside a body out, drags the nodes behind a
     /// projected one at their segment lengths, and gives a projected segment back its length.
-    fn project_chain(
-        &self,
-        chain: usize,
-        positions: &mut [Vec3],
-        velocities: &mut [Vec3],
-        caches: &mut [Clearance],
-        report: &mut ProjectionReport,
-    ) {
+    fn project_chain(&self, chain: usize, walk: &mut Walk<'_>, report: &mut ProjectionReport) {
         let body_count = self.bodies.len();
         let nodes = self.chain_offsets[chain] as usize..self.chain_offsets[chain + 1] as usize;
         let mut dragged = false;
         for node in nodes.clone() {
-            let m = self.model_nodes[node] as usize;
+            let m = self.model_nodes[node] as usize - walk.first_model;
+            let positions = &mut *walk.positions;
             if dragged && node > nodes.start {
                 // Follow the leader behind a projected node: keep the segment's length.
                 let parent = positions[m - 1];
                 if let Some(direction) = (positions[m] - parent).try_normalize() {
-                    positions[m] = parent + direction * self.lengths[m];
+                    positions[m] = parent + direction * self.lengths[m + walk.first_model];
                 }
             }
             if self.attached && self.is_root[node] {
@@ -186,7 +286,7 @@ impl ProjectionPass<'_> {
                     rigid_point_velocity(&self.head_before, &self.head, p, self.time_step)
                         + body.deformation_velocity_near(p, near)
                 };
-                let cache = &mut caches[node * body_count + b];
+                let cache = &mut walk.caches[(node - walk.first_node) * body_count + b];
                 // Found inside at this very position by the first pass (or by `clear_of` just
                 // now): the projection starts from that search's answer. A search from its own
                 // triangle at the same point would give the same one.
@@ -206,7 +306,7 @@ impl ProjectionPass<'_> {
                 match project_out(
                     body,
                     &mut positions[m],
-                    &mut velocities[m],
+                    &mut walk.velocities[m],
                     self.skin,
                     inside,
                     cache.triangle,
@@ -232,11 +332,11 @@ impl ProjectionPass<'_> {
                         report.projected_nodes += 1;
                         report.max_depth = report.max_depth.max(depth);
                         if node > nodes.start {
-                            let length = self.lengths[m];
+                            let length = self.lengths[m + walk.first_model];
                             restore_length(
                                 body,
                                 &mut positions[m - 1..=m],
-                                &mut velocities[m],
+                                &mut walk.velocities[m],
                                 length,
                                 self.skin,
                                 triangle,

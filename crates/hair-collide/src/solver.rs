@@ -65,6 +65,8 @@ pub struct CollisionSolver {
     clearances: Vec<Clearance>,
     /// Per active chain: whether the projection's first pass found every node clear.
     all_clear: Vec<bool>,
+    /// Per active chain: what the projection's walk along it did.
+    chain_reports: Vec<ProjectionReport>,
 }
 
 impl std::fmt::Debug for CollisionSolver {
@@ -101,6 +103,7 @@ impl CollisionSolver {
             previous_time: None,
             clearances: Vec::new(),
             all_clear: Vec::new(),
+            chain_reports: Vec::new(),
         })
     }
 
@@ -441,7 +444,7 @@ impl CollisionSolver {
             &mut state.node_positions,
             &mut state.node_velocities,
             &mut self.clearances,
-            &mut self.all_clear,
+            (&mut self.all_clear, &mut self.chain_reports),
         );
         Ok(report)
     }
