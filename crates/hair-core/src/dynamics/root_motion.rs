@@ -50,8 +50,18 @@ impl DeformingBody {
     /// triangle of zero area (at rest or at `time`) is carried without turning. Panics when the
     /// attachment's triangle is out of range.
     pub fn carry(&self, attachment: &SurfaceAttachment, time: f64) -> RigidTransform {
+        self.carry_between(attachment, self.sequence.bracket(time))
+    }
+
+    /// [`DeformingBody::carry`] at the time between the samples `(s0, s1, weight)` that
+    /// [`MeshSequence::bracket`] gives for it: many attachments carried to one time look the
+    /// samples up once. Panics when the attachment's triangle or a sample is out of range.
+    pub fn carry_between(
+        &self,
+        attachment: &SurfaceAttachment,
+        (s0, s1, weight): (usize, usize, f32),
+    ) -> RigidTransform {
         let sequence = &*self.sequence;
-        let (s0, s1, weight) = sequence.bracket(time);
         if s1 == 0 {
             return RigidTransform::IDENTITY;
         }

@@ -57,6 +57,9 @@ struct Scratch {
     chain_poses: Vec<RigidTransform>,
     /// Their rotations as matrices.
     chain_rotations: Vec<Mat3>,
+    /// With a root carrier: the body's samples around each substep boundary
+    /// ([`crate::MeshSequence::bracket`]), shared by the chains.
+    boundary_samples: Vec<(usize, usize, f32)>,
 }
 
 /// A skeleton simulation: the model, its settings and the solver's scratch.
@@ -260,8 +263,14 @@ impl Simulation {
         if let Some(carrier) = &self.carrier {
             // Each chain's root poses: the head's after the body's carry, at every boundary.
             let stride = substeps + 1;
-            let head_poses = &self.scratch.head_poses;
             let start = state.time;
+            let samples = &mut self.scratch.boundary_samples;
+            samples.clear();
+            samples.extend((0..stride).map(|k| {
+                let time = start + (k as f64) * h as f64;
+                carrier.body.sequence().bracket(time)
+            }));
+            let (head_poses, samples) = (&self.scratch.head_poses, &self.scratch.boundary_samples);
             self.scratch
                 .chain_poses
                 .par_chunks_mut(stride)
@@ -270,8 +279,8 @@ impl Simulation {
                 .for_each(|(chain, (poses, rotations))| {
                     let attachment = &carrier.attachments[chain];
                     for k in 0..stride {
-                        let time = start + (k as f64) * h as f64;
-                        let pose = head_poses[k].after(&carrier.body.carry(attachment, time));
+                        let carried = carrier.body.carry_between(attachment, samples[k]);
+                        let pose = head_poses[k].after(&carried);
                         poses[k] = pose;
                         rotations[k] = Mat3::from_quat(pose.rotation);
                     }
