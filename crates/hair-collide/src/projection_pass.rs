@@ -162,7 +162,7 @@ impl ProjectionPass<'_> {
         });
         reports.clear();
         reports.resize(chain_count, ProjectionReport::default());
-        match self.model_starts(positions.len()) {
+        match model_starts(self.chain_offsets, self.model_nodes, positions.len()) {
             // Each chain's walk reads and writes its own nodes only, so the chains left walk side
             // by side, each reporting apart, where their nodes lie in the state in chain order.
             Some(starts) => {
@@ -231,34 +231,6 @@ impl ProjectionPass<'_> {
             report.max_stretch = report.max_stretch.max(own.max_stretch);
         }
         report
-    }
-
-    /// Where each chain's nodes start in the state (`chain count` gives the end), where every
-    /// chain has nodes and they lie after the last chain's within `state_nodes`; `None`
-    /// otherwise.
-    fn model_starts(&self, state_nodes: usize) -> Option<impl Fn(usize) -> usize + Copy + Send> {
-        let offsets = self.chain_offsets;
-        let model = self.model_nodes;
-        let chain_count = offsets.len().saturating_sub(1);
-        let mut end = 0usize;
-        for c in 0..chain_count {
-            let nodes = offsets[c] as usize..offsets[c + 1] as usize;
-            let (Some(&first), Some(&last)) = (model.get(nodes.start), model.get(nodes.end - 1))
-            else {
-                return None;
-            };
-            if nodes.is_empty() || (c > 0 && (first as usize) < end) {
-                return None;
-            }
-            end = last as usize + 1;
-        }
-        (end <= state_nodes).then_some(move |c: usize| {
-            if c >= chain_count {
-                end
-            } else {
-                model[offsets[c] as usize] as usize
-            }
-        })
     }
 
     /// The walk along one chain: projects each node inside a body out, drags the nodes behind a
@@ -352,5 +324,71 @@ impl ProjectionPass<'_> {
                 }
             }
         }
+    }
+}
+
+/// Where each chain's nodes start in the state (chain `chain count` gives the end), for chains
+/// of gathered nodes `chain_offsets` whose state indices are `model_nodes`: where every chain
+/// has nodes and each chain's lie after the last one's, within `state_nodes`; `None` otherwise
+/// (the walk then goes chain by chain on one thread).
+fn model_starts<'a>(
+    chain_offsets: &'a [u32],
+    model_nodes: &'a [u32],
+    state_nodes: usize,
+) -> Option<impl Fn(usize) -> usize + Copy + Send + 'a> {
+    let chain_count = chain_offsets.len().saturating_sub(1);
+    let mut end = 0usize;
+    for c in 0..chain_count {
+        let nodes = chain_offsets[c] as usize..chain_offsets[c + 1] as usize;
+        if nodes.is_empty() {
+            return None;
+        }
+        let (Some(&first), Some(&last)) =
+            (model_nodes.get(nodes.start), model_nodes.get(nodes.end - 1))
+        else {
+            return None;
+        };
+        if c > 0 && (first as usize) < end {
+            return None;
+        }
+        end = last as usize + 1;
+    }
+    (end <= state_nodes).then_some(move |c: usize| {
+        if c >= chain_count {
+            end
+        } else {
+            model_nodes[chain_offsets[c] as usize] as usize
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::model_starts;
+
+    /// Chains whose nodes lie in the state in chain order (with gaps between them) walk side by
+    /// side, each starting at its first node; chains out of order, an empty chain or nodes past
+    /// the state do not.
+    #[test]
+    fn chains_in_state_order_split_where_their_nodes_start() {
+        // Three chains of gathered nodes 0..3, 3..5, 5..9 at state nodes 2..5, 7..9, 9..13.
+        let offsets = [0, 3, 5, 9];
+        let model = [2, 3, 4, 7, 8, 9, 10, 11, 12];
+        let starts = model_starts(&offsets, &model, 13).expect("in order");
+        assert_eq!([0, 1, 2, 3].map(starts), [2, 7, 9, 13]);
+        assert!(
+            model_starts(&offsets, &model, 12).is_none(),
+            "past the state"
+        );
+        let swapped = [7, 8, 9, 2, 3, 4, 5, 10, 11];
+        assert!(
+            model_starts(&[0, 3, 5, 9], &swapped, 13).is_none(),
+            "out of order"
+        );
+        assert!(
+            model_starts(&[0, 3, 3, 9], &model, 13).is_none(),
+            "an empty chain"
+        );
+        assert!(model_starts(&[0], &[], 0).is_some(), "no chains");
     }
 }
