@@ -135,7 +135,8 @@ impl ProjectionPass<'_> {
         positions: &mut [Vec3],
         velocities: &mut [Vec3],
         caches: &mut [Clearance],
-        (all_clear, reports): (&mut Vec<bool>, &mut Vec<ProjectionReport>),
+        all_clear: &mut Vec<bool>,
+        reports: &mut Vec<ProjectionReport>,
     ) -> ProjectionReport {
         let chain_count = self.chain_offsets.len().saturating_sub(1);
         all_clear.clear();
@@ -268,13 +269,11 @@ impl ProjectionPass<'_> {
                         .take()
                         .and_then(|(searched, surface)| (searched == at).then_some(surface))
                 };
-                let mut inside = found(cache, positions[m]);
-                if inside.is_none() {
-                    if self.clear_of(body, positions[m], cache) {
-                        continue;
-                    }
-                    inside = found(cache, positions[m]);
-                }
+                let inside = match found(cache, positions[m]) {
+                    Some(surface) => Some(surface),
+                    None if self.clear_of(body, positions[m], cache) => continue,
+                    None => found(cache, positions[m]),
+                };
                 match project_out(
                     body,
                     &mut positions[m],

@@ -444,7 +444,8 @@ impl CollisionSolver {
             &mut state.node_positions,
             &mut state.node_velocities,
             &mut self.clearances,
-            (&mut self.all_clear, &mut self.chain_reports),
+            &mut self.all_clear,
+            &mut self.chain_reports,
         );
         Ok(report)
     }
