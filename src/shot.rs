@@ -229,9 +229,11 @@ pub struct Shot {
 }
 
 impl Shot {
-    /// The camera of frame `frame`.
+    /// The camera of frame `frame`. A keyframed camera is read at the time the frame shows,
+    /// `(frame + 1)/fps` [s]: the state after the frame's step, as the head's motion and a
+    /// deforming body are (frame 0 shows one step after the start).
     pub fn camera(&self, frame: usize) -> Camera {
-        let time = frame as f64 / f64::from(self.fps);
+        let time = (frame as f64 + 1.0) / f64::from(self.fps);
         self.camera.camera(frame, self.frames, time)
     }
 

@@ -36,6 +36,7 @@
 //! ```
 
 mod frame;
+mod heads;
 pub mod memory;
 mod model;
 mod render;

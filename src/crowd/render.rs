@@ -1,7 +1,8 @@
 //! [`CrowdRenderer`]: every character's groom and head drawn in one pass. The grooms' static
 //! data are uploaded once, one after the other (each character's chains numbered after the
 //! characters before it); each frame gathers every character's skeletons in that order and
-//! draws the heads at their simulated poses as one mesh.
+//! draws the heads at their simulated poses, deforming ones deformed, as one mesh
+//! ([`CrowdHeads`]).
 
 use std::time::Instant;
 
@@ -11,8 +12,8 @@ use hair_render::{
 };
 
 use super::frame::Crowd;
+use super::heads::CrowdHeads;
 use super::model::CrowdModel;
-use crate::head_levels::{HEAD_PIXEL_TOLERANCE, HeadLevels};
 use crate::pipeline::{DrawStyle, DrawnSource, Result};
 use crate::run::{FrameRenderer, Runnable, View, render_view_of};
 
@@ -20,12 +21,8 @@ use crate::run::{FrameRenderer, Runnable, View, render_view_of};
 pub struct CrowdRenderer {
     renderer: Renderer,
     active: ActiveSkeletons,
-    /// The distinct heads' tessellations (characters with equal heads share one).
-    head_levels: Vec<HeadLevels>,
-    /// Each character's index into `head_levels`.
-    heads: Vec<usize>,
-    /// The poses and tessellations the uploaded heads have (empty before the first frame).
-    poses: Vec<(RigidTransform, usize)>,
+    /// The characters' heads and what was last uploaded of them.
+    heads: CrowdHeads,
     /// Line shading, hair shading, line coverage.
     style: DrawStyle,
 }
@@ -37,9 +34,7 @@ impl CrowdRenderer {
         let mut crowd_renderer = CrowdRenderer {
             renderer,
             active: ActiveSkeletons::new(),
-            head_levels: Vec::new(),
-            heads: Vec::new(),
-            poses: Vec::new(),
+            heads: CrowdHeads::default(),
             style: DrawStyle::default(),
         };
         crowd_renderer.bind(model)?;
@@ -58,27 +53,7 @@ impl CrowdRenderer {
             .upload_strands_with_shapes(&geometry.strands(), &geometry.strand_shapes())?;
         self.renderer.upload_clusters(&geometry.clusters())?;
         self.renderer.upload_patches(&geometry.patches())?;
-        // Characters with the same procedural head share its tessellations; a mesh from a file
-        // is its own.
-        let mut distinct: Vec<&hair_core::Head> = Vec::new();
-        self.head_levels.clear();
-        self.heads.clear();
-        for member in &model.members {
-            let head = &member.scene.head;
-            let same = |other: &&hair_core::Head| {
-                head.is_procedural() && other.is_procedural() && other.params == head.params
-            };
-            let index = match distinct.iter().position(same) {
-                Some(index) => index,
-                None => {
-                    distinct.push(head);
-                    self.head_levels.push(HeadLevels::new(head));
-                    distinct.len() - 1
-                }
-            };
-            self.heads.push(index);
-        }
-        self.poses.clear();
+        self.heads = CrowdHeads::new(model);
         Ok(())
     }
 
@@ -88,8 +63,9 @@ impl CrowdRenderer {
     }
 
     /// Gathers every character's skeletons and poses the heads where the simulation has them,
-    /// each tessellated as coarsely as [`HEAD_PIXEL_TOLERANCE`] allows from `camera` in an image
-    /// `height` pixels tall.
+    /// a rigid one tessellated as coarsely as
+    /// [`HEAD_PIXEL_TOLERANCE`](crate::head_levels::HEAD_PIXEL_TOLERANCE) allows from `camera`
+    /// in an image `height` pixels tall, a deforming one as its body at the time drawn.
     fn prepare(
         &mut self,
         crowd: &mut impl DrawnSource,
@@ -97,26 +73,10 @@ impl CrowdRenderer {
         height: u32,
     ) -> Result<()> {
         crowd.gather_drawn(&mut self.active)?;
-        let poses: Vec<(RigidTransform, usize)> = crowd
-            .head_poses()
-            .into_iter()
-            .zip(&self.heads)
-            .map(|(pose, &head)| {
-                let level =
-                    self.head_levels[head].select(camera, height, &pose, HEAD_PIXEL_TOLERANCE);
-                (pose, level)
-            })
-            .collect();
-        if poses != self.poses {
-            let placed: Vec<(&TriangleMesh, RigidTransform)> = self
-                .heads
-                .iter()
-                .zip(&poses)
-                .map(|(&head, &(pose, level))| (&self.head_levels[head].levels()[level].mesh, pose))
-                .collect();
-            let mesh = merged_heads(&placed);
+        let poses = crowd.head_poses();
+        let deformed = crowd.deformed_bodies();
+        if let Some(mesh) = self.heads.mesh_to_draw(&poses, &deformed, camera, height) {
             self.renderer.set_head_mesh(Some(&mesh))?;
-            self.poses = poses;
         }
         Ok(())
     }
@@ -200,6 +160,14 @@ impl DrawnSource for Crowd {
 
     fn strand_thinning(&self) -> StrandThinning {
         self.settings().strand_thinning()
+    }
+
+    fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
+        self.world()
+            .characters()
+            .iter()
+            .map(|c| c.body_mesh())
+            .collect()
     }
 }
 
@@ -304,27 +272,4 @@ pub fn concatenated_geometry(model: &CrowdModel) -> GroomGeometry {
         }
     }
     all
-}
-
-/// The head meshes (head space) moved to their poses and joined into one mesh.
-fn merged_heads(placed: &[(&TriangleMesh, RigidTransform)]) -> TriangleMesh {
-    let mut merged = TriangleMesh::default();
-    let normals = placed
-        .iter()
-        .all(|(mesh, _)| mesh.normals.len() == mesh.positions.len());
-    for (mesh, pose) in placed {
-        let base = merged.positions.len() as u32;
-        merged
-            .positions
-            .extend(mesh.positions.iter().map(|&p| pose.transform_point(p)));
-        if normals {
-            merged
-                .normals
-                .extend(mesh.normals.iter().map(|&n| pose.transform_vector(n)));
-        }
-        merged
-            .triangles
-            .extend(mesh.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
-    merged
 }

@@ -8,7 +8,7 @@ use hair_core::{Camera, Level};
 
 use super::render::concatenated_geometry;
 use super::*;
-use crate::pipeline::{Character, LodMode, Pipeline, PipelineSettings};
+use crate::pipeline::{Character, DrawnSource, LodMode, Pipeline, PipelineSettings};
 use crate::scene_file::SceneFile;
 use crate::shot::Shot;
 
@@ -368,4 +368,65 @@ fn different_grooms_on_one_head_share_its_collision_body() {
     let [first, second] = [&model.members[0], &model.members[1]];
     assert!(!std::sync::Arc::ptr_eq(&first.scene, &second.scene));
     assert!(first.body.shares_shape_with(&second.body));
+}
+
+/// A crowd on a deforming head draws each head deformed: the joined mesh holds, for each
+/// character, its body's mesh at the time the skeletons are at, placed by its head's pose
+/// (reference: the sequence's own interpolation, `MeshSequence::mesh_at`, posed). It is made
+/// again every frame, as the body moves every frame; a rigid crowd's is made only when a pose
+/// or a tessellation changed.
+#[test]
+fn a_crowd_on_a_deforming_head_draws_each_head_deformed() {
+    let shot = shot(
+        "[body]\nanimation = \"talk\"\n[frames]\ncount = 30\n\
+         [[character]]\nposition = [0.0, 0.0, 0.0]\nmotion = { kind = \"nod\" }\n\
+         [[character]]\nposition = [1.0, 0.0, 0.0]\n",
+    );
+    let model = CrowdModel::build(&shot).unwrap();
+    let mut crowd = Crowd::new(&model, shot.settings).unwrap();
+    let camera = shot.camera(0);
+    let mut heads = super::heads::CrowdHeads::new(&model);
+    for frame in 0..3 {
+        crowd.advance(&shot.camera(frame)).unwrap();
+    }
+    let poses = crowd.head_poses();
+    let deformed = crowd.deformed_bodies();
+    assert_eq!(deformed.len(), 2);
+    let mesh = heads
+        .mesh_to_draw(&poses, &deformed, &camera, 540)
+        .expect("a first mesh");
+    let time = crowd.world().characters()[0].time();
+    let motion = model.members[0].scene.body_motion.as_ref().unwrap();
+    let at_time = motion.mesh_at(time);
+    let rest = &model.members[0].scene.head.mesh;
+    assert_eq!(at_time.positions.len(), rest.positions.len());
+    let count = at_time.positions.len();
+    assert_eq!(mesh.positions.len(), 2 * count);
+    assert_eq!(mesh.triangles.len(), 2 * at_time.triangles.len());
+    let mut moved = 0.0f32;
+    for (k, pose) in poses.iter().enumerate() {
+        for (v, &p) in at_time.positions.iter().enumerate() {
+            let expected = pose.transform_point(p);
+            let drawn = mesh.positions[k * count + v];
+            // The same arithmetic on the same inputs: equal to rounding.
+            assert!(
+                drawn.distance(expected) < 1e-6,
+                "{k} {v}: {drawn} {expected}"
+            );
+            moved = moved.max(drawn.distance(pose.transform_point(rest.positions[v])));
+        }
+    }
+    // The talking head has deformed by now (the jaw and the squash move millimetres): the
+    // drawn heads are not the rest mesh posed.
+    assert!(moved > 1e-3, "moved {moved} m");
+    // A deforming head's mesh is made again with the same poses.
+    assert!(
+        heads
+            .mesh_to_draw(&poses, &deformed, &camera, 540)
+            .is_some()
+    );
+    // Rigid heads (no body given): made once, then not again while nothing changes.
+    let mut rigid = super::heads::CrowdHeads::new(&model);
+    assert!(rigid.mesh_to_draw(&poses, &[], &camera, 540).is_some());
+    assert!(rigid.mesh_to_draw(&poses, &[], &camera, 540).is_none());
 }

@@ -28,10 +28,11 @@ pub trait DrawnSource {
     /// How the renderer thins the strand groups small on screen.
     fn strand_thinning(&self) -> StrandThinning;
 
-    /// The body's mesh at the time drawn (head space) where it deforms
-    /// ([`Scene::body_motion`]); `None` (the default) draws the rigid head mesh.
-    fn deformed_body(&self) -> Option<TriangleMesh> {
-        None
+    /// Each character's body mesh at the time drawn [m, head space], in the shot's order:
+    /// `Some` where its head deforms ([`Scene::body_motion`]), `None` where the rigid head mesh
+    /// is drawn. Empty (the default): every head rigid.
+    fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
+        Vec::new()
     }
 }
 
@@ -48,9 +49,9 @@ impl DrawnSource for Pipeline {
         self.settings().strand_thinning()
     }
 
-    fn deformed_body(&self) -> Option<TriangleMesh> {
-        let motion = self.scene().body_motion.as_ref()?;
-        Some(motion.mesh_at(self.time()))
+    fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
+        let motion = self.scene().body_motion.as_ref();
+        vec![motion.map(|motion| motion.mesh_at(self.time()))]
     }
 }
 
@@ -134,7 +135,7 @@ impl PipelineRenderer {
     fn prepare(&mut self, source: &mut impl DrawnSource, settings: &FrameSettings) -> Result<()> {
         source.gather_drawn(&mut self.active)?;
         let pose = source.head_poses().first().copied().unwrap_or_default();
-        match source.deformed_body() {
+        match source.deformed_bodies().into_iter().next().flatten() {
             Some(mesh) => {
                 // Deforming: its mesh at this time, uploaded every frame (no tessellations).
                 self.renderer.set_head_mesh(Some(&mesh.posed(&pose)))?;

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use hair_core::dynamics::{DynamicsParams, Environment};
 use hair_core::lod::SectionChoice;
-use hair_core::{Level, RigidTransform, Scene};
+use hair_core::{Level, RigidTransform, Scene, TriangleMesh};
 
 use super::block::LevelBlock;
 use super::settings::PipelineSettings;
@@ -113,6 +113,13 @@ impl Character {
     /// The head's pose at the time the skeletons are at (the end of the last frame stepped).
     pub fn head_pose(&self) -> RigidTransform {
         self.model.environment.head.transform_at(self.state.time)
+    }
+
+    /// Its body's mesh [m, head space, with vertex normals] at the time the skeletons are at,
+    /// where its head deforms ([`Scene::body_motion`]); `None` for a rigid head.
+    pub fn body_mesh(&self) -> Option<TriangleMesh> {
+        let motion = self.model.scene.body_motion.as_ref()?;
+        Some(motion.mesh_at(self.state.time))
     }
 }
 

@@ -257,8 +257,11 @@ fn keyframed_head_and_camera_resolve() {
         { time = 0.0, position = [0.0, 0.0, 1.0] }, { time = 2.0, position = [0.0, 0.0, 3.0] }]\n\
         [frames]\nfps = 1\ncount = 3\n";
     let shot = SceneFile::parse(text).unwrap().resolve().unwrap();
-    // Half-way in time, the camera is half-way between its keys: z = 2 m.
-    assert!((shot.camera(1).position.z - 2.0).abs() < 1e-6);
+    // Frame k shows the state at (k + 1)/fps: frame 0 at t = 1 s, half-way in time between
+    // the camera's keys, so half-way between them: z = 2 m. Frame 1 at t = 2 s is the last
+    // key, z = 3 m.
+    assert!((shot.camera(0).position.z - 2.0).abs() < 1e-6);
+    assert!((shot.camera(1).position.z - 3.0).abs() < 1e-6);
     // At t = 1 s the head has turned 90° about Y: +Z goes to +X.
     let turned = shot
         .environment
