@@ -3,12 +3,14 @@
 //! its rest offset from its barycentric point in the triangle's own frame (the procedural head's
 //! roots lie on its analytic surface, up to 0.24 mm off the tessellated mesh), and no node ends a
 //! frame more than 0.1 mm inside the deformed body, through a 2 s run at each fixed level and
-//! with automatic levels. The reference is the deformed mesh itself, sampled by the test from
+//! with automatic levels; drawn as strands from patches or from automatic levels, every drawn
+//! strand group starts on its own carried root too. The reference is the deformed mesh itself, sampled by the test from
 //! the scene's motion and measured with `attach_roots` (closest points) and `penetration_depth` (signed distances).
 
 use glam::{Mat3, Vec3};
 use hairlod::accuracy::penetration_depth;
 use hairlod::collide::{CollisionBody, attach_roots};
+use hairlod::render::ActiveSkeletons;
 use hairlod::{Level, SceneFile};
 
 /// A triangle's orthonormal frame: first edge, in-plane perpendicular, normal.
@@ -25,11 +27,14 @@ const TOLERANCE: f32 = 1e-4;
 /// few decimetres from the origin, through the carry's rotation and the nod's.
 const ROOT_TOLERANCE: f32 = 1e-5;
 
-fn run(mode: &str) {
+/// Runs the talking head 2 s at level mode `mode`, drawn as `drawn_as` (`level` or
+/// `strands`), and checks every frame's roots, depths and (drawn as strands) drawn roots.
+fn run(mode: &str, drawn_as: &str) {
     let text = format!(
         "[groom]\npreset = \"straight\"\nsection_count = 10\nstrands_per_group = 1\n\
          [body]\nanimation = \"talk\"\n[motion]\nkind = \"nod\"\namplitude_degrees = 8.0\n\
-         [lod]\nmode = \"{mode}\"\n[frames]\ncount = 120\nsize = \"320x180\"\n"
+         [lod]\nmode = \"{mode}\"\ndrawn_as = \"{drawn_as}\"\n\
+         [frames]\ncount = 120\nsize = \"320x180\"\n"
     );
     let shot = SceneFile::parse(&text).unwrap().resolve().unwrap();
     let scene = shot.build_scene().unwrap();
@@ -53,11 +58,20 @@ fn run(mode: &str) {
     assert!(report.max < 3e-4, "roots near the mesh: {report:?}");
     let mut pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
     let (mut worst_root, mut worst_depth, mut moved) = (0.0f32, 0.0f32, 0.0f32);
+    let (mut worst_drawn, mut drawn_chains) = (0.0f32, 0usize);
+    let mut active = ActiveSkeletons::new();
     for frame in 0..shot.frames {
         pipeline.advance(&shot.camera(frame)).unwrap();
         let time = pipeline.time();
         let mesh = motion.mesh_at(time);
         let head = pipeline.head_pose();
+        // Where chain `chain`'s root is carried: its rest offset turned with its triangle.
+        let carried = |chain: usize| {
+            let attachment = &attachments[chain];
+            let on_mesh = attachment.point_on(&mesh)
+                + triangle_frame(vertices(&mesh, attachment.triangle)) * offsets[chain];
+            head.transform_point(on_mesh)
+        };
         let mut body = CollisionBody::from_mesh(&mesh).unwrap();
         body.set_pose(head.rotation, head.translation).unwrap();
         for level in Level::ALL {
@@ -69,12 +83,22 @@ fn run(mode: &str) {
             // Every root on its barycentric point of the deformed, posed mesh.
             let nodes_per_chain = positions.len() / block.chains.len();
             for (k, &chain) in block.chains.iter().enumerate() {
-                let attachment = &attachments[chain];
-                let on_mesh = attachment.point_on(&mesh)
-                    + triangle_frame(vertices(&mesh, attachment.triangle)) * offsets[chain];
-                let expected = head.transform_point(on_mesh);
                 let root = positions[k * nodes_per_chain];
-                worst_root = worst_root.max(root.distance(expected));
+                worst_root = worst_root.max(root.distance(carried(chain)));
+            }
+        }
+        // Drawn as strands, every strand group drawn (rebuilt from the level simulated) starts
+        // on its own carried root.
+        if drawn_as == "strands" {
+            pipeline.gather_drawn(&mut active).unwrap();
+            let frame = active.frame();
+            for chain in scene.groom.level_chains(Level::StrandGroup) {
+                let start = frame.chain_offsets[chain] as usize;
+                if frame.chain_offsets[chain + 1] as usize > start {
+                    let root = frame.node_positions[start];
+                    worst_drawn = worst_drawn.max(root.distance(carried(chain)));
+                    drawn_chains += 1;
+                }
             }
         }
         // No node inside by more than the tolerance (signed distances to the deformed mesh
@@ -87,8 +111,15 @@ fn run(mode: &str) {
     }
     eprintln!(
         "{mode}: roots within {worst_root} m, deepest node {worst_depth} m inside, the mesh \
-         moved up to {moved} m"
+         moved up to {moved} m; {drawn_chains} strand groups drawn within {worst_drawn} m"
     );
+    if drawn_as == "strands" {
+        assert!(drawn_chains > 0, "{mode}: no strand group drawn");
+        assert!(
+            worst_drawn <= ROOT_TOLERANCE,
+            "{mode}: a drawn strand group's root {worst_drawn} m from its place"
+        );
+    }
     // The head deformed by far more than the tolerance (centimetres): the collision followed it.
     assert!(moved > 0.01, "{mode}: the mesh moved only {moved} m");
     assert!(
@@ -103,17 +134,17 @@ fn run(mode: &str) {
 
 #[test]
 fn roots_ride_a_talking_head_and_no_node_enters_it_at_the_strand_level() {
-    run("strands");
+    run("strands", "level");
 }
 
 #[test]
-fn roots_ride_a_talking_head_and_no_node_enters_it_as_patches() {
-    run("patches");
+fn roots_ride_a_talking_head_and_no_node_enters_it_as_patches_drawn_as_strands() {
+    run("patches", "strands");
 }
 
 #[test]
-fn roots_ride_a_talking_head_and_no_node_enters_it_with_automatic_levels() {
-    run("auto");
+fn roots_ride_a_talking_head_and_no_node_enters_it_with_automatic_levels_drawn_as_strands() {
+    run("auto", "strands");
 }
 
 /// The shipped deforming scene resolves to the talking head and runs a frame with it.

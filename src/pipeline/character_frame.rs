@@ -187,10 +187,12 @@ impl CharacterRun<'_> {
     /// ([`super::drawn::append_drawn`]).
     pub(crate) fn append_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         let head = self.head_pose();
+        let roots =
+            super::body_motion::chain_roots(self.work.ride.as_ref(), &head, self.state.time);
         let gathered = super::drawn::Gathered {
             groom: &self.model.scene.groom,
             state: self.state,
-            head: &head,
+            roots,
             display_time: self.display_time(),
             drawn_as: self.settings.drawn_as,
         };

@@ -5,10 +5,10 @@
 //! they cost to draw ([`drawn_work`], [`section_work`]).
 
 use glam::Vec3;
-use hair_core::dynamics::follow_the_leader;
+use hair_core::dynamics::{ChainRoots, follow_the_leader};
 use hair_core::lod::{FollowScratch, SectionWork, StrandFollow};
 use hair_core::skeleton::node_frames;
-use hair_core::{Frame, Groom, Level, RigidTransform};
+use hair_core::{Frame, Groom, Level};
 use hair_render::ActiveSkeletons;
 
 use super::error::Result;
@@ -32,13 +32,14 @@ pub(crate) struct DrawScratch {
     rebuild: FollowScratch,
 }
 
-/// What the gather stage reads: the groom, the state, the head and the time shown.
+/// What the gather stage reads: the groom, the state, where the roots are and the time shown.
 #[derive(Clone, Copy)]
 pub(super) struct Gathered<'a> {
     pub(super) groom: &'a Groom,
     pub(super) state: &'a PipelineState,
-    /// The head pose [m] the roots are carried by.
-    pub(super) head: &'a RigidTransform,
+    /// Where each chain's root is carried (by the head, or by a deforming body and the head)
+    /// at the state's time.
+    pub(super) roots: ChainRoots<'a>,
     /// The time shown [s].
     pub(super) display_time: f64,
     pub(super) drawn_as: DrawnAs,
@@ -59,7 +60,8 @@ pub(super) fn append_drawn(
 }
 
 /// Each visible section's chains at its level (and at its previous level while it blends), with
-/// node frames from the simulated positions and the head at `head`; every other chain inactive.
+/// node frames from the simulated positions and each chain's carried root frame; every other
+/// chain inactive.
 /// `frames_scratch` is reused.
 fn append_levels(
     gathered: Gathered<'_>,
@@ -69,7 +71,7 @@ fn append_levels(
     let Gathered {
         groom,
         state,
-        head,
+        roots,
         display_time,
         ..
     } = gathered;
@@ -88,7 +90,7 @@ fn append_levels(
         let local = nodes_in_section(groom, section, level, chain);
         let start = block.nodes(slot).start;
         let positions = &block.state.node_positions[start + local.start..start + local.end];
-        chain_frames(groom, chain, head, positions, frames_scratch);
+        chain_frames(groom, chain, &roots, positions, frames_scratch);
         // While blending, the new level dissolves in over the first half of the blend while
         // the old one dissolves out over the whole blend: no frame shows less hair than
         // either level, and the switch frame itself changes little. Between two surfaces
@@ -119,18 +121,18 @@ fn nodes_in_section(
 }
 
 /// Fills `frames` with the node frames of chain `chain` at `positions`, its root frame carried
-/// by the head at `head`.
+/// where `roots` has it.
 fn chain_frames(
     groom: &Groom,
     chain: usize,
-    head: &RigidTransform,
+    roots: &ChainRoots<'_>,
     positions: &[Vec3],
     frames: &mut Vec<Frame>,
 ) {
     frames.clear();
     frames.resize(positions.len(), Frame::default());
     node_frames(
-        &groom.skeletons.world_root_frame(chain, head),
+        &groom.skeletons.world_root_frame(chain, &roots.pose(chain)),
         positions,
         frames,
     );
@@ -152,7 +154,7 @@ fn append_strands(
     let Gathered {
         groom,
         state,
-        head,
+        roots,
         display_time,
         ..
     } = gathered;
@@ -177,7 +179,7 @@ fn append_strands(
             continue;
         }
         let positions = &scratch.strands[nodes_in_section(groom, section, level, chain)];
-        chain_frames(groom, chain, head, positions, &mut scratch.frames);
+        chain_frames(groom, chain, &roots, positions, &mut scratch.frames);
         // The colour-coded view shows the level the strands' motion comes from.
         match levels.current()[section] {
             Level::StrandGroup => {
@@ -272,7 +274,7 @@ fn rebuilt_strands(
         section,
         level,
         simulated,
-        gathered.head,
+        &gathered.roots,
         out,
         rebuild,
     )?;

@@ -6,8 +6,9 @@
 //! across the section (the bracket of §4.2's hand-over, by root offset), its offset from their
 //! node at rest. A frame's skeletons are then the sources' nodes plus those offsets turned by the
 //! sources' current node frames, blended by offset across the section as the hand-over blends
-//! them, and given their rest lengths by follow-the-leader (the roots follow too: a root's rest
-//! offset from its source's root, turned by the head, is its own root on the head). At rest this
+//! them, and given their rest lengths by follow-the-leader from each chain's own root where the
+//! head or a deforming body carries it ([`ChainRoots`], as the hand-over puts its chains). At
+//! rest this
 //! gives the strand groups' own rest skeletons (to rounding), and the centre strand group, which
 //! shares the centre source's root and rest shape, is that source exactly. It differs from the
 //! hand-over ([`hand_over`](super::hand_over)) beyond the outermost source: the hand-over shifts
@@ -17,7 +18,7 @@
 
 use glam::Vec3;
 
-use crate::dynamics::follow_the_leader;
+use crate::dynamics::{ChainRoots, follow_the_leader};
 use crate::error::{HairError, Result};
 use crate::frame::Frame;
 use crate::groom::Groom;
@@ -154,9 +155,12 @@ impl StrandFollow {
 
     /// Writes into `out` the strand-group skeletons of section `section` (its five chains one
     /// after the other, chain-major) rebuilt from `from_positions` [m], its skeletons simulated
-    /// at `from_level` (chain-major), with the head at `head`: copied at the strand-group level;
-    /// from a coarser one, each node at its rest offset from its source nodes turned by their
-    /// current node frames, blended across the section, with its rest segment lengths. Reads the state and never writes it; allocates nothing once `scratch` has grown.
+    /// at `from_level` (chain-major), with each chain's root where `roots` carries it (the head,
+    /// or a deforming body and the head): copied at the strand-group level; from a coarser one,
+    /// each node at its rest offset from its source nodes turned by their current node frames
+    /// (rooted in their carried root frames), blended across the section, then put on its own
+    /// carried root with its rest segment lengths. Reads the state and never writes it;
+    /// allocates nothing once `scratch` has grown.
     /// Errors name a section out of range or a wrongly sized slice (for a follow of another
     /// groom).
     #[allow(clippy::too_many_arguments)]
@@ -166,7 +170,7 @@ impl StrandFollow {
         section: usize,
         from_level: Level,
         from_positions: &[Vec3],
-        head: &RigidTransform,
+        roots: &ChainRoots<'_>,
         out: &mut [Vec3],
         scratch: &mut FollowScratch,
     ) -> Result<()> {
@@ -215,7 +219,7 @@ impl StrandFollow {
         for (child, chain) in sources.clone().enumerate() {
             let count = skeletons.chain_node_count(chain);
             node_frames(
-                &skeletons.world_root_frame(chain, head),
+                &skeletons.world_root_frame(chain, &roots.pose(chain)),
                 &from_positions[start..start + count],
                 &mut frames[start..start + count],
             );
@@ -245,6 +249,9 @@ impl StrandFollow {
                     from_left.lerp(from_right, bracket.t)
                 };
             }
+            positions[0] = roots
+                .pose(chain)
+                .transform_point(skeletons.root_positions[chain]);
             follow_the_leader(positions, &skeletons.segment_rest_lengths[nodes]);
             start += positions.len();
         }

@@ -7,7 +7,7 @@ use glam::{Quat, Vec3};
 
 use super::tests::rest_section;
 use super::*;
-use crate::dynamics::ChainRoots;
+use crate::dynamics::{ChainRoots, SurfaceAttachment};
 use crate::level::Level;
 use crate::scene::Scene;
 use crate::transform::RigidTransform;
@@ -45,7 +45,7 @@ fn at_rest_the_rebuilt_strand_groups_are_their_rest_skeletons() {
                     section,
                     level,
                     &source,
-                    &head,
+                    &ChainRoots::rigid(head),
                     &mut rebuilt,
                     &mut scratch,
                 )
@@ -117,7 +117,7 @@ fn the_centre_is_exact_and_the_rebuild_follows_a_rigid_motion() {
                     section,
                     level,
                     &source,
-                    &head,
+                    &ChainRoots::rigid(head),
                     &mut rebuilt,
                     &mut scratch,
                 )
@@ -167,7 +167,7 @@ fn the_centre_is_exact_and_the_rebuild_follows_a_rigid_motion() {
                     section,
                     level,
                     &moved,
-                    &moved_head,
+                    &ChainRoots::rigid(moved_head),
                     &mut moved_rebuilt,
                     &mut scratch,
                 )
@@ -194,7 +194,7 @@ fn a_wrong_size_or_section_is_an_error() {
             0,
             Level::Cluster,
             &source,
-            &head,
+            &ChainRoots::rigid(head),
             &mut short,
             &mut scratch,
         )
@@ -209,7 +209,7 @@ fn a_wrong_size_or_section_is_an_error() {
             usize::MAX,
             Level::Cluster,
             &source,
-            &head,
+            &ChainRoots::rigid(head),
             &mut short,
             &mut scratch,
         )
@@ -230,11 +230,125 @@ fn a_wrong_size_or_section_is_an_error() {
                 0,
                 Level::Cluster,
                 &other_source,
-                &head,
+                &ChainRoots::rigid(head),
                 &mut out,
                 &mut scratch,
             )
             .unwrap_err();
         assert!(error.to_string().contains("another groom"), "{error}");
+    }
+}
+
+/// One small triangle per chain of `scene`'s groom, its centroid on the chain's root (the root
+/// rides it at barycentric (⅓, ⅓, ⅓)), lying across the root's tangent; and the attachments.
+fn triangles_under_roots(scene: &Scene) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<SurfaceAttachment>) {
+    let rest = &scene.groom.skeletons;
+    let (mut points, mut triangles, mut attachments) = (Vec::new(), Vec::new(), Vec::new());
+    for chain in 0..rest.chain_count() {
+        let (root, frame) = (rest.root_positions[chain], rest.root_frames[chain]);
+        let (u, v) = (frame.normal * 0.01, frame.binormal * 0.01);
+        let first = points.len() as u32;
+        points.extend([root + u, root - 0.5 * u + v, root - 0.5 * u - v]);
+        triangles.push([first, first + 1, first + 2]);
+        attachments.push(SurfaceAttachment {
+            triangle: chain as u32,
+            barycentric: Vec3::splat(1.0 / 3.0),
+        });
+    }
+    (points, triangles, attachments)
+}
+
+/// The strand groups follow each chain's carried root ([`ChainRoots::carried`]):
+/// - a body moved only rigidly by `M` through its samples rebuilds, from sources posed by `M`,
+///   what the rigid head at `M` rebuilds: the carry turns each root frame by `M` (to the
+///   rounding of frames taken from 1 cm triangles, ~1e-6 rad, over 0.3 m chains: bound 1e-5 m;
+///   a rebuild that ignored the carry and used the head, here the identity, would be off by
+///   centimetres);
+/// - on a body that deforms (every triangle turned and moved its own way), every rebuilt chain
+///   starts on its own carried root (the same arithmetic as the hand-over's: bound 1e-6 m) and
+///   keeps its rest segment lengths.
+#[test]
+fn the_rebuilt_strand_groups_start_on_their_carried_roots() {
+    use crate::dynamics::DeformingBody;
+    use crate::mesh_sequence::MeshSequence;
+    use std::sync::Arc;
+    let scene = Scene::preset("curly").unwrap();
+    let groom = &scene.groom;
+    let skeletons = &groom.skeletons;
+    let follow = StrandFollow::new(groom);
+    let mut scratch = FollowScratch::default();
+    let motion = RigidTransform::new(
+        Quat::from_axis_angle(Vec3::new(0.3, 1.0, 0.2).normalize(), 0.6),
+        Vec3::new(0.03, -0.02, 0.01),
+    );
+    let (points, triangles, attachments) = triangles_under_roots(&scene);
+    let body_of = |moved: Vec<Vec3>| {
+        let samples = vec![points.clone(), moved];
+        let sequence = MeshSequence::new(triangles.clone(), vec![0.0, 1.0], samples).unwrap();
+        DeformingBody::new(Arc::new(sequence))
+    };
+    let rigid_body = body_of(points.iter().map(|&p| motion.transform_point(p)).collect());
+    // Each triangle turned about its own axis by its own angle and moved: a skin that stretches
+    // and shears from root to root.
+    let deformed: Vec<Vec3> = points
+        .chunks(3)
+        .enumerate()
+        .flat_map(|(k, corners)| {
+            let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
+            let turn = Quat::from_axis_angle(
+                Vec3::new((k as f32).sin(), 1.0, (k as f32).cos()).normalize(),
+                0.3 * ((k % 7) as f32 - 3.0),
+            );
+            let moved = centre * 1.05 + Vec3::new(0.0, 0.002 * (k % 5) as f32, 0.0);
+            corners
+                .iter()
+                .map(move |&p| moved + turn * (p - centre))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let deformed_body = body_of(deformed);
+    let rigid_roots = ChainRoots::rigid(motion);
+    let carried_rigidly =
+        ChainRoots::carried(RigidTransform::IDENTITY, &rigid_body, &attachments, 1.0);
+    let carried_deformed =
+        ChainRoots::carried(RigidTransform::IDENTITY, &deformed_body, &attachments, 1.0);
+    for section in 0..groom.section_count() {
+        let strand_nodes = rest_section(&scene, section, Level::StrandGroup, &motion).len();
+        for level in [Level::Patch, Level::Cluster] {
+            let source = rest_section(&scene, section, level, &motion);
+            let rebuild = |roots: &ChainRoots<'_>, scratch: &mut FollowScratch| {
+                let mut out = vec![Vec3::ZERO; strand_nodes];
+                follow
+                    .rebuild(groom, section, level, &source, roots, &mut out, scratch)
+                    .unwrap();
+                out
+            };
+            let on_head = rebuild(&rigid_roots, &mut scratch);
+            let on_body = rebuild(&carried_rigidly, &mut scratch);
+            let error = largest_distance(&on_body, &on_head);
+            assert!(error < 1e-5, "section {section}, {level:?}: {error} m");
+            let on_skin = rebuild(&carried_deformed, &mut scratch);
+            let mut start = 0;
+            for chain in groom.section_chains(section, Level::StrandGroup) {
+                let nodes = skeletons.nodes(chain);
+                let carried = carried_deformed
+                    .pose(chain)
+                    .transform_point(skeletons.root_positions[chain]);
+                let off = on_skin[start].distance(carried);
+                assert!(
+                    off < 1e-6,
+                    "chain {chain}: root {off} m off its carried point"
+                );
+                for k in 1..nodes.len() {
+                    let length = on_skin[start + k].distance(on_skin[start + k - 1]);
+                    let rest = skeletons.segment_rest_lengths[nodes.start + k];
+                    assert!(
+                        (length - rest).abs() <= 1e-5 * rest.max(1e-3),
+                        "{length} vs {rest}"
+                    );
+                }
+                start += nodes.len();
+            }
+        }
     }
 }
