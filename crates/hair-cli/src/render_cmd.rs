@@ -356,10 +356,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             counts.strands,
             usd.frame_count(),
             usd.time_codes_per_second(),
-            if usd.has_body() {
+            if usd.body_deforms() {
                 ", with the deforming body"
             } else {
-                ""
+                ", with the head"
             }
         );
     }
