@@ -89,6 +89,7 @@ fn import_and_fit(c: &mut Criterion) {
     let body = BodyFile {
         path: body_path,
         axes: Default::default(),
+        seconds: None,
     };
     let params = GroomParams::paper_curly();
     group.bench_function(

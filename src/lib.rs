@@ -28,6 +28,7 @@ pub mod cache;
 pub mod crowd;
 pub mod framing;
 pub mod head_levels;
+pub mod host_memory;
 pub mod loaded;
 pub mod metrics;
 pub mod pipeline;

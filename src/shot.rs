@@ -284,7 +284,13 @@ impl Shot {
     pub fn build_loaded_scene(&self) -> Result<(Scene, Option<LoadedScene>)> {
         let (mut scene, loaded) = match &self.groom_file {
             Some(groom) => {
-                let loaded = load_scene(groom, self.body_file.as_ref(), &self.groom)?;
+                // The body's animation is read for the shot's frames only (frame k shows run
+                // time (k + 1)/fps, the file's first sample at frame 0).
+                let body = self.body_file.clone().map(|body| BodyFile {
+                    seconds: Some(self.frames as f64 / f64::from(self.fps)),
+                    ..body
+                });
+                let loaded = load_scene(groom, body.as_ref(), &self.groom)?;
                 (loaded.scene.clone(), Some(loaded))
             }
             None => (Scene::new(&self.head, &self.groom)?, None),

@@ -182,8 +182,14 @@ fn a_rigidly_sampled_body_moves_the_hair_as_the_same_keyframed_motion() {
     let keyed = shot(&dir, "still.usda", &keys);
     let moving_scene = moving.build_scene().unwrap();
     let keyed_scene = keyed.build_scene().unwrap();
-    assert!(moving_scene.body_motion.is_some());
     assert!(keyed_scene.body_motion.is_none());
+    // The shot reads the body for its own frames: 30 frames at 60 Hz are 0.5 s, codes 0..=12 of
+    // the file's 0..=24 at 24 per second, and code 13 after them (the window interpolates as
+    // the whole file does; the run never reads past it).
+    let motion = moving_scene.body_motion.as_ref().expect("a moving body");
+    assert_eq!(motion.times().len(), 14);
+    let last = motion.times()[13];
+    assert!((last - (13.0 / 24.0 + 1.0 / 60.0)).abs() < 1e-9, "{last}");
     let mut a = moving
         .pipeline(&moving_scene, moving.settings, None)
         .unwrap();

@@ -45,19 +45,7 @@ pub fn estimated_bytes(model: &CrowdModel, settings: &PipelineSettings) -> u64 {
     total
 }
 
-/// The memory available to a new allocation [bytes]: `MemAvailable` of `/proc/meminfo` on
-/// Linux; `None` where it cannot be read (the check is then skipped).
-pub fn available_bytes() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    parse_mem_available(&text)
-}
-
-/// `MemAvailable` of a `/proc/meminfo` text [bytes].
-fn parse_mem_available(text: &str) -> Option<u64> {
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kilobytes: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    kilobytes.checked_mul(1024)
-}
+pub use crate::host_memory::available_bytes;
 
 /// Refuses `model` under `settings` when its estimate is over `available` bytes, naming the
 /// character count, the estimate per character and in all, and what is available.
@@ -87,17 +75,4 @@ pub fn check_fits(
             gib(available)
         ),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn mem_available_is_read_in_bytes() {
-        let text = "MemTotal:       24000000 kB\nMemFree:  100 kB\nMemAvailable:   20000000 kB\n";
-        assert_eq!(parse_mem_available(text), Some(20_000_000 * 1024));
-        assert_eq!(parse_mem_available("MemTotal: 1 kB\n"), None);
-        assert_eq!(parse_mem_available("MemAvailable: lots kB\n"), None);
-    }
 }

@@ -29,7 +29,7 @@ use hair_core::{
     Groom, GroomParams, HairError, Head, HeadParams, MeshSequence, Scene, TriangleMesh,
 };
 use hair_formats::{
-    Curves, ImportAxes, ImportOptions, UpAxis, read_curves_file, read_mesh_file,
+    Curves, ImportAxes, ImportOptions, SequenceLimits, UpAxis, read_curves_file, read_mesh_file,
     read_mesh_sequence_file,
 };
 use serde::Serialize;
@@ -75,6 +75,7 @@ impl FileAxes {
                 mirror_x: self.mirror_x,
             },
             strict: false,
+            sequence: Default::default(),
         }
     }
 }
@@ -154,6 +155,11 @@ pub struct BodyFile {
     pub path: PathBuf,
     /// Its units and axes.
     pub axes: FileAxes,
+    /// How long a run reads its animation [s from its first sample]: later samples are not
+    /// read (but the first one after, so that the window plays as the file does), and the body
+    /// holds its last pose read after that. `None` reads every sample; a shot sets its own
+    /// length ([`Shot::build_loaded_scene`](crate::shot::Shot::build_loaded_scene)).
+    pub seconds: Option<f64>,
 }
 
 /// What loading measured.
@@ -251,10 +257,20 @@ pub fn load_body_mesh(body: &BodyFile) -> Result<TriangleMesh> {
 }
 
 /// Reads the body of `body` over time in scene axes ([`read_mesh_sequence_file`]: USD time
-/// samples, an Alembic mesh sequence; one sample for the formats without animation). Errors
-/// name the field (`body.file`), the file and, for a bad sample, the prim and time.
+/// samples, an Alembic mesh sequence; one sample for the formats without animation), for
+/// `body.seconds` from its first sample. Its positions may take at most half the memory the
+/// machine has available ([`crate::host_memory`]): a sequence over that is refused with its
+/// size instead of filling the memory. Errors name the field (`body.file`), the file and, for a
+/// bad sample, the prim and time.
 pub fn load_body_sequence(body: &BodyFile) -> Result<MeshSequence> {
-    read_mesh_sequence_file(&body.path, &body.axes.import_options())
+    let options = ImportOptions {
+        sequence: SequenceLimits {
+            seconds: body.seconds,
+            max_bytes: crate::host_memory::available_bytes().map(|bytes| bytes / 2),
+        },
+        ..body.axes.import_options()
+    };
+    read_mesh_sequence_file(&body.path, &options)
         .map_err(|error| file_error("reading body.file", &body.path, error.kind).into())
 }
 

@@ -185,6 +185,10 @@ impl SceneFile {
         }
         let path = self.existing_file("body.file", file)?;
         let axes = axes("body", table.scale, table.up_axis, table.mirror)?;
-        Ok(Some(BodyFile { path, axes }))
+        Ok(Some(BodyFile {
+            path,
+            axes,
+            seconds: None,
+        }))
     }
 }

@@ -332,7 +332,9 @@ fn build(meshes: &[MeshTrack], options: &ImportOptions) -> Result<MeshSequence, 
             0,
         ));
     }
-    let times = sequence_times(meshes);
+    options.sequence.validate()?;
+    let mut times = sequence_times(meshes);
+    options.sequence.window(&mut times, 1.0);
     let units = Units::new(UpAxis::Y, 1.0);
     let held = |a: &Vec<i32>, _: &Vec<i32>, _| a.clone();
     let lerp = |a: &Vec<Vec3>, b: &Vec<Vec3>, w: f64| {
@@ -404,6 +406,9 @@ fn build(meshes: &[MeshTrack], options: &ImportOptions) -> Result<MeshSequence, 
                 return Err(FormatErrorKind::NoTriangles);
             }
             triangles = joined.triangles;
+            options
+                .sequence
+                .check(times.len(), joined.positions.len())?;
         }
         samples.push(joined.positions);
     }

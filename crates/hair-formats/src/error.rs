@@ -255,6 +255,12 @@ pub enum FormatErrorKind {
     /// A mesh with no triangles (a body mesh needs a surface).
     #[error("the mesh has no triangles")]
     NoTriangles,
+    /// A mesh sequence over the reader's memory cap ([`SequenceLimits`](super::SequenceLimits)).
+    #[error("mesh sequence too large: {message}")]
+    SequenceTooLarge {
+        /// Its samples, points and size, and the cap.
+        message: String,
+    },
     /// The mesh read is malformed (the check of [`hair_core::mesh::TriangleMesh::validate`]).
     #[error("invalid mesh: {0}")]
     Mesh(MeshError),

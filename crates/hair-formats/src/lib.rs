@@ -38,6 +38,7 @@ mod obj_curves;
 mod obj_mesh;
 mod ogawa;
 mod options;
+mod sequence_limits;
 mod text;
 mod tfx;
 mod tfxmesh;
@@ -74,7 +75,7 @@ pub use cyhair::{
 pub use error::{FormatError, FormatErrorKind, Location};
 pub use obj_curves::{read_obj_curves, read_obj_curves_file};
 pub use obj_mesh::{read_obj_mesh, read_obj_mesh_file};
-pub use options::{ImportAxes, ImportOptions, UpAxis};
+pub use options::{ImportAxes, ImportOptions, SequenceLimits, UpAxis};
 pub use tfx::{TFX3_HEADER_LEN, TFX4_HEADER_LEN, read_tfx, read_tfx_file};
 pub use tfxmesh::{read_tfxmesh, read_tfxmesh_file};
 pub use usc::{read_usc_data, read_usc_data_file};

@@ -4,6 +4,7 @@
 use glam::Vec3;
 
 use super::error::FormatErrorKind;
+pub use super::sequence_limits::SequenceLimits;
 
 hair_core::named_enum! {
     /// Which axis points up in the file.
@@ -98,6 +99,8 @@ pub struct ImportOptions {
     /// being skipped and reported in [`Curves::skipped`](super::Curves::skipped). Empty roots of
     /// USC-HairSalon files are skipped even then (the format's way to say "no strand here").
     pub strict: bool,
+    /// How much of a mesh sequence (a body's animation) to keep; the default keeps all.
+    pub sequence: SequenceLimits,
 }
 
 impl ImportOptions {

@@ -23,7 +23,7 @@ use hair_core::MeshSequence;
 use hair_core::mesh::TriangleMesh;
 
 use super::error::{FormatError, FormatErrorKind, Location};
-use super::options::{ImportAxes, ImportOptions};
+use super::options::ImportOptions;
 use super::read_file;
 use super::usd_layer::{Encoding, sniff};
 use super::usd_mesh::add_prim;
@@ -58,7 +58,7 @@ fn read(bytes: &[u8], options: &ImportOptions) -> Result<MeshSequence, FormatErr
         Encoding::Text => text_tracks(bytes)?,
         Encoding::Crate => crate_tracks(bytes)?,
     };
-    build(&tracks, &options.axes)
+    build(&tracks, options)
 }
 
 /// An error about a prim.
@@ -98,7 +98,9 @@ struct Topology {
 }
 
 /// Joins every mesh at every time code into the sequence.
-fn build(tracks: &Tracks, axes: &ImportAxes) -> Result<MeshSequence, FormatErrorKind> {
+fn build(tracks: &Tracks, options: &ImportOptions) -> Result<MeshSequence, FormatErrorKind> {
+    options.sequence.validate()?;
+    let axes = &options.axes;
     if tracks.meshes.is_empty() {
         return Err(FormatErrorKind::Usd {
             element: "layer".into(),
@@ -106,7 +108,10 @@ fn build(tracks: &Tracks, axes: &ImportAxes) -> Result<MeshSequence, FormatError
             location: Location::Unknown,
         });
     }
-    let codes = time_codes(&tracks.meshes);
+    let mut codes = time_codes(&tracks.meshes);
+    options
+        .sequence
+        .window(&mut codes, tracks.time_codes_per_second);
     let mut first: Vec<Topology> = Vec::with_capacity(tracks.meshes.len());
     let mut mirrored = Vec::with_capacity(tracks.meshes.len());
     let mut triangles = Vec::new();
@@ -163,6 +168,7 @@ fn build(tracks: &Tracks, axes: &ImportAxes) -> Result<MeshSequence, FormatError
                 return Err(FormatErrorKind::NoTriangles);
             }
             triangles = mesh.triangles;
+            options.sequence.check(codes.len(), mesh.positions.len())?;
         }
         samples.push(mesh.positions);
     }

@@ -375,3 +375,53 @@ fn an_alembic_topology_that_changes_is_refused_with_the_object_and_time() {
         "{error}"
     );
 }
+
+/// A time window keeps the samples within it and the first after it, with the same positions
+/// as the whole file's (USD: codes 10, 12, 13, 14, 16 at 24 per second; a window of 2.5 codes
+/// ends at code 12.5, so codes 10, 12 and 13 are read. Alembic: 0.5 s and 1/24 s apart; a
+/// window of 0 s keeps the first sample and the one after). A cap under the sequence's size
+/// refuses it with the file, its samples, points and size; a cap at its size reads it.
+#[test]
+fn a_time_window_trims_a_sequence_and_a_memory_cap_refuses_one_too_large() {
+    use crate::SequenceLimits;
+    let window = |seconds: f64| ImportOptions {
+        sequence: SequenceLimits {
+            seconds: Some(seconds),
+            max_bytes: None,
+        },
+        ..ImportOptions::default()
+    };
+    for name in ["mesh_sequence.usda", "mesh_sequence.usdc"] {
+        let whole = read_usd_mesh_sequence_file(data(name), &ImportOptions::default()).unwrap();
+        let trimmed = read_usd_mesh_sequence_file(data(name), &window(2.5 / 24.0)).unwrap();
+        assert_eq!(trimmed.times(), &whole.times()[..3], "{name}");
+        for s in 0..3 {
+            assert_eq!(trimmed.sample_positions(s), whole.sample_positions(s));
+        }
+        // 5 samples of 8 points, 12 bytes each: 480 bytes.
+        let capped = |max_bytes: u64| ImportOptions {
+            sequence: SequenceLimits {
+                seconds: None,
+                max_bytes: Some(max_bytes),
+            },
+            ..ImportOptions::default()
+        };
+        assert!(read_usd_mesh_sequence_file(data(name), &capped(480)).is_ok());
+        let error = read_usd_mesh_sequence_file(data(name), &capped(479))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains(name) && error.contains("5 samples of 8 points"),
+            "{error}"
+        );
+    }
+    let path = data("mesh_sequence.abc");
+    let whole = read_alembic_mesh_sequence_file(&path, &ImportOptions::default()).unwrap();
+    let trimmed = read_alembic_mesh_sequence_file(&path, &window(0.0)).unwrap();
+    assert_eq!(trimmed.times(), &whole.times()[..2]);
+    assert_eq!(trimmed.sample_positions(1), whole.sample_positions(1));
+    let bad = read_alembic_mesh_sequence_file(&path, &window(-1.0))
+        .unwrap_err()
+        .to_string();
+    assert!(bad.contains("sequence.seconds"), "{bad}");
+}

@@ -17,6 +17,7 @@ pub(crate) fn centimetres() -> ImportOptions {
             ..ImportAxes::default()
         },
         strict: true,
+        ..ImportOptions::default()
     }
 }
 
