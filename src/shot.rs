@@ -139,6 +139,8 @@ pub struct Outputs {
     pub hair: bool,
     /// Every strand of the run as one USD BasisCurves prim with a time sample per frame.
     pub usd: bool,
+    /// Which strands the USD file holds: all, or the groom's guides.
+    pub usd_strands: crate::usd_export::UsdStrands,
     /// The hair's reflectance model, with its default parameters
     /// ([`DrawStyle::hair_shading`](crate::pipeline::DrawStyle::hair_shading)).
     pub shading: hair_render::ShadingModel,

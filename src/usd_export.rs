@@ -20,6 +20,21 @@ use hair_core::dynamics::HeadMotion;
 use hair_core::{Curves, MeshSequence, Scene, SequenceClock, TriangleMesh};
 use hair_formats::{UsdCurvesWriter, UsdMeshTrack};
 
+hair_core::named_enum! {
+    /// Which strands `hair.usda` holds.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub enum UsdStrands {
+        /// Every strand drawn, grown children included.
+        #[default]
+        All = "all",
+        /// The guides only: a groom file's own strands, without the children grown around them
+        /// ([`Groom::is_guide`](hair_core::Groom::is_guide)), for a DCC tool to grow its own (a
+        /// groom of 900 guides with 13 children each writes 900 curves, not 12,600). A groom
+        /// without children writes every strand.
+        Guides = "guides",
+    }
+}
+
 /// The body written beside the strands (head space, placed in the world by the head's motion).
 #[derive(Debug, Clone)]
 enum ExportedBody {
@@ -40,12 +55,29 @@ pub struct HairUsd {
     body: ExportedBody,
     head: HeadMotion,
     frames: Option<Range<usize>>,
+    /// The strands written (`None`: all), as indices of the run's curves.
+    kept: Option<Vec<usize>>,
+    /// The curves of the strands kept, reused frame to frame.
+    selected: Curves,
+    /// The groom's strands.
+    groom_strands: usize,
 }
 
 impl HairUsd {
     /// An export of a run of `scene` at `fps` frames per second (> 0) whose head moves by
-    /// `head`: the body is written beside the strands, deforming or rigid.
+    /// `head`, of every strand: the body is written beside the strands, deforming or rigid.
     pub fn new(scene: &Scene, head: &HeadMotion, fps: f32) -> Self {
+        HairUsd::of_strands(scene, head, fps, UsdStrands::All)
+    }
+
+    /// [`HairUsd::new`] writing `strands`: all, or the groom's guides.
+    pub fn of_strands(scene: &Scene, head: &HeadMotion, fps: f32, strands: UsdStrands) -> Self {
+        let groom = &scene.groom;
+        let kept = (strands == UsdStrands::Guides && groom.children_per_guide > 0).then(|| {
+            (0..groom.strands.strand_count())
+                .filter(|&s| groom.is_guide(s))
+                .collect()
+        });
         let fps = f64::from(fps);
         let clock = match &scene.body_motion {
             Some(motion) => motion.clock(),
@@ -65,6 +97,9 @@ impl HairUsd {
             },
             head: head.clone(),
             frames: None,
+            kept,
+            selected: Curves::default(),
+            groom_strands: groom.strands.strand_count(),
         }
     }
 
@@ -80,10 +115,23 @@ impl HairUsd {
             .time_code((frame as f64 + 1.0) / self.fps, self.fps)
     }
 
-    /// Adds frame `frame`'s strands [m, world] (the same curves every frame; frames in
-    /// increasing order). Errors (`InvalidInput`) name a frame out of order or curves that
-    /// differ from the first frame's.
+    /// Strands written per frame: every strand of the groom, or its guides.
+    pub fn strands_written(&self) -> usize {
+        self.kept.as_ref().map_or(self.groom_strands, Vec::len)
+    }
+
+    /// Adds frame `frame`'s strands [m, world], every strand of the groom in its order (the
+    /// same curves every frame; frames in increasing order); the guides are taken from them
+    /// where only those are written. Errors (`InvalidInput`) name a frame out of order, curves
+    /// that differ from the first frame's, or fewer curves than the groom's strands.
     pub fn push_frame(&mut self, frame: usize, curves: &Curves) -> io::Result<()> {
+        let curves = match &self.kept {
+            None => curves,
+            Some(kept) => {
+                select_curves(curves, kept, &mut self.selected)?;
+                &self.selected
+            }
+        };
         let code = self.time_code(frame);
         match &mut self.writer {
             Some(writer) => writer.push_frame_at(code, &curves.points)?,
@@ -194,6 +242,41 @@ impl HairUsd {
     }
 }
 
+/// Writes into `out` the curves `kept` of `curves` (indices, increasing), with their widths and
+/// colours. A kept index past the curves is an `InvalidInput` error.
+fn select_curves(curves: &Curves, kept: &[usize], out: &mut Curves) -> io::Result<()> {
+    if let Some(&last) = kept.last()
+        && last >= curves.curve_count()
+    {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "guide strand {last} of a run with {} curves: the curves are not the groom's",
+                curves.curve_count()
+            ),
+        ));
+    }
+    out.points.clear();
+    out.offsets.clear();
+    out.offsets.push(0);
+    let mut widths = curves.widths.as_ref().map(|_| Vec::new());
+    let mut colors = curves.colors.as_ref().map(|_| Vec::new());
+    for &curve in kept {
+        let range = curves.range(curve);
+        out.points.extend_from_slice(&curves.points[range.clone()]);
+        out.offsets.push(out.points.len() as u32);
+        if let (Some(out), Some(all)) = (&mut widths, &curves.widths) {
+            out.extend_from_slice(&all[range.clone()]);
+        }
+        if let (Some(out), Some(all)) = (&mut colors, &curves.colors) {
+            out.extend_from_slice(&all[range]);
+        }
+    }
+    out.widths = widths;
+    out.colors = colors;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
@@ -262,5 +345,53 @@ mod tests {
         assert_eq!(track.samples.len(), 1);
         assert_eq!(track.samples[0].0, 2.0);
         assert!(track.samples[0].1[0].distance(turned.transform_point(mesh.positions[0])) < 1e-6);
+    }
+
+    /// Guides only: of a groom whose guides each have 3 children, strands 0, 4, 8, … are
+    /// written, each with its own points (curve `k` read back from the file starts at x = 4k);
+    /// all strands otherwise; curves that are not the groom's are refused.
+    #[test]
+    fn guides_only_writes_every_guide_and_no_child() {
+        use super::UsdStrands;
+        let mut scene = Scene::preset("straight").unwrap();
+        scene.groom.children_per_guide = 3;
+        let strands = scene.groom.strands.strand_count();
+        let guides = strands.div_ceil(4);
+        assert_eq!(scene.groom.guide_count(), guides);
+        let curves = Curves {
+            points: (0..strands)
+                .flat_map(|s| [Vec3::X * s as f32, Vec3::new(s as f32, 0.01, 0.0)])
+                .collect(),
+            offsets: (0..=strands as u32).map(|s| 2 * s).collect(),
+            widths: Some(vec![1e-4; 2 * strands]),
+            colors: None,
+            skipped: Vec::new(),
+        };
+        let head = HeadMotion::default();
+        let mut usd = HairUsd::of_strands(&scene, &head, 24.0, UsdStrands::Guides);
+        assert_eq!(usd.strands_written(), guides);
+        usd.push_frame(0, &curves).unwrap();
+        let path = std::env::temp_dir().join(format!("hairlod-guides-{}.usda", std::process::id()));
+        usd.write(&path).unwrap();
+        let read = hair_formats::read_usda_file_at(&path, 0.0, &Default::default()).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(read.curve_count(), guides);
+        for k in 0..guides {
+            assert_eq!(
+                read.points[read.range(k).start].x,
+                (4 * k) as f32,
+                "guide {k}"
+            );
+        }
+        let all = HairUsd::of_strands(&scene, &head, 24.0, UsdStrands::All);
+        assert_eq!(all.strands_written(), strands);
+        let mut short = HairUsd::of_strands(&scene, &head, 24.0, UsdStrands::Guides);
+        let few = Curves {
+            points: vec![Vec3::ZERO, Vec3::Y],
+            offsets: vec![0, 2],
+            ..curves
+        };
+        let error = short.push_frame(0, &few).unwrap_err().to_string();
+        assert!(error.contains("not the groom's"), "{error}");
     }
 }

@@ -424,6 +424,9 @@ pub struct OutputTable {
     /// Every strand of the run as one USD BasisCurves prim with a time sample per frame,
     /// `hair.usda`.
     pub usd: Option<bool>,
+    /// Which strands `hair.usda` holds: `"all"` (the default) or `"guides"` (a groom file's own
+    /// strands, without the children grown around them); naming it writes the file.
+    pub usd_strands: Option<crate::usd_export::UsdStrands>,
     /// Write the run's JSON report (per-frame stage times and levels) to this file, relative to
     /// the output folder.
     pub json: Option<String>,

@@ -67,6 +67,11 @@ pub struct RenderArgs {
     /// per point and frame).
     #[arg(long)]
     usd: bool,
+    /// Write only the guide strands to hair.usda (implies --usd): a groom file's own strands,
+    /// without the children grown around them, for a DCC tool to grow its own [scene:
+    /// output.usd_strands = "guides"].
+    #[arg(long)]
+    usd_guides: bool,
     /// Shade 1-pixel strand lines per fragment instead of at their curve points (about 1.8× the
     /// strand render time on a CPU rasterizer; see docs/render.md).
     #[arg(long)]
@@ -138,6 +143,9 @@ impl RenderArgs {
         }
         if self.usd {
             file.output.usd = Some(true);
+        }
+        if self.usd_guides {
+            file.output.usd_strands = Some(hairlod::usd_export::UsdStrands::Guides);
         }
         if let Some(shading) = self.shading {
             file.output.shading = Some(shading);
@@ -311,10 +319,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut write_time = Duration::ZERO;
-    let mut usd = shot
-        .outputs
-        .usd
-        .then(|| HairUsd::new(&scene, &shot.environment.head, shot.fps));
+    let mut usd = shot.outputs.usd.then(|| {
+        HairUsd::of_strands(
+            &scene,
+            &shot.environment.head,
+            shot.fps,
+            shot.outputs.usd_strands,
+        )
+    });
     let result = run_shot(
         &shot,
         &scene,
@@ -351,8 +363,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let path = args.out.join("hair.usda");
         usd.write(&path).map_err(|error| writing(&path, error))?;
         eprintln!(
-            "wrote {} ({} strands, {} frames at {} time codes per second{})",
+            "wrote {} ({} of {} strands, {} frames at {} time codes per second{})",
             path.display(),
+            usd.strands_written(),
             counts.strands,
             usd.frame_count(),
             usd.time_codes_per_second(),

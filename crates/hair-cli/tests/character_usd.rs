@@ -327,3 +327,34 @@ fn a_usd_character_exports_hair_on_the_body_time_line_with_roots_on_their_points
     );
     assert!(moved > 5e-3, "the roots moved only {moved} m");
 }
+
+/// `--usd-guides` writes the groom file's own strands only: the 240 curves of the character's
+/// groom, not the 960 it draws with 3 children grown around each; without it, all 960.
+#[test]
+fn usd_guides_writes_the_groom_files_own_strands_only() {
+    let dir = folder("character-usd-guides");
+    std::fs::write(dir.join("character.usda"), character()).unwrap();
+    let scene = dir.join("character.toml");
+    std::fs::write(
+        &scene,
+        "version = 2\n[groom]\nfile = \"character.usda\"\nchildren_per_strand = 3\n\
+         strands_per_section = 10\n[body]\nfile = \"character.usda\"\n[lod]\nmode = \"auto\"\n\
+         [frames]\ncount = 2\nfps = 24\nsize = \"160x90\"\n",
+    )
+    .unwrap();
+    let curves_written = |name: &str, flag: &str| {
+        let out = dir.join(name);
+        hairlod(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            flag,
+        ]);
+        read_usda_file_at(out.join("hair.usda"), 1.0, &Default::default())
+            .unwrap()
+            .curve_count()
+    };
+    assert_eq!(curves_written("guides", "--usd-guides"), 240);
+    assert_eq!(curves_written("all", "--usd"), 960);
+}

@@ -242,6 +242,30 @@ fn a_hanging_groom_needs_no_settling_and_a_grown_one_settles_a_second() {
     assert_eq!(shot.settle_seconds, 0.25);
 }
 
+/// `usd_strands` names which strands `hair.usda` holds and writes the file; an unknown one is
+/// an error naming the key.
+#[test]
+fn usd_strands_write_the_file_and_unknown_ones_are_errors() {
+    let shot = SceneFile::parse("[output]\nusd_strands = \"guides\"")
+        .unwrap()
+        .resolve()
+        .unwrap();
+    assert!(shot.outputs.usd);
+    assert_eq!(
+        shot.outputs.usd_strands,
+        crate::usd_export::UsdStrands::Guides
+    );
+    let plain = SceneFile::parse("[output]\nusd = true")
+        .unwrap()
+        .resolve()
+        .unwrap();
+    assert_eq!(
+        plain.outputs.usd_strands,
+        crate::usd_export::UsdStrands::All
+    );
+    assert!(error_of("[output]\nusd_strands = \"some\"").contains("usd_strands"));
+}
+
 #[test]
 fn unknown_keys_and_wrong_types_are_errors() {
     assert!(error_of("[frames]\ncont = 3").contains("cont"));

@@ -71,6 +71,7 @@ impl Groom {
             cluster_tip_radii,
             patch_widths,
             strand_group_radii,
+            children_per_guide: 0,
         })
     }
 }

@@ -199,6 +199,7 @@ impl Groom {
             cluster_tip_radii,
             patch_widths,
             strand_group_radii,
+            children_per_guide: children.per_strand,
         })
     }
 }
@@ -306,7 +307,11 @@ mod tests {
                 .unwrap();
         assert_eq!(groom.strands.strand_count(), 4 * 60);
         assert_eq!(groom.strands.group_count(), plain.strands.group_count());
+        // The guides are the file strands, every fourth strand (`Groom::is_guide`).
+        assert_eq!((plain.children_per_guide, groom.children_per_guide), (0, 3));
+        assert_eq!(groom.guide_count(), 60);
         for (k, &guide) in plain.strands.root_offsets.iter().enumerate() {
+            assert!(groom.is_guide(4 * k) && !groom.is_guide(4 * k + 1));
             assert_eq!(groom.strands.root_offsets[4 * k], guide);
             assert_eq!(groom.strands.tip_scales[4 * k], 1.0);
             for child in 4 * k + 1..4 * k + 4 {

@@ -43,6 +43,11 @@ pub struct Groom {
     /// Radius of each strand group (the farthest strand root from its skeleton) [m], one per group
     /// (`5S`): the thickness of the group's swept-sphere volumes.
     pub strand_group_radii: Vec<f32>,
+    /// Children grown around each guide strand ([`Groom::from_fit_with_children`]): in each
+    /// strand group, every guide (a file's own strand) is followed by this many children, so
+    /// strand `s` is a guide where `s % (1 + children_per_guide) == 0` ([`Groom::is_guide`]).
+    /// 0 where every strand is its own (a generated groom, a file read without children).
+    pub children_per_guide: usize,
 }
 
 /// How big a groom is, level by level.
@@ -73,6 +78,19 @@ pub struct GroomCounts {
 }
 
 impl Groom {
+    /// Whether strand `strand` is a guide (a strand of its own, not a grown child:
+    /// [`Groom::children_per_guide`]).
+    pub fn is_guide(&self, strand: usize) -> bool {
+        strand % (1 + self.children_per_guide) == 0
+    }
+
+    /// Number of guide strands ([`Groom::is_guide`]).
+    pub fn guide_count(&self) -> usize {
+        self.strands
+            .strand_count()
+            .div_ceil(1 + self.children_per_guide)
+    }
+
     /// Number of sections `S`.
     pub fn section_count(&self) -> usize {
         self.sections.len()
