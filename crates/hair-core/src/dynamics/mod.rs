@@ -68,7 +68,7 @@ mod tests;
 #[cfg(test)]
 mod tests_lanes;
 #[cfg(test)]
-mod tests_root_motion;
+pub(crate) mod tests_root_motion;
 #[cfg(test)]
 mod tests_sag_free;
 #[cfg(test)]

@@ -14,7 +14,9 @@ use crate::{HairStyle, SkeletonRest};
 
 /// One small triangle per chain of `rest`, its centroid on the chain's root (so the root rides
 /// it at barycentric (⅓, ⅓, ⅓)), lying across the root's tangent.
-fn triangles_under(rest: &SkeletonRest) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<SurfaceAttachment>) {
+pub(crate) fn triangles_under(
+    rest: &SkeletonRest,
+) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<SurfaceAttachment>) {
     let mut points = Vec::new();
     let mut triangles = Vec::new();
     let mut attachments = Vec::new();

@@ -7,7 +7,7 @@ use glam::{Quat, Vec3};
 
 use super::tests::rest_section;
 use super::*;
-use crate::dynamics::{ChainRoots, SurfaceAttachment};
+use crate::dynamics::ChainRoots;
 use crate::level::Level;
 use crate::scene::Scene;
 use crate::transform::RigidTransform;
@@ -239,25 +239,6 @@ fn a_wrong_size_or_section_is_an_error() {
     }
 }
 
-/// One small triangle per chain of `scene`'s groom, its centroid on the chain's root (the root
-/// rides it at barycentric (⅓, ⅓, ⅓)), lying across the root's tangent; and the attachments.
-fn triangles_under_roots(scene: &Scene) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<SurfaceAttachment>) {
-    let rest = &scene.groom.skeletons;
-    let (mut points, mut triangles, mut attachments) = (Vec::new(), Vec::new(), Vec::new());
-    for chain in 0..rest.chain_count() {
-        let (root, frame) = (rest.root_positions[chain], rest.root_frames[chain]);
-        let (u, v) = (frame.normal * 0.01, frame.binormal * 0.01);
-        let first = points.len() as u32;
-        points.extend([root + u, root - 0.5 * u + v, root - 0.5 * u - v]);
-        triangles.push([first, first + 1, first + 2]);
-        attachments.push(SurfaceAttachment {
-            triangle: chain as u32,
-            barycentric: Vec3::splat(1.0 / 3.0),
-        });
-    }
-    (points, triangles, attachments)
-}
-
 /// The strand groups follow each chain's carried root ([`ChainRoots::carried`]):
 /// - a body moved only rigidly by `M` through its samples rebuilds, from sources posed by `M`,
 ///   what the rigid head at `M` rebuilds: the carry turns each root frame by `M` (to the
@@ -281,7 +262,8 @@ fn the_rebuilt_strand_groups_start_on_their_carried_roots() {
         Quat::from_axis_angle(Vec3::new(0.3, 1.0, 0.2).normalize(), 0.6),
         Vec3::new(0.03, -0.02, 0.01),
     );
-    let (points, triangles, attachments) = triangles_under_roots(&scene);
+    let (points, triangles, attachments) =
+        crate::dynamics::tests_root_motion::triangles_under(&scene.groom.skeletons);
     let body_of = |moved: Vec<Vec3>| {
         let samples = vec![points.clone(), moved];
         let sequence = MeshSequence::new(triangles.clone(), vec![0.0, 1.0], samples).unwrap();
