@@ -163,11 +163,25 @@ impl DrawnSource for Crowd {
     }
 
     fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
-        self.world()
-            .characters()
-            .iter()
-            .map(|c| c.body_mesh())
-            .collect()
+        // Characters wearing one body share its sequence and its time: each instant is made
+        // once (its normals too) and copied for the others.
+        let characters = self.world().characters();
+        let mut made: Vec<(*const hair_core::MeshSequence, f64, usize)> = Vec::new();
+        let mut bodies: Vec<Option<TriangleMesh>> = Vec::with_capacity(characters.len());
+        for character in characters {
+            let body = character.model().scene.body_motion.as_ref().map(|motion| {
+                let key = (std::sync::Arc::as_ptr(motion), character.time());
+                match made.iter().find(|(at, time, _)| (*at, *time) == key) {
+                    Some(&(_, _, first)) => bodies[first].clone(),
+                    None => {
+                        made.push((key.0, key.1, bodies.len()));
+                        character.body_mesh()
+                    }
+                }
+            });
+            bodies.push(body.flatten());
+        }
+        bodies
     }
 }
 

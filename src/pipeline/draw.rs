@@ -50,8 +50,7 @@ impl DrawnSource for Pipeline {
     }
 
     fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
-        let motion = self.scene().body_motion.as_ref();
-        vec![motion.map(|motion| motion.mesh_at(self.time()))]
+        vec![self.character().body_mesh()]
     }
 }
 

@@ -106,7 +106,7 @@ impl Pipeline {
         &self.world
     }
 
-    fn character(&self) -> &Character {
+    pub(crate) fn character(&self) -> &Character {
         &self.world.characters[0]
     }
 
