@@ -12,7 +12,7 @@ use std::sync::{Arc, OnceLock};
 use glam::{Quat, Vec3};
 use hair_core::TriangleMesh;
 use parry3d::bounding_volume::Aabb;
-use parry3d::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d::partitioning::Bvh;
 
 use crate::distance_field::{DEFAULT_CELL, DistanceField};
 use crate::error::{CollideError, Result, require_pose};
@@ -20,6 +20,7 @@ use crate::fit::enclosing_ball;
 use crate::geometry::Triangle;
 use crate::pseudonormals::Pseudonormals;
 use crate::rest_field::Deformation;
+use crate::triangle_groups::{TriangleGroups, grouped_tree};
 use crate::volume::Pss;
 
 /// What a body is in its own frame: built once by [`CollisionBody::from_mesh`], never changed,
@@ -33,9 +34,13 @@ pub(crate) struct BodyShape {
     pub triangles: Vec<Triangle>,
     /// The ball around the vertices that triangles use \[m\] (body frame).
     pub bound: Pss,
-    /// The triangle tree (leaf data = triangle id), over unpadded triangle AABBs.
+    /// The triangle tree (leaf data = group id of `groups`), over unpadded boxes of the
+    /// groups' triangles.
     pub bvh: Bvh,
-    /// The triangle ids in the order their leaves lie in the tree's memory, found when a
+    /// The triangles of each leaf of `bvh` (`triangle_groups.rs`), shared by a deforming
+    /// body's instants.
+    pub groups: Arc<TriangleGroups>,
+    /// The group ids in the order their leaves lie in the tree's memory, found when a
     /// deforming body first refits the tree and shared by its instants (whose trees are copies
     /// of one layout): a refit that walks the leaves in this order writes the tree front to
     /// back instead of at random.
@@ -59,6 +64,7 @@ impl BodyShape {
             triangles: self.triangles.clone(),
             bound: self.bound,
             bvh: self.bvh.clone(),
+            groups: self.groups.clone(),
             leaf_order: self.leaf_order.clone(),
             pseudonormals: self.pseudonormals.clone(),
             field: OnceLock::new(),
@@ -206,16 +212,14 @@ impl CollisionBody {
                 Triangle::new(a, b, c)
             })
             .collect();
-        let bvh = Bvh::from_iter(
-            BvhBuildStrategy::Binned,
-            triangles.iter().map(triangle_aabb).enumerate(),
-        );
+        let (groups, bvh) = grouped_tree(&triangles);
         let shape = BodyShape {
             pseudonormals: Pseudonormals::of(mesh),
             indices: mesh.triangles.as_slice().into(),
             triangles,
             bound,
             bvh,
+            groups: Arc::new(groups),
             leaf_order: Arc::default(),
             field: OnceLock::new(),
             vertex_velocities: Vec::new(),
@@ -382,9 +386,16 @@ impl CollisionBody {
         self.shape.bound
     }
 
-    /// The underlying parry3d triangle tree in the body's own frame (leaf data = triangle id).
-    pub fn bvh(&self) -> &Bvh {
+    /// The underlying parry3d triangle tree in the body's own frame (leaf data = a group id:
+    /// [`CollisionBody::leaf_triangles`] names its triangles).
+    pub(crate) fn bvh(&self) -> &Bvh {
         &self.shape.bvh
+    }
+
+    /// The triangle ids of leaf `leaf` of [`CollisionBody::bvh`].
+    #[inline]
+    pub(crate) fn leaf_triangles(&self, leaf: u32) -> &[u32] {
+        self.shape.groups.members(leaf)
     }
 
     /// The body's distance field in its own frame ([`DistanceField`], cells of

@@ -6,9 +6,10 @@
 
 use std::sync::{Arc, OnceLock};
 
-use crate::body::{BodyShape, CollisionBody, check_vertex_values, corners_aabb};
+use crate::body::{BodyShape, CollisionBody, check_vertex_values};
 use crate::error::Result;
 use crate::geometry::Triangle;
+use crate::triangle_groups::{TriangleGroups, leaf_order};
 use crate::volume::Pss;
 use glam::Vec3;
 use parry3d::partitioning::Bvh;
@@ -63,13 +64,24 @@ impl CollisionBody {
             ),
         };
         let center = shape.bound.center;
-        let order = shape.leaf_order.get_or_init(|| leaf_order(&shape.bvh));
-        let ((), (radius_squared, deformation)) = rayon::join(
-            || refit(&mut bvh, &shape.indices, order, positions),
+        // Every leaf, in memory order (a leaf the order would miss is put at its end).
+        let order = shape.leaf_order.get_or_init(|| {
+            let mut order = leaf_order(&shape.bvh);
+            let mut listed = vec![false; shape.groups.count()];
+            order.retain(|&g| {
+                (g as usize) < listed.len() && !std::mem::replace(&mut listed[g as usize], true)
+            });
+            order.extend((0..listed.len() as u32).filter(|&g| !listed[g as usize]));
+            order
+        });
+        // The tree and the fit read the positions, as the triangles do: the two sides take
+        // about as long.
+        let (deformation, radius_squared) = rayon::join(
             || {
-                let reach = write_triangles(&mut triangles, &shape.indices, positions, center);
-                (reach, shape.deformation.as_ref().map(|d| d.at(&triangles)))
+                refit(&mut bvh, &shape.groups, &shape.indices, order, positions);
+                shape.deformation.as_ref().map(|d| d.at(positions))
             },
+            || write_triangles(&mut triangles, &shape.indices, positions, center),
         );
         // Found when a closest point needs one: most are never read in a frame.
         let pseudonormals = shape.pseudonormals.on_demand();
@@ -82,6 +94,7 @@ impl CollisionBody {
             triangles,
             bound,
             bvh,
+            groups: shape.groups.clone(),
             leaf_order: shape.leaf_order.clone(),
             pseudonormals,
             field: OnceLock::new(),
@@ -92,28 +105,21 @@ impl CollisionBody {
     }
 }
 
-/// The leaves of `bvh` (one per triangle of `indices`) moved to the triangles over
-/// `positions`, in the tree's memory `order` ([`leaf_order`]), and the tree refitted.
-fn refit(bvh: &mut Bvh, indices: &[[u32; 3]], order: &[u32], positions: &[Vec3]) {
-    for &id in order {
-        let corners = indices[id as usize];
-        let aabb = corners_aabb(corners.map(|i| positions[i as usize]));
-        bvh.update_partially_if_present(aabb, id, 0.0);
+/// The leaves of `bvh` (one per group of `groups`) moved to their triangles over `positions`,
+/// in the tree's memory `order` ([`leaf_order`]), and the tree refitted.
+fn refit(
+    bvh: &mut Bvh,
+    groups: &TriangleGroups,
+    indices: &[[u32; 3]],
+    order: &[u32],
+    positions: &[Vec3],
+) {
+    for &group in order {
+        if let Some(aabb) = groups.aabb_over(group, indices, positions) {
+            bvh.update_partially_if_present(aabb, group, 0.0);
+        }
     }
     bvh.refit_without_opt();
-}
-
-/// The leaf ids of `bvh` (0 up to its leaf count) sorted by where their nodes lie in the tree's
-/// memory. The tree keeps its nodes in one array, so a node's address orders it.
-fn leaf_order(bvh: &Bvh) -> Vec<u32> {
-    let mut placed: Vec<(usize, u32)> = (0..bvh.leaf_count())
-        .filter_map(|id| {
-            bvh.leaf_node(id)
-                .map(|node| (std::ptr::from_ref(node) as usize, id))
-        })
-        .collect();
-    placed.sort_unstable();
-    placed.into_iter().map(|(_, id)| id).collect()
 }
 
 /// Writes the triangles of `indices` over `positions` into `triangles`; returns the largest

@@ -47,6 +47,7 @@ pub mod sight;
 pub mod solver;
 mod solver_settings;
 pub mod surface;
+mod triangle_groups;
 pub mod volume;
 
 pub use attach::{AttachmentReport, RootAttachment, attach_roots};

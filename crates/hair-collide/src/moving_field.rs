@@ -46,7 +46,7 @@ use crate::body::CollisionBody;
 use crate::distance_field::{DEFAULT_CELL, DistanceField};
 use crate::error::{CollideError, Result};
 use crate::geometry::Triangle;
-use crate::rest_field::{Deformation, MOVING_REACH, RestField};
+use crate::rest_field::{Deformation, MOVING_REACH, RestField, positions_of};
 
 impl RestField {
     /// The rest field of `rest`, a body built from the deforming mesh at rest (its pose is not
@@ -274,7 +274,13 @@ impl CollisionBody {
                 allowed: "the body's own mesh at rest (the same triangles over the same vertices)",
             });
         }
-        let deformation = Deformation::of(rest, &self.shape.triangles);
+        let shape = &self.shape;
+        let positions = positions_of(
+            &shape.indices,
+            &shape.triangles,
+            shape.pseudonormals.vertex_count,
+        );
+        let deformation = Deformation::of(rest, &positions);
         Ok(self.with_shape(Arc::new(self.shape.with_deformation(Some(deformation)))))
     }
 

@@ -2,11 +2,11 @@
 //! A BVH version (simultaneous descent of both trees) and a brute-force version (every segment
 //! against every triangle) with identical, deterministically sorted output.
 
-use parry3d::bounding_volume::Aabb;
+use parry3d::bounding_volume::{Aabb, BoundingVolume};
 use parry3d::partitioning::BvhNode;
 use rayon::prelude::*;
 
-use crate::body::CollisionBody;
+use crate::body::{CollisionBody, triangle_aabb};
 use crate::bvh::{HairBvh, aabb_padding};
 use crate::volume::{Pss, SweptSphere};
 
@@ -134,9 +134,12 @@ pub fn query_body(hair: &HairBvh, body: &CollisionBody, contacts: &mut SegmentCo
         };
         let volumes = hair.volumes();
         let triangles = body.local_triangles();
-        for (segment, triangle) in hair.bvh().leaf_pairs(body.bvh(), check) {
-            if volumes[segment as usize].intersects_triangle(&triangles[triangle as usize]) {
-                contacts.pairs.push((segment, triangle));
+        for (segment, leaf) in hair.bvh().leaf_pairs(body.bvh(), check) {
+            let volume = &volumes[segment as usize];
+            for &triangle in body.leaf_triangles(leaf) {
+                if volume.intersects_triangle(&triangles[triangle as usize]) {
+                    contacts.pairs.push((segment, triangle));
+                }
             }
         }
     }
@@ -237,9 +240,15 @@ pub(crate) fn for_each_touched(
     let reaches =
         |node: &BvhNode| node.intersects(&query) && volume.may_touch_box(&node.aabb(), padding);
     let triangles = body.local_triangles();
-    for triangle in body.bvh().leaves(reaches) {
-        if volume.intersects_triangle(&triangles[triangle as usize]) {
-            touched(triangle);
+    let reach = volume.aabb(padding);
+    for leaf in body.bvh().leaves(reaches) {
+        for &triangle in body.leaf_triangles(leaf) {
+            let triangle_box = triangle_aabb(&triangles[triangle as usize]);
+            if reach.intersects(&triangle_box)
+                && volume.intersects_triangle(&triangles[triangle as usize])
+            {
+                touched(triangle);
+            }
         }
     }
 }

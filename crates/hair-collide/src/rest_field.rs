@@ -25,8 +25,8 @@ struct RestBody {
     triangles: Vec<Triangle>,
     /// The rest mesh's distance field, exact within [`MOVING_REACH`] of the surface.
     field: DistanceField,
-    /// Per vertex that a triangle uses: a triangle and corner where it appears.
-    corners: Vec<(u32, u8)>,
+    /// The vertices that triangles use, ascending.
+    vertices: Vec<u32>,
     /// Those vertices at rest \[m\] (body frame), centred on `centroid`.
     centred: Vec<Vec3>,
     /// The mean of those vertices at rest \[m\].
@@ -64,22 +64,23 @@ impl RestField {
         vertex_count: usize,
         field: DistanceField,
     ) -> Self {
-        let mut corner_of = vec![None; vertex_count];
-        for (t, corners) in indices.iter().enumerate() {
-            for (k, &v) in corners.iter().enumerate() {
-                corner_of[v as usize].get_or_insert((t as u32, k as u8));
-            }
+        let positions = positions_of(&indices, &triangles, vertex_count);
+        let mut used = vec![false; vertex_count];
+        for &v in indices.iter().flatten() {
+            used[v as usize] = true;
         }
-        let corners: Vec<(u32, u8)> = corner_of.into_iter().flatten().collect();
-        let at = |&(t, k): &(u32, u8)| triangles[t as usize].vertices[k as usize];
-        let centroid = corners.iter().map(at).sum::<Vec3>() / (corners.len().max(1) as f32);
-        let centred = corners.iter().map(|c| at(c) - centroid).collect();
+        let vertices: Vec<u32> = (0..vertex_count as u32)
+            .filter(|&v| used[v as usize])
+            .collect();
+        let at = |&v: &u32| positions[v as usize];
+        let centroid = vertices.iter().map(at).sum::<Vec3>() / (vertices.len().max(1) as f32);
+        let centred = vertices.iter().map(|v| at(v) - centroid).collect();
         RestField {
             rest: Arc::new(RestBody {
                 indices,
                 triangles,
                 field,
-                corners,
+                vertices,
                 centred,
                 centroid,
             }),
@@ -106,31 +107,30 @@ impl RestField {
         *self.rest.indices == *indices
     }
 
-    /// The rigid fit of the instant whose triangles are `current` (see the module
+    /// The rigid fit of the instant whose vertices are at `positions` (see the module
     /// documentation).
-    fn fit(&self, current: &[Triangle]) -> RigidFit {
+    fn fit(&self, positions: &[Vec3]) -> RigidFit {
         let rest = &self.rest;
-        let at = |&(t, k): &(u32, u8)| current[t as usize].vertices[k as usize];
-        let count = rest.corners.len().max(1) as f32;
-        let centroid = rest.corners.iter().map(at).sum::<Vec3>() / count;
-        // Cross-covariance Σ (x − x̄)(X − X̄)ᵀ, column by column.
+        let at = |&v: &u32| positions[v as usize];
+        let count = rest.vertices.len().max(1) as f32;
+        // The centroid and the cross-covariance Σ (x − x̄)(X − X̄)ᵀ = Σ x (X − X̄)ᵀ (the rest
+        // offsets sum to zero), column by column, in one pass.
+        let mut sum = Vec3::ZERO;
         let mut covariance = Mat3::ZERO;
-        for (corner, rest_offset) in rest.corners.iter().zip(&rest.centred) {
-            let offset = at(corner) - centroid;
-            covariance += Mat3::from_cols(
-                offset * rest_offset.x,
-                offset * rest_offset.y,
-                offset * rest_offset.z,
-            );
+        for (vertex, rest_offset) in rest.vertices.iter().zip(&rest.centred) {
+            let x = at(vertex);
+            sum += x;
+            covariance += Mat3::from_cols(x * rest_offset.x, x * rest_offset.y, x * rest_offset.z);
         }
+        let centroid = sum / count;
         let rotation = polar_rotation(covariance).unwrap_or(Mat3::IDENTITY);
         let translation = centroid - rotation * rest.centroid;
         let deviation = rest
-            .corners
+            .vertices
             .iter()
             .zip(&rest.centred)
-            .map(|(corner, rest_offset)| {
-                at(corner).distance_squared(rotation * (*rest_offset + rest.centroid) + translation)
+            .map(|(vertex, rest_offset)| {
+                at(vertex).distance_squared(rotation * (*rest_offset + rest.centroid) + translation)
             })
             .fold(0.0f32, f32::max)
             .sqrt();
@@ -140,6 +140,22 @@ impl RestField {
             deviation,
         }
     }
+}
+
+/// The mesh's vertex positions \[m\] from its `triangles` (each with its `indices` into
+/// `vertex_count` vertices); a vertex no triangle uses is left at the origin.
+pub(crate) fn positions_of(
+    indices: &[[u32; 3]],
+    triangles: &[Triangle],
+    vertex_count: usize,
+) -> Vec<Vec3> {
+    let mut positions = vec![Vec3::ZERO; vertex_count];
+    for (corners, triangle) in indices.iter().zip(triangles) {
+        for (&v, &p) in corners.iter().zip(&triangle.vertices) {
+            positions[v as usize] = p;
+        }
+    }
+    positions
 }
 
 /// The rotation nearest `m` (its polar factor) by Higham's iteration; `None` where `m` is
@@ -173,17 +189,17 @@ fn polar_rotation(m: Mat3) -> Option<Mat3> {
 }
 
 impl Deformation {
-    /// `rest` read at the instant whose triangles are `current`.
-    pub(crate) fn of(rest: &RestField, current: &[Triangle]) -> Self {
+    /// `rest` read at the instant whose vertices are at `positions` \[m\] (body frame).
+    pub(crate) fn of(rest: &RestField, positions: &[Vec3]) -> Self {
         Deformation {
             rest: rest.clone(),
-            fit: rest.fit(current),
+            fit: rest.fit(positions),
         }
     }
 
-    /// The same rest field at the instant whose triangles are `current`.
-    pub(crate) fn at(&self, current: &[Triangle]) -> Self {
-        Self::of(&self.rest, current)
+    /// The same rest field at the instant whose vertices are at `positions` \[m\].
+    pub(crate) fn at(&self, positions: &[Vec3]) -> Self {
+        Self::of(&self.rest, positions)
     }
 
     /// How far \[m\] any vertex strays from the fitted rigid transform.

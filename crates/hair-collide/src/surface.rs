@@ -11,6 +11,9 @@ use glam::Vec3;
 use crate::body::CollisionBody;
 use crate::closest::{TriangleFeature, closest_point_on_triangle};
 
+/// A closest-point search's answer: the triangle, the closest point on it \[m\] and its feature.
+type Found = (u32, (Vec3, TriangleFeature));
+
 /// The closest point of a body's surface to a query point, in the query's frame (the world for
 /// [`CollisionBody::closest_surface_point`], the body's own for
 /// [`CollisionBody::closest_local_surface_point`]).
@@ -84,7 +87,7 @@ impl CollisionBody {
 
     /// The tree search for the triangle closest to `p` (body frame) among those nearer than
     /// `bound` \[m\], with the closest point and its feature.
-    fn closest_in_tree(&self, p: Vec3, bound: f32) -> Option<(u32, (Vec3, TriangleFeature))> {
+    fn closest_in_tree(&self, p: Vec3, bound: f32) -> Option<Found> {
         let triangles = self.local_triangles();
         self.bvh()
             .find_best(
@@ -94,11 +97,19 @@ impl CollisionBody {
                     p.clamp(aabb.mins, aabb.maxs).distance(p)
                 },
                 |leaf, _| {
-                    let (q, feature) = closest_point_on_triangle(p, &triangles[leaf as usize]);
-                    Some((q.distance(p), (q, feature)))
+                    // The leaf's closest triangle (the first of equals).
+                    let mut best: Option<(f32, Found)> = None;
+                    for &t in self.leaf_triangles(leaf) {
+                        let (q, feature) = closest_point_on_triangle(p, &triangles[t as usize]);
+                        let distance = q.distance(p);
+                        if best.is_none_or(|(d, _)| distance < d) {
+                            best = Some((distance, (t, (q, feature))));
+                        }
+                    }
+                    best
                 },
             )
-            .map(|(triangle, (_, found))| (triangle, found))
+            .map(|(_, (_, found))| found)
     }
 
     /// The closest surface point to `p` (body frame), the search bounded by triangle `hint`'s
