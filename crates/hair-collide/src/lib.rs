@@ -30,6 +30,7 @@ pub mod distance_field;
 pub mod error;
 mod field_bricks;
 pub mod field_contacts;
+mod field_map;
 pub mod fit;
 mod gather;
 pub mod geometry;

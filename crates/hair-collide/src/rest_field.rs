@@ -1,11 +1,13 @@
 //! The rest mesh that a deforming body reads its distance field from ([`RestField`]), and each
-//! instant's rigid fit to it ([`Deformation`]); `moving_field.rs` reads the field through them.
+//! instant's fits to it ([`Deformation`]: the rigid one, and the map the field is read through,
+//! `field_map.rs`); `moving_field.rs` reads the field through them.
 
 use std::sync::Arc;
 
-use glam::{Mat3, Vec3};
+use glam::{DMat3, Mat3, Vec3};
 
 use crate::distance_field::DistanceField;
+use crate::field_map::FieldMap;
 use crate::geometry::Triangle;
 
 /// The rest mesh that a deforming body's instants read their field from
@@ -31,6 +33,9 @@ struct RestBody {
     centred: Vec<Vec3>,
     /// The mean of those vertices at rest \[m\].
     centroid: Vec3,
+    /// `(Σ X̃ X̃ᵀ)⁻¹` of the centred rest vertices `X̃` \[1/m²\] (the affine fit's second
+    /// factor, `field_map.rs`); `None` for a flat mesh.
+    spread_inverse: Option<Mat3>,
 }
 
 /// A rigid transform fitted to a deformation: current ≈ `rotation` · rest + `translation`, with
@@ -47,6 +52,9 @@ pub(crate) struct RigidFit {
 pub(crate) struct Deformation {
     pub(crate) rest: RestField,
     pub(crate) fit: RigidFit,
+    /// What the moving field reads the rest field through: the affine fit where it keeps the
+    /// vertices closer than the rigid one, else the rigid one.
+    pub(crate) map: FieldMap,
 }
 
 /// How far from the surface \[m\] a rest field samples exactly: the presets' widest segment
@@ -74,7 +82,14 @@ impl RestField {
             .collect();
         let at = |&v: &u32| positions[v as usize];
         let centroid = vertices.iter().map(at).sum::<Vec3>() / (vertices.len().max(1) as f32);
-        let centred = vertices.iter().map(|v| at(v) - centroid).collect();
+        let centred: Vec<Vec3> = vertices.iter().map(|v| at(v) - centroid).collect();
+        let spread = centred.iter().fold(DMat3::ZERO, |sum, x| {
+            let x = x.as_dvec3();
+            sum + DMat3::from_cols(x * x.x, x * x.y, x * x.z)
+        });
+        let spread_inverse = (spread.determinant().abs() > 1e-30)
+            .then(|| spread.inverse().as_mat3())
+            .filter(|m| m.is_finite());
         RestField {
             rest: Arc::new(RestBody {
                 indices,
@@ -83,6 +98,7 @@ impl RestField {
                 vertices,
                 centred,
                 centroid,
+                spread_inverse,
             }),
         }
     }
@@ -108,8 +124,8 @@ impl RestField {
     }
 
     /// The rigid fit of the instant whose vertices are at `positions` (see the module
-    /// documentation).
-    fn fit(&self, positions: &[Vec3]) -> RigidFit {
+    /// documentation), and the map its field is read through (`field_map.rs`).
+    fn fit(&self, positions: &[Vec3]) -> (RigidFit, FieldMap) {
         let rest = &self.rest;
         let at = |&v: &u32| positions[v as usize];
         let count = rest.vertices.len().max(1) as f32;
@@ -124,21 +140,34 @@ impl RestField {
         }
         let centroid = sum / count;
         let rotation = polar_rotation(covariance).unwrap_or(Mat3::IDENTITY);
-        let translation = centroid - rotation * rest.centroid;
-        let deviation = rest
-            .vertices
-            .iter()
-            .zip(&rest.centred)
-            .map(|(vertex, rest_offset)| {
-                at(vertex).distance_squared(rotation * (*rest_offset + rest.centroid) + translation)
-            })
-            .fold(0.0f32, f32::max)
-            .sqrt();
-        RigidFit {
+        let affine = rest.spread_inverse.map(|inverse| covariance * inverse);
+        // Each vertex against its rest place moved by either fit: `M X̃ + x̄` (the fits carry
+        // the rest centroid onto the current one).
+        let (rigid_squared, affine_squared) = rest.vertices.iter().zip(&rest.centred).fold(
+            (0.0f32, 0.0f32),
+            |(rigid, affine_far), (vertex, rest_offset)| {
+                let x = at(vertex) - centroid;
+                let by_affine = affine.map_or(0.0, |a| x.distance_squared(a * *rest_offset));
+                (
+                    rigid.max(x.distance_squared(rotation * *rest_offset)),
+                    affine_far.max(by_affine),
+                )
+            },
+        );
+        let rigid = RigidFit {
             rotation,
-            translation,
-            deviation,
-        }
+            translation: centroid - rotation * rest.centroid,
+            deviation: rigid_squared.sqrt(),
+        };
+        let map = affine
+            .and_then(|a| FieldMap::affine(a, centroid - a * rest.centroid, affine_squared.sqrt()))
+            .filter(|map| map.deviation < rigid.deviation)
+            .unwrap_or(FieldMap::rigid(
+                rigid.rotation,
+                rigid.translation,
+                rigid.deviation,
+            ));
+        (rigid, map)
     }
 }
 
@@ -191,9 +220,11 @@ fn polar_rotation(m: Mat3) -> Option<Mat3> {
 impl Deformation {
     /// `rest` read at the instant whose vertices are at `positions` \[m\] (body frame).
     pub(crate) fn of(rest: &RestField, positions: &[Vec3]) -> Self {
+        let (fit, map) = rest.fit(positions);
         Deformation {
             rest: rest.clone(),
-            fit: rest.fit(positions),
+            fit,
+            map,
         }
     }
 
