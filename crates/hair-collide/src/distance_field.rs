@@ -254,8 +254,13 @@ impl DistanceField {
     /// The value of vertex `(i, j, k)` and its position \[m\].
     fn vertex(&self, i: usize, j: usize, k: usize) -> (f32, Vec3) {
         let at = i + self.dims[0] * (j + self.dims[1] * k);
-        let position = self.origin + Vec3::new(i as f32, j as f32, k as f32) * self.cell;
-        (self.values[at], position)
+        (self.values[at], self.vertex_position(i, j, k))
+    }
+
+    /// Where grid vertex `(i, j, k)` lies \[m\].
+    #[inline]
+    fn vertex_position(&self, i: usize, j: usize, k: usize) -> Vec3 {
+        self.origin + Vec3::new(i as f32, j as f32, k as f32) * self.cell
     }
 
     /// A certified bound at `p` \[m\] (body frame): `(bound, sign)` with the unsigned distance
@@ -282,12 +287,18 @@ impl DistanceField {
         let t = (p - self.origin) / self.cell;
         let cell = [0, 1, 2].map(|k| (t[k].floor().max(0.0) as usize).min(self.dims[k] - 2));
         let (mut best, mut sign) = (0.0f32, 0.0f32);
+        // An exact cell's corners are read from its brick (the same values, in a few cache
+        // lines), any other's from the whole grid.
+        let in_brick = self.bricks.corners(cell[0], cell[1], cell[2]);
         for corner in 0..8 {
-            let (value, at) = self.vertex(
-                cell[0] + (corner & 1),
-                cell[1] + ((corner >> 1) & 1),
-                cell[2] + (corner >> 2),
-            );
+            let [x, y, z] = [corner & 1, (corner >> 1) & 1, corner >> 2];
+            let (value, at) = match in_brick {
+                Some(c) => (
+                    c[2 * y + x][z],
+                    self.vertex_position(cell[0] + x, cell[1] + y, cell[2] + z),
+                ),
+                None => self.vertex(cell[0] + x, cell[1] + y, cell[2] + z),
+            };
             let certified = value.abs() - at.distance(p) - ROUNDING;
             if certified > best {
                 best = certified;
