@@ -151,18 +151,18 @@ impl<'a> MovedField<'a> {
 
     /// The rest image of `p` (see the module documentation), its carrier and place; `None`
     /// where no carrier is found (the image is not within a cell of the rest field's exact
-    /// shell) or a carrier is degenerate.
-    fn locate(&self, p: Vec3, hint: Option<u32>) -> Option<(Vec3, u32, OnTriangle)> {
+    /// shell, or `p` is farther than `reach` \[m\] from the surface) or a carrier is
+    /// degenerate.
+    fn locate(&self, p: Vec3, hint: Option<u32>, reach: f32) -> Option<(Vec3, u32, OnTriangle)> {
         let field = self.field();
+        let reach = reach.min(field.exact_reach());
         let first = || match field.nearby_triangle(self.fitted_back(p)) {
             Some(carrier) => Some(carrier),
             // Where the deformation strays from the fit, the fitted-back point may miss the
             // exact shell: the closest triangle within the reach is found in the tree, unless
             // the certified bound puts the point beyond it already.
-            None if self.bound(p).0 > field.exact_reach() => None,
-            None => self
-                .body
-                .closest_local_triangle_within(p, field.exact_reach()),
+            None if self.bound(p).0 > reach => None,
+            None => self.body.closest_local_triangle_within(p, reach),
         };
         let mut hinted = hint.filter(|&t| (t as usize) < self.current.len());
         let mut carrier = match hinted {
@@ -195,7 +195,7 @@ impl<'a> MovedField<'a> {
     /// becomes this point's carrier where one is found: a hint only saves lookups where it is
     /// near, and the carrier found is checked against the field either way.
     pub(crate) fn sample(&self, p: Vec3, hint: &mut Option<u32>) -> Option<MovedSample> {
-        let sample = self.sample_unturned(p, hint)?;
+        let sample = self.sample_unturned(p, hint, f32::INFINITY)?;
         Some(MovedSample {
             gradient: self.turned(sample.triangle, sample.gradient)?,
             ..sample
@@ -213,9 +213,16 @@ impl<'a> MovedField<'a> {
     }
 
     /// [`MovedField::sample`] with the gradient left in the rest triangle's frame
-    /// ([`MovedField::turned`] turns it): most samples only need their distance.
-    pub(crate) fn sample_unturned(&self, p: Vec3, hint: &mut Option<u32>) -> Option<MovedSample> {
-        let (image, carrier, place) = self.locate(p, *hint)?;
+    /// ([`MovedField::turned`] turns it): most samples only need their distance. Only a point
+    /// that may lie within `reach` \[m\] of the surface is searched for in the triangle tree
+    /// where the lookups find no carrier: `None` then also stands for a point farther than that.
+    pub(crate) fn sample_unturned(
+        &self,
+        p: Vec3,
+        hint: &mut Option<u32>,
+        reach: f32,
+    ) -> Option<MovedSample> {
+        let (image, carrier, place) = self.locate(p, *hint, reach)?;
         *hint = Some(carrier);
         // (A degenerate carrier gives no place on it: `image` found none.)
         let (distance, gradient) = self.field().sample(image)?;
