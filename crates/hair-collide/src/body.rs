@@ -11,7 +11,6 @@ use std::sync::{Arc, OnceLock};
 
 use glam::{Quat, Vec3};
 use hair_core::TriangleMesh;
-use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::Bvh;
 
 use crate::distance_field::{DEFAULT_CELL, DistanceField};
@@ -137,16 +136,6 @@ fn posed_bound(local: Pss, rotation: Quat, translation: Vec3) -> Pss {
         center,
         radius: local.radius + slack,
     }
-}
-
-/// The tight box of a triangle.
-pub(crate) fn triangle_aabb(triangle: &Triangle) -> Aabb {
-    corners_aabb(triangle.vertices)
-}
-
-/// The tight box of a triangle's corners.
-pub(crate) fn corners_aabb([a, b, c]: [Vec3; 3]) -> Aabb {
-    Aabb::new(a.min(b).min(c), a.max(b).max(c))
 }
 
 impl DistanceField {

@@ -6,8 +6,9 @@ use parry3d::bounding_volume::{Aabb, BoundingVolume};
 use parry3d::partitioning::BvhNode;
 use rayon::prelude::*;
 
-use crate::body::{CollisionBody, triangle_aabb};
+use crate::body::CollisionBody;
 use crate::bvh::{HairBvh, aabb_padding};
+use crate::triangle_groups::triangle_aabb;
 use crate::volume::{Pss, SweptSphere};
 
 /// Contacts of hair segments with body triangles, flat.

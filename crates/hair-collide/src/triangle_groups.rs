@@ -11,7 +11,6 @@ use glam::Vec3;
 use parry3d::bounding_volume::{Aabb, BoundingVolume};
 use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 
-use crate::body::{corners_aabb, triangle_aabb};
 use crate::geometry::Triangle;
 
 /// Triangles per leaf of a body's tree (the last group may hold fewer).
@@ -119,6 +118,16 @@ fn split(ids: &mut [u32], offset: usize, centroids: &[Vec3], starts: &mut Vec<u3
     split(second, offset + half, centroids, starts);
 }
 
+/// The tight box of a triangle.
+pub(crate) fn triangle_aabb(triangle: &Triangle) -> Aabb {
+    corners_aabb(triangle.vertices)
+}
+
+/// The tight box of a triangle's corners.
+pub(crate) fn corners_aabb([a, b, c]: [Vec3; 3]) -> Aabb {
+    Aabb::new(a.min(b).min(c), a.max(b).max(c))
+}
+
 /// The leaf ids of `bvh` sorted by where their nodes lie in the tree's memory. The tree keeps
 /// its nodes in one array, so a node's address orders it.
 pub(crate) fn leaf_order(bvh: &Bvh) -> Vec<u32> {
@@ -143,15 +152,9 @@ mod tests {
     #[test]
     fn every_triangle_is_in_one_small_group() {
         let mesh = Head::procedural(&HeadParams::default()).unwrap().mesh;
-        let triangles: Vec<Triangle> = mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-                Triangle::new(a, b, c)
-            })
-            .collect();
-        let (groups, tree) = grouped_tree(&triangles);
+        let body = crate::CollisionBody::from_mesh(&mesh).unwrap();
+        let triangles = body.local_triangles();
+        let (groups, tree) = grouped_tree(triangles);
         assert_eq!(groups.count(), triangles.len().div_ceil(GROUP_SIZE));
         assert_eq!(tree.leaf_count() as usize, groups.count());
         let mut seen = vec![0u32; triangles.len()];
