@@ -64,16 +64,7 @@ impl CollisionBody {
             ),
         };
         let center = shape.bound.center;
-        // Every leaf, in memory order (a leaf the order would miss is put at its end).
-        let order = shape.leaf_order.get_or_init(|| {
-            let mut order = leaf_order(&shape.bvh);
-            let mut listed = vec![false; shape.groups.count()];
-            order.retain(|&g| {
-                (g as usize) < listed.len() && !std::mem::replace(&mut listed[g as usize], true)
-            });
-            order.extend((0..listed.len() as u32).filter(|&g| !listed[g as usize]));
-            order
-        });
+        let order = shape.leaf_order.get_or_init(|| leaf_order(&shape.bvh));
         // The tree and the fit read the positions, as the triangles do: the two sides take
         // about as long.
         let (deformation, radius_squared) = rayon::join(

@@ -128,13 +128,17 @@ pub(crate) fn corners_aabb([a, b, c]: [Vec3; 3]) -> Aabb {
     Aabb::new(a.min(b).min(c), a.max(b).max(c))
 }
 
-/// The leaf ids of `bvh` sorted by where their nodes lie in the tree's memory. The tree keeps
-/// its nodes in one array, so a node's address orders it.
+/// Every leaf id of `bvh` (0 up to its leaf count), sorted by where its node lies in the tree's
+/// memory: the tree keeps its nodes in one array, so a node's address orders it. A leaf the
+/// tree would not show (none is expected) comes at the end, so none is left out.
 pub(crate) fn leaf_order(bvh: &Bvh) -> Vec<u32> {
-    let mut placed: Vec<(usize, u32)> = (0..bvh.leaf_count())
-        .filter_map(|id| {
-            bvh.leaf_node(id)
-                .map(|node| (std::ptr::from_ref(node) as usize, id))
+    let count = bvh.leaf_count();
+    let mut placed: Vec<(usize, u32)> = (0..count)
+        .map(|id| {
+            let at = bvh
+                .leaf_node(id)
+                .map_or(usize::MAX, |node| std::ptr::from_ref(node) as usize);
+            (at, id)
         })
         .collect();
     placed.sort_unstable();
