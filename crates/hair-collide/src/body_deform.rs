@@ -56,11 +56,12 @@ impl CollisionBody {
                 Arc::ptr_eq(&spare.indices, &shape.indices)
                     && spare.triangles.len() == shape.triangles.len()
             });
-        let (mut triangles, mut bvh) = match spare {
-            Some(spare) => (spare.triangles, spare.bvh),
+        let (mut triangles, mut bvh, spare_deformation) = match spare {
+            Some(spare) => (spare.triangles, spare.bvh, spare.deformation),
             None => (
                 vec![Triangle::new(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO); shape.triangles.len()],
                 shape.bvh.clone(),
+                None,
             ),
         };
         let center = shape.bound.center;
@@ -70,7 +71,10 @@ impl CollisionBody {
         let (deformation, radius_squared) = rayon::join(
             || {
                 refit(&mut bvh, &shape.groups, &shape.indices, order, positions);
-                shape.deformation.as_ref().map(|d| d.at(positions))
+                shape
+                    .deformation
+                    .as_ref()
+                    .map(|d| d.at(positions, spare_deformation))
             },
             || write_triangles(&mut triangles, &shape.indices, positions, center),
         );

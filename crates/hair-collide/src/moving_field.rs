@@ -245,8 +245,9 @@ impl<'a> MovedField<'a> {
     /// stretch, less its deviation
     /// (see the module documentation).
     pub(crate) fn bound(&self, p: Vec3) -> (f32, f32) {
-        let (bound, sign) = self.field().bound(self.fitted_back(p));
-        let bound = self.deformation.map.bound(bound);
+        let rest_point = self.fitted_back(p);
+        let (bound, sign) = self.field().bound(rest_point);
+        let bound = self.deformation.bound(rest_point, bound);
         if bound > 0.0 {
             (bound, sign)
         } else {
@@ -305,7 +306,18 @@ impl CollisionBody {
     /// deformation from the rest field's mesh; `None` where it reads none
     /// ([`CollisionBody::reading_rest_field`]).
     pub fn deviation_from_rest(&self) -> Option<f32> {
-        Some(self.shape.deformation.as_ref()?.deviation())
+        let deformation = self.shape.deformation.as_ref()?;
+        Some(deformation.deviation(&self.current_positions()))
+    }
+
+    /// The vertex positions \[m\] (body frame) of this instant.
+    fn current_positions(&self) -> Vec<Vec3> {
+        let shape = &self.shape;
+        positions_of(
+            &shape.indices,
+            &shape.triangles,
+            shape.pseudonormals.vertex_count,
+        )
     }
 
     /// The rigid transform fitted to the body's deformation from the rest field's mesh (body
@@ -314,7 +326,8 @@ impl CollisionBody {
     /// rest field.
     pub fn rigid_fit(&self) -> Option<(Mat3, Vec3, f32)> {
         let fit = &self.shape.deformation.as_ref()?.fit;
-        Some((fit.rotation, fit.translation, fit.deviation))
+        let deviation = self.deviation_from_rest()?;
+        Some((fit.rotation, fit.translation, deviation))
     }
 
     /// Whether `local` \[m\] (body frame) is certified outside by more than `margin` \[m\]:
