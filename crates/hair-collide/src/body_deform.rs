@@ -56,12 +56,11 @@ impl CollisionBody {
                 Arc::ptr_eq(&spare.indices, &shape.indices)
                     && spare.triangles.len() == shape.triangles.len()
             });
-        let (mut triangles, mut bvh, spare_deformation) = match spare {
-            Some(spare) => (spare.triangles, spare.bvh, spare.deformation),
+        let (mut triangles, mut bvh) = match spare {
+            Some(spare) => (spare.triangles, spare.bvh),
             None => (
                 vec![Triangle::new(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO); shape.triangles.len()],
                 shape.bvh.clone(),
-                None,
             ),
         };
         let center = shape.bound.center;
@@ -71,10 +70,7 @@ impl CollisionBody {
         let (deformation, radius_squared) = rayon::join(
             || {
                 refit(&mut bvh, &shape.groups, &shape.indices, order, positions);
-                shape
-                    .deformation
-                    .as_ref()
-                    .map(|d| d.at(positions, spare_deformation))
+                shape.deformation.as_ref().map(|d| d.at(positions))
             },
             || write_triangles(&mut triangles, &shape.indices, positions, center),
         );

@@ -245,9 +245,8 @@ impl<'a> MovedField<'a> {
     /// stretch, less its deviation
     /// (see the module documentation).
     pub(crate) fn bound(&self, p: Vec3) -> (f32, f32) {
-        let rest_point = self.fitted_back(p);
-        let (bound, sign) = self.field().bound(rest_point);
-        let bound = self.deformation.bound(rest_point, bound);
+        let (bound, sign) = self.field().bound(self.fitted_back(p));
+        let bound = self.deformation.map.bound(bound);
         if bound > 0.0 {
             (bound, sign)
         } else {
@@ -306,18 +305,7 @@ impl CollisionBody {
     /// deformation from the rest field's mesh; `None` where it reads none
     /// ([`CollisionBody::reading_rest_field`]).
     pub fn deviation_from_rest(&self) -> Option<f32> {
-        let deformation = self.shape.deformation.as_ref()?;
-        Some(deformation.deviation(&self.current_positions()))
-    }
-
-    /// The vertex positions \[m\] (body frame) of this instant.
-    fn current_positions(&self) -> Vec<Vec3> {
-        let shape = &self.shape;
-        positions_of(
-            &shape.indices,
-            &shape.triangles,
-            shape.pseudonormals.vertex_count,
-        )
+        Some(self.shape.deformation.as_ref()?.deviation())
     }
 
     /// The rigid transform fitted to the body's deformation from the rest field's mesh (body
@@ -326,8 +314,7 @@ impl CollisionBody {
     /// rest field.
     pub fn rigid_fit(&self) -> Option<(Mat3, Vec3, f32)> {
         let fit = &self.shape.deformation.as_ref()?.fit;
-        let deviation = self.deviation_from_rest()?;
-        Some((fit.rotation, fit.translation, deviation))
+        Some((fit.rotation, fit.translation, fit.deviation))
     }
 
     /// Whether `local` \[m\] (body frame) is certified outside by more than `margin` \[m\]:
