@@ -26,6 +26,7 @@ pub mod export;
 pub mod obj;
 
 mod alembic;
+mod alembic_curves;
 mod alembic_layout;
 mod alembic_mesh;
 mod alembic_samples;
