@@ -126,31 +126,5 @@ fn per_point_widths(object: &CurvesObject, widths: &[f32]) -> Result<Vec<f32>, F
 
 /// Puts the object's path in front of a curve's element.
 fn name_object(error: FormatErrorKind, path: &str) -> FormatErrorKind {
-    match error {
-        FormatErrorKind::NonFinite {
-            element,
-            what,
-            value,
-            location,
-        } => FormatErrorKind::NonFinite {
-            element: format!("{path}: {element}"),
-            what,
-            value,
-            location,
-        },
-        FormatErrorKind::InvalidValue {
-            element,
-            what,
-            value,
-            location,
-            allowed,
-        } => FormatErrorKind::InvalidValue {
-            element: format!("{path}: {element}"),
-            what,
-            value,
-            location,
-            allowed,
-        },
-        other => other,
-    }
+    error.renaming_element(|element| format!("{path}: {element}"))
 }

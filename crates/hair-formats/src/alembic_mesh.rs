@@ -254,18 +254,7 @@ fn as_alembic(error: FormatErrorKind, time: f64) -> FormatErrorKind {
             message: format!("at {time} s: {message}"),
             location: Location::Unknown,
         },
-        FormatErrorKind::NonFinite {
-            element,
-            what,
-            value,
-            location,
-        } => FormatErrorKind::NonFinite {
-            element: format!("{element} at {time} s"),
-            what,
-            value,
-            location,
-        },
-        other => other,
+        other => other.renaming_element(|element| format!("{element} at {time} s")),
     }
 }
 

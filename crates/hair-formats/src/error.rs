@@ -67,6 +67,40 @@ impl FormatError {
     }
 }
 
+impl FormatErrorKind {
+    /// The same error with its element renamed by `rename` where it names one value of an
+    /// element (non-finite or invalid); any other error unchanged.
+    pub(crate) fn renaming_element(self, rename: impl FnOnce(String) -> String) -> Self {
+        match self {
+            FormatErrorKind::NonFinite {
+                element,
+                what,
+                value,
+                location,
+            } => FormatErrorKind::NonFinite {
+                element: rename(element),
+                what,
+                value,
+                location,
+            },
+            FormatErrorKind::InvalidValue {
+                element,
+                what,
+                value,
+                location,
+                allowed,
+            } => FormatErrorKind::InvalidValue {
+                element: rename(element),
+                what,
+                value,
+                location,
+                allowed,
+            },
+            other => other,
+        }
+    }
+}
+
 impl From<FormatErrorKind> for FormatError {
     fn from(kind: FormatErrorKind) -> Self {
         FormatError::in_memory(kind)

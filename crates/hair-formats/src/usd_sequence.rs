@@ -247,17 +247,6 @@ fn at_time_code(error: FormatErrorKind, code: f64) -> FormatErrorKind {
             message: format!("at time code {code}: {message}"),
             location,
         },
-        FormatErrorKind::NonFinite {
-            element,
-            what,
-            value,
-            location,
-        } => FormatErrorKind::NonFinite {
-            element: format!("{element} at time code {code}"),
-            what,
-            value,
-            location,
-        },
-        other => other,
+        other => other.renaming_element(|element| format!("{element} at time code {code}")),
     }
 }
