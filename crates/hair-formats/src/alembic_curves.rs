@@ -89,7 +89,10 @@ pub(crate) fn build(
             };
             builder
                 .push(&object.points[range], &curve_widths, &[], locate)
-                .map_err(|error| name_object(error, &object.path))?;
+                // The object's path in front of the curve's element.
+                .map_err(|error| {
+                    error.renaming_element(|element| format!("{}: {element}", object.path))
+                })?;
             first_point += count as usize;
         }
     }
@@ -122,9 +125,4 @@ fn per_point_widths(object: &CurvesObject, widths: &[f32]) -> Result<Vec<f32>, F
             offset: object.widths_at,
         })
     }
-}
-
-/// Puts the object's path in front of a curve's element.
-fn name_object(error: FormatErrorKind, path: &str) -> FormatErrorKind {
-    error.renaming_element(|element| format!("{path}: {element}"))
 }

@@ -244,7 +244,8 @@ fn mesh(
     })
 }
 
-/// A Usd-worded error of the shared join, as an Alembic error.
+/// A Usd-worded error of the shared join, as an Alembic error; a value's element names the
+/// sample's time.
 fn as_alembic(error: FormatErrorKind, time: f64) -> FormatErrorKind {
     match error {
         FormatErrorKind::Usd {
