@@ -25,7 +25,7 @@ use super::checkpoint::Checkpoint;
 use super::error::{PipelineError, Result};
 use super::report::{FrameReport, LodChanges};
 use super::settings::{LodMode, PipelineSettings};
-use super::step::{charge_wall_time, step_blocks};
+use super::step::{charge_wall_time, on_pool, step_blocks};
 use super::world::{CharacterModel, World};
 
 /// The working memory that advances a world: each character's (solvers, collision stages, posed
@@ -122,6 +122,11 @@ impl WorldPipeline {
     /// above): levels chosen, blends started and ended, state handed over, nothing stepped;
     /// returns the changes summed. A frame already begun is not begun again.
     pub(crate) fn begin_frame(&mut self, world: &mut World, camera: &Camera) -> Result<LodChanges> {
+        on_pool(|| self.begin_frame_on_pool(world, camera))
+    }
+
+    /// [`begin_frame`](Self::begin_frame), on a thread of the pool.
+    fn begin_frame_on_pool(&mut self, world: &mut World, camera: &Camera) -> Result<LodChanges> {
         if self.frame_begun() {
             return Ok(self.pending_changes());
         }
@@ -213,6 +218,11 @@ impl WorldPipeline {
     /// summed, with dynamics and collision charged to the wall-clock time the stepping took.
     /// Without a begun frame it steps with the levels as they are.
     pub(crate) fn finish_frame(&mut self, world: &mut World) -> Result<FrameReport> {
+        on_pool(|| self.finish_frame_on_pool(world))
+    }
+
+    /// [`finish_frame`](Self::finish_frame), on a thread of the pool.
+    fn finish_frame_on_pool(&mut self, world: &mut World) -> Result<FrameReport> {
         let mut body_update = 0.0;
         for mut run in self.runs(world) {
             let started = Instant::now();
@@ -250,14 +260,21 @@ impl WorldPipeline {
     /// A frame seen by `camera`: [`begin_frame`](Self::begin_frame) then
     /// [`finish_frame`](Self::finish_frame).
     pub(crate) fn advance(&mut self, world: &mut World, camera: &Camera) -> Result<FrameReport> {
-        self.begin_frame(world, camera)?;
-        self.finish_frame(world)
+        on_pool(|| {
+            self.begin_frame_on_pool(world, camera)?;
+            self.finish_frame_on_pool(world)
+        })
     }
 
     /// Lets every character's hair settle for `seconds` [s] with its head held still at its
     /// pose now, without choosing levels or advancing the clocks: the same step as a frame's,
     /// every block of every character in one pass.
     pub(crate) fn settle(&mut self, world: &mut World, seconds: f32) -> Result<()> {
+        on_pool(|| self.settle_on_pool(world, seconds))
+    }
+
+    /// [`settle`](Self::settle), on a thread of the pool.
+    fn settle_on_pool(&mut self, world: &mut World, seconds: f32) -> Result<()> {
         let mut still: Vec<(Environment, usize)> = Vec::with_capacity(self.characters.len());
         for run in self.runs(world) {
             still.push((run.settle_environment(), run.settle_steps(seconds)));
