@@ -95,8 +95,9 @@ pub(crate) fn character_steps<'a>(
 /// would fall asleep between stages, so a frame of a dozen stages paid a dozen wake-ups of both
 /// sides. Run from inside the pool, a stage's split is a task the calling thread takes part in.
 /// Measured on the 2 cores with the talking head's 20k-triangle body (`cargo run --release
-/// --example deforming_body_cost 240`): collision fell from 1.54–1.66 to 1.42–1.55 ms a frame
-/// and dynamics from 0.95–0.99 to 0.88–0.93 ms.
+/// --example deforming_body_cost 240`, `docs/bodies.md`): collision fell from 1.54–1.72 to
+/// 1.44–1.56 ms a frame and dynamics from 0.94–0.98 to 0.88–0.92 ms; at one thread collision
+/// fell from 2.79–2.95 to 2.31–2.35 ms.
 pub(crate) fn on_pool<R: Send>(work: impl FnOnce() -> R + Send) -> R {
     rayon::scope(|_| work())
 }
