@@ -34,6 +34,8 @@ mod transfer;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_hand_over;
+#[cfg(test)]
 mod tests_lead;
 #[cfg(test)]
 mod tests_strand_follow;
