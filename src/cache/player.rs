@@ -8,18 +8,23 @@ use hair_core::lod::CostModel;
 use hair_core::{Camera, RigidTransform};
 use hair_render::{ActiveSkeletons, StrandThinning};
 
+use super::bodies::CachedBodies;
 use super::{FrameRecord, SimulationCache};
-use crate::pipeline::{DrawnSource, FrameReport, PipelineError, PipelineSettings, Result, RunMode};
+use crate::pipeline::{
+    CharacterModel, DrawnSource, FrameReport, PipelineError, PipelineSettings, Result, RunMode,
+};
 use crate::run::{FrameRenderer, Runnable, View, render_view_of};
 
 /// A run read back from a [`SimulationCache`], frame after frame from `first_frame`, drawn by a
 /// renderer of kind `R` ([`PipelineRenderer`](crate::pipeline::PipelineRenderer) for a lone
 /// character, [`CrowdRenderer`](crate::crowd::CrowdRenderer) for a crowd) bound to the same
 /// scene the cache was simulated from. It chooses nothing: the levels, blends and poses are the
-/// simulation's, so a pixel tolerance or frame budget has nothing to steer.
+/// simulation's, so a pixel tolerance or frame budget has nothing to steer. A deforming head is
+/// drawn deformed at each record's time, its strands on the roots its body carries.
 pub struct CachedRun<R> {
     cache: SimulationCache,
     settings: PipelineSettings,
+    bodies: CachedBodies,
     next_frame: usize,
     record: Option<FrameRecord>,
     read_seconds: f64,
@@ -28,16 +33,30 @@ pub struct CachedRun<R> {
 
 impl<R> CachedRun<R> {
     /// A run of `cache`'s records from `first_frame` on, drawn with `settings`' strand thinning
-    /// (the settings the cache was simulated with: its fingerprint holds them).
-    pub fn new(cache: SimulationCache, settings: PipelineSettings, first_frame: usize) -> Self {
-        CachedRun {
+    /// (the settings the cache was simulated with: its fingerprint holds them), for
+    /// `characters`, the models it was simulated from in the shot's order (their deforming
+    /// bodies are sampled at each record's time). Errors: a deforming body whose roots cannot
+    /// be attached to its rest mesh.
+    pub fn new(
+        cache: SimulationCache,
+        characters: &[CharacterModel],
+        settings: PipelineSettings,
+        first_frame: usize,
+    ) -> Result<Self> {
+        Ok(CachedRun {
             cache,
             settings,
+            bodies: CachedBodies::of(characters)?,
             next_frame: first_frame,
             record: None,
             read_seconds: 0.0,
             renderer: PhantomData,
-        }
+        })
+    }
+
+    /// The cache's directory.
+    pub fn cache_dir(&self) -> &std::path::Path {
+        self.cache.dir()
     }
 
     /// The record of the frame last advanced to.
@@ -74,6 +93,22 @@ impl<R> DrawnSource for CachedRun<R> {
 
     fn strand_thinning(&self) -> StrandThinning {
         self.settings.strand_thinning()
+    }
+
+    fn deformed_bodies(&self) -> Vec<Option<hair_core::TriangleMesh>> {
+        self.record
+            .as_ref()
+            .map(|r| self.bodies.meshes(r.report.time))
+            .unwrap_or_default()
+    }
+
+    fn strand_root_shifts(&self, active: &ActiveSkeletons, shifts: &mut Vec<glam::Vec3>) {
+        match &self.record {
+            Some(r) => self
+                .bodies
+                .strand_root_shifts(&r.head_poses, r.report.time, active, shifts),
+            None => shifts.clear(),
+        }
     }
 }
 

@@ -11,17 +11,18 @@ use crate::render::RendererOptions;
 use crate::run::{RunOptions, View, run_frames, run_shot};
 use crate::scene_file::SceneFile;
 
-/// A shaking, wind-blown wavy groom seen on a zoom-out: its sections change level and blend.
-fn shot() -> Shot {
-    SceneFile::parse(
-        "[groom]\npreset = \"wavy\"\nsection_count = 24\nstrands_per_group = 6\n\
+/// A shaking, wind-blown wavy groom seen on a zoom-out: its sections change level and blend;
+/// `more` adds to the scene file (a deforming body).
+fn shot(more: &str) -> Shot {
+    SceneFile::parse(&format!(
+        "{more}[groom]\npreset = \"wavy\"\nsection_count = 24\nstrands_per_group = 6\n\
          rest_pose = \"grown\"\n[dynamics]\nsettle_seconds = 0.0\n\
          [motion]\nkind = \"shake\"\namplitude_degrees = 20.0\npeak_speed = 3.0\n\
          [wind]\nspeed = 2.0\ngusts = 1.0\n\
          [camera]\npath = \"zoom-out\"\ndistance = 0.5\nend_distance = 6.0\n\
          [lod]\npixel_tolerance = 2.0\nblend_time = 0.05\n\
          [frames]\ncount = 6\nfps = 60\nsize = \"96x64\"\n",
-    )
+    ))
     .and_then(|file| file.resolve())
     .unwrap()
 }
@@ -34,7 +35,20 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 
 #[test]
 fn frames_from_the_cache_are_the_simulating_process_frames() {
-    let shot = shot();
+    cached_frames_are_the_simulating_process_frames("");
+}
+
+/// A talking head: the cache's frames draw the body deformed at each record's time and the
+/// strands shifted onto the roots it carries, as the simulating process draws them.
+#[test]
+fn a_deforming_heads_frames_from_the_cache_are_the_simulating_process_frames() {
+    cached_frames_are_the_simulating_process_frames("[body]\nanimation = \"talk\"\n");
+}
+
+/// Simulates `shot(more)` into a cache and renders it from there, whole, as a chunk and frame by
+/// frame backwards; every image must be the one the simulating process rendered.
+fn cached_frames_are_the_simulating_process_frames(more: &str) {
+    let shot = shot(more);
     let scene = shot.build_scene().unwrap();
     let options = RendererOptions::from_env().unwrap();
     let views = [View::Shaded, View::LevelColors];
@@ -58,9 +72,13 @@ fn frames_from_the_cache_are_the_simulating_process_frames() {
     assert!(levels_changed > 0, "the shot changes levels");
 
     // Simulated into a cache, without a renderer.
-    let dir = temp_dir("lone");
+    let dir = temp_dir(if more.is_empty() {
+        "lone"
+    } else {
+        "lone-deforming"
+    });
     let model = CharacterModel::new(Arc::new(scene.clone()), shot.environment.clone());
-    let fingerprint = run_fingerprint(&shot, &[model]);
+    let fingerprint = run_fingerprint(&shot, std::slice::from_ref(&model));
     let cache = SimulationCache::create(&dir, fingerprint.clone()).unwrap();
     let pipeline = shot.pipeline(&scene, shot.settings, None).unwrap();
     let frame_loop = FrameLoop::new(&shot, pipeline, 0..shot.frames, None).unwrap();
@@ -76,7 +94,13 @@ fn frames_from_the_cache_are_the_simulating_process_frames() {
     // (a render chunk), then its frames in reverse, one chunk each.
     let from_cache = |frames: std::ops::Range<usize>| {
         let mut renderer = PipelineRenderer::new(&options, &scene).unwrap();
-        let run = CachedRun::new(cache.clone(), shot.settings, frames.start);
+        let run = CachedRun::new(
+            cache.clone(),
+            std::slice::from_ref(&model),
+            shot.settings,
+            frames.start,
+        )
+        .unwrap();
         let mut images = Vec::new();
         run_frames(
             &shot,
@@ -162,7 +186,7 @@ fn a_crowd_renders_from_its_cache_bit_for_bit() {
     .unwrap();
 
     let mut renderer = CrowdRenderer::new(&options, &model).unwrap();
-    let run = CachedRun::<CrowdRenderer>::new(cache, shot.settings, 0);
+    let run = CachedRun::<CrowdRenderer>::new(cache, &characters, shot.settings, 0).unwrap();
     let mut cached = Vec::new();
     run_frames(
         &shot,
@@ -182,7 +206,7 @@ fn a_crowd_renders_from_its_cache_bit_for_bit() {
 
 #[test]
 fn the_fingerprint_follows_the_run_not_the_drawing_style() {
-    let shot = shot();
+    let shot = shot("");
     let scene = Arc::new(shot.build_scene().unwrap());
     let print = |shot: &Shot| {
         run_fingerprint(

@@ -151,4 +151,13 @@ impl Crowd {
     pub fn append_drawn(&mut self, active: &mut ActiveSkeletons) -> Result<()> {
         self.stages.append_drawn(&mut self.world, active)
     }
+
+    /// Fills `shifts` (cleared first) with each strand's shift [m, world] onto where its
+    /// character's deforming body carries its root, for the skeletons `active` holds (as
+    /// [`append_drawn`](Self::append_drawn) laid them out), every character's strands one after
+    /// the other (zeros for a rigid head's); left empty where no head deforms. See
+    /// [`Pipeline::strand_root_shifts`](crate::pipeline::Pipeline::strand_root_shifts).
+    pub fn strand_root_shifts(&self, active: &ActiveSkeletons, shifts: &mut Vec<glam::Vec3>) {
+        self.stages.strand_root_shifts(&self.world, active, shifts);
+    }
 }

@@ -25,6 +25,8 @@ pub struct CrowdRenderer {
     heads: CrowdHeads,
     /// Line shading, hair shading, line coverage.
     style: DrawStyle,
+    /// This frame's strand root shifts (scratch).
+    shifts: Vec<glam::Vec3>,
 }
 
 impl CrowdRenderer {
@@ -36,6 +38,7 @@ impl CrowdRenderer {
             active: ActiveSkeletons::new(),
             heads: CrowdHeads::default(),
             style: DrawStyle::default(),
+            shifts: Vec::new(),
         };
         crowd_renderer.bind(model)?;
         Ok(crowd_renderer)
@@ -62,7 +65,8 @@ impl CrowdRenderer {
         &self.renderer
     }
 
-    /// Gathers every character's skeletons and poses the heads where the simulation has them,
+    /// Gathers every character's skeletons, shifts the strands of deforming heads onto the
+    /// roots their bodies carry, and poses the heads where the simulation has them,
     /// a rigid one tessellated as coarsely as
     /// [`HEAD_PIXEL_TOLERANCE`](crate::head_levels::HEAD_PIXEL_TOLERANCE) allows from `camera`
     /// in an image `height` pixels tall, a deforming one as its body at the time drawn.
@@ -73,6 +77,8 @@ impl CrowdRenderer {
         height: u32,
     ) -> Result<()> {
         crowd.gather_drawn(&mut self.active)?;
+        crowd.strand_root_shifts(&self.active, &mut self.shifts);
+        self.renderer.set_strand_root_shifts(&self.shifts)?;
         let poses = crowd.head_poses();
         let deformed = crowd.deformed_bodies();
         if let Some(mesh) = self.heads.mesh_to_draw(&poses, &deformed, camera, height) {
@@ -162,26 +168,17 @@ impl DrawnSource for Crowd {
         self.settings().strand_thinning()
     }
 
+    fn strand_root_shifts(&self, active: &ActiveSkeletons, shifts: &mut Vec<glam::Vec3>) {
+        Crowd::strand_root_shifts(self, active, shifts);
+    }
+
     fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
-        // Characters wearing one body share its sequence and its time: each instant is made
-        // once (its normals too) and copied for the others.
-        let characters = self.world().characters();
-        let mut made: Vec<(*const hair_core::MeshSequence, f64, usize)> = Vec::new();
-        let mut bodies: Vec<Option<TriangleMesh>> = Vec::with_capacity(characters.len());
-        for character in characters {
-            let body = character.model().scene.body_motion.as_ref().map(|motion| {
-                let key = (std::sync::Arc::as_ptr(motion), character.time());
-                match made.iter().find(|(at, time, _)| (*at, *time) == key) {
-                    Some(&(_, _, first)) => bodies[first].clone(),
-                    None => {
-                        made.push((key.0, key.1, bodies.len()));
-                        character.body_mesh()
-                    }
-                }
-            });
-            bodies.push(body.flatten());
-        }
-        bodies
+        crate::pipeline::body_meshes(self.world().characters().iter().map(|character| {
+            (
+                character.model().scene.body_motion.as_ref(),
+                character.time(),
+            )
+        }))
     }
 }
 

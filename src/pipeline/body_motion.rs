@@ -8,8 +8,10 @@ use std::sync::Arc;
 use glam::Vec3;
 use hair_collide::{CollisionBody, RestBoxes, RestField, attach_roots};
 use hair_core::dynamics::{ChainRoots, DeformingBody, RootCarrier, SurfaceAttachment};
-use hair_core::representation::geometry::strand_polylines;
-use hair_core::{RigidTransform, Scene, TriangleMesh};
+use hair_core::representation::drawn::ChainStart;
+use hair_core::representation::roots::{for_each_strand_root, strand_roots};
+use hair_core::{Groom, MeshSequence, RigidTransform, Scene, TriangleMesh};
+use hair_render::{ActiveSkeletons, SkeletonFrame};
 
 use super::error::Result;
 
@@ -57,15 +59,10 @@ impl BodyRide {
                 })
                 .collect())
         };
-        // The strands' roots at rest: the first point of each drawn strand on the rest
-        // skeletons (one point per segment is enough for the roots).
+        // The strands' roots at rest: where each is drawn from on the rest skeletons.
         let groom = &scene.groom;
         let (positions, frames) = groom.skeletons.rest_pose(&RigidTransform::IDENTITY);
-        let lines = strand_polylines(groom, &positions, &frames, 1)?;
-        let strand_roots: Vec<Vec3> = lines.offsets[..lines.offsets.len() - 1]
-            .iter()
-            .map(|&start| lines.points[start as usize])
-            .collect();
+        let strand_roots = strand_roots(groom, &positions, &frames)?;
         Ok(Some(BodyRide {
             body: Arc::new(DeformingBody::new(motion.clone())),
             attachments: surface(&groom.skeletons.root_positions)?,
@@ -89,22 +86,64 @@ impl BodyRide {
         offsets: &[u32],
     ) {
         for (strand, range) in offsets.windows(2).enumerate() {
-            let (Some(attachment), Some(&rest)) = (
-                self.strand_attachments.get(strand),
-                self.strand_roots.get(strand),
-            ) else {
-                return;
-            };
-            let pose = head.after(&self.body.carry(attachment, time));
             let strand_points = &mut points[range[0] as usize..range[1] as usize];
             let Some(&root) = strand_points.first() else {
                 continue;
             };
-            let shift = pose.transform_point(rest) - root;
+            let Some(carried) = self.carried_strand_root(head, time, strand) else {
+                return;
+            };
+            let shift = carried - root;
             for point in strand_points {
                 *point += shift;
             }
         }
+    }
+
+    /// Where the body carries strand `strand`'s root at `time` [s] with the head at `head` [m,
+    /// world]: its rest root turned and moved with its triangle. `None` past the groom's strands.
+    fn carried_strand_root(&self, head: &RigidTransform, time: f64, strand: usize) -> Option<Vec3> {
+        let attachment = self.strand_attachments.get(strand)?;
+        let rest = self.strand_roots.get(strand)?;
+        Some(
+            head.after(&self.body.carry(attachment, time))
+                .transform_point(*rest),
+        )
+    }
+
+    /// Appends to `shifts` one shift [m, world] per strand of `groom` (the groom this ride was
+    /// made for), in its order: from where the renderer draws the strand's root on the
+    /// skeletons of `frame` (its strand group's chain at `first_chain` plus the groom's chain
+    /// number) to where the body carries it at `time` [s] with the head at `head`
+    /// ([`hair_render::Renderer::set_strand_root_shifts`]). Zero for strands whose chain is not
+    /// drawn (fewer than two nodes).
+    pub(crate) fn append_strand_root_shifts(
+        &self,
+        groom: &Groom,
+        head: &RigidTransform,
+        time: f64,
+        frame: &SkeletonFrame<'_>,
+        first_chain: usize,
+        shifts: &mut Vec<Vec3>,
+    ) {
+        let base = shifts.len();
+        shifts.resize(base + groom.strands.strand_count(), Vec3::ZERO);
+        let chain_start = |chain: usize| {
+            let chain = first_chain + chain;
+            let start = *frame.chain_offsets.get(chain)? as usize;
+            let end = *frame.chain_offsets.get(chain + 1)? as usize;
+            (end >= start + 2 && end <= frame.node_positions.len()).then(|| ChainStart {
+                first: frame.node_positions[start],
+                second: frame.node_positions[start + 1],
+                normal: frame.node_normals[start],
+                binormal: frame.node_binormals[start],
+            })
+        };
+        for_each_strand_root(groom, chain_start, |strand, root| {
+            if let Some(carried) = self.carried_strand_root(head, time, strand) {
+                shifts[base + strand] = carried - root;
+            }
+        });
     }
 
     /// The carrier of a simulation of the groom's skeleton chains `chains`, in that order.
@@ -160,6 +199,80 @@ impl BodyRide {
         };
         Ok((body, moved))
     }
+}
+
+/// One character's part of a frame's strand root shifts ([`strand_root_shifts`]).
+pub(crate) struct ShiftedCharacter<'a> {
+    /// Its groom, as uploaded.
+    pub(crate) groom: &'a Groom,
+    /// Where the groom rides its deforming head; `None` for a rigid head.
+    pub(crate) ride: Option<&'a BodyRide>,
+    /// Its head's pose at the time drawn.
+    pub(crate) head: RigidTransform,
+    /// The time drawn [s].
+    pub(crate) time: f64,
+}
+
+/// Fills `shifts` (cleared first) with each strand's shift [m, world] onto where its
+/// character's body carries its root, for the skeletons `active` holds (every character's
+/// chains one after the other, in `characters`' order), every character's strands one after
+/// the other (zeros for a rigid head's), as
+/// [`hair_render::Renderer::set_strand_root_shifts`] takes them. Left empty where no head
+/// deforms.
+pub(crate) fn strand_root_shifts<'a>(
+    characters: impl IntoIterator<Item = ShiftedCharacter<'a>>,
+    active: &ActiveSkeletons,
+    shifts: &mut Vec<Vec3>,
+) {
+    shifts.clear();
+    let frame = active.frame();
+    let (mut first_chain, mut deforming) = (0, false);
+    for character in characters {
+        let groom = character.groom;
+        match character.ride {
+            Some(ride) => {
+                deforming = true;
+                ride.append_strand_root_shifts(
+                    groom,
+                    &character.head,
+                    character.time,
+                    &frame,
+                    first_chain,
+                    shifts,
+                );
+            }
+            None => shifts.resize(shifts.len() + groom.strands.strand_count(), Vec3::ZERO),
+        }
+        first_chain += groom.skeletons.chain_count();
+    }
+    if !deforming {
+        shifts.clear();
+    }
+}
+
+/// Each character's body mesh [m, head space, with vertex normals] at its time, for characters
+/// given as their body motion (`None`: a rigid head) and time [s]: characters wearing one body
+/// at one time share its sequence, so each instant is made once (its normals too) and copied
+/// for the others.
+pub(crate) fn body_meshes<'a>(
+    characters: impl IntoIterator<Item = (Option<&'a Arc<MeshSequence>>, f64)>,
+) -> Vec<Option<TriangleMesh>> {
+    let mut made: Vec<(*const MeshSequence, f64, usize)> = Vec::new();
+    let mut bodies: Vec<Option<TriangleMesh>> = Vec::new();
+    for (motion, time) in characters {
+        let body = motion.map(|motion| {
+            let key = (Arc::as_ptr(motion), time);
+            match made.iter().find(|(at, t, _)| (*at, *t) == key) {
+                Some(&(_, _, first)) => bodies[first].clone(),
+                None => {
+                    made.push((key.0, key.1, bodies.len()));
+                    Some(motion.mesh_at(time))
+                }
+            }
+        });
+        bodies.push(body.flatten());
+    }
+    bodies
 }
 
 /// Where the groom's chains have their roots at `time` [s] with the head at `head` (its pose at

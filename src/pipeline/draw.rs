@@ -5,6 +5,7 @@
 
 use std::time::Instant;
 
+use glam::Vec3;
 use hair_core::{Camera, RigidTransform, Scene, TriangleMesh};
 use hair_render::{
     ActiveSkeletons, FrameSettings, Renderer, RendererOptions, ShadingMode, StrandThinning,
@@ -34,6 +35,14 @@ pub trait DrawnSource {
     fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
         Vec::new()
     }
+
+    /// Fills `shifts` (cleared first) with each strand's shift [m, world] onto where its
+    /// character's deforming body carries its root, for the skeletons `active` gathered, in the
+    /// order the grooms' strands are uploaded
+    /// ([`Renderer::set_strand_root_shifts`]); left empty where no head deforms (the default).
+    fn strand_root_shifts(&self, _active: &ActiveSkeletons, shifts: &mut Vec<Vec3>) {
+        shifts.clear();
+    }
 }
 
 impl DrawnSource for Pipeline {
@@ -52,6 +61,10 @@ impl DrawnSource for Pipeline {
     fn deformed_bodies(&self) -> Vec<Option<TriangleMesh>> {
         vec![self.character().body_mesh()]
     }
+
+    fn strand_root_shifts(&self, active: &ActiveSkeletons, shifts: &mut Vec<Vec3>) {
+        Pipeline::strand_root_shifts(self, active, shifts);
+    }
 }
 
 /// A renderer bound to one pipeline's groom and head (uploaded once), with its per-frame buffer.
@@ -66,6 +79,8 @@ pub struct PipelineRenderer {
     head_pose: (RigidTransform, usize),
     /// Line shading, hair shading, line coverage.
     style: DrawStyle,
+    /// This frame's strand root shifts (scratch).
+    shifts: Vec<Vec3>,
 }
 
 impl PipelineRenderer {
@@ -86,6 +101,7 @@ impl PipelineRenderer {
             head_levels: HeadLevels::new(&scene.head),
             head_pose: (RigidTransform::IDENTITY, 0),
             style: DrawStyle::default(),
+            shifts: Vec::new(),
         })
     }
 
@@ -129,10 +145,13 @@ impl PipelineRenderer {
         Ok(())
     }
 
-    /// Gathers the source's skeletons to draw and poses the head mesh where the simulation
-    /// has it, for a frame drawn with `settings`.
+    /// Gathers the source's skeletons to draw, shifts its strands onto the roots a deforming
+    /// body carries, and poses the head mesh where the simulation has it, for a frame drawn
+    /// with `settings`.
     fn prepare(&mut self, source: &mut impl DrawnSource, settings: &FrameSettings) -> Result<()> {
         source.gather_drawn(&mut self.active)?;
+        source.strand_root_shifts(&self.active, &mut self.shifts);
+        self.renderer.set_strand_root_shifts(&self.shifts)?;
         let pose = source.head_poses().first().copied().unwrap_or_default();
         match source.deformed_bodies().into_iter().next().flatten() {
             Some(mesh) => {

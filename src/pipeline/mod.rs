@@ -23,6 +23,7 @@
 
 mod block;
 mod body_motion;
+pub(crate) use body_motion::{BodyRide, ShiftedCharacter, body_meshes, strand_root_shifts};
 mod budget;
 mod character;
 mod character_frame;

@@ -191,6 +191,17 @@ impl Pipeline {
         self.stages.append_drawn(&mut self.world, active)
     }
 
+    /// Fills `shifts` (cleared first) with each strand's shift [m, world] from where the
+    /// renderer draws its root on the skeletons `active` holds (as
+    /// [`gather_drawn`](Self::gather_drawn) filled it) to where the deforming body carries it
+    /// now, in the groom's strand order, for
+    /// [`Renderer::set_strand_root_shifts`](hair_render::Renderer::set_strand_root_shifts):
+    /// the skin stretches, and the skeletons' rest offsets do not follow each root's triangle.
+    /// Zero for strands not drawn; `shifts` left empty for a rigid head.
+    pub fn strand_root_shifts(&self, active: &ActiveSkeletons, shifts: &mut Vec<glam::Vec3>) {
+        self.stages.strand_root_shifts(&self.world, active, shifts);
+    }
+
     /// Chooses levels within a frame budget of `seconds` [s] from the next frame on, minimising
     /// the total estimated error (the same choice as a crowd's over all its characters, and as
     /// [`LodSelector::select_within_budget`]) with costs from `model`, which

@@ -14,11 +14,13 @@
 use std::ops::Range;
 use std::time::Instant;
 
+use glam::Vec3;
 use hair_core::dynamics::Environment;
 use hair_core::lod::{BudgetOutcome, SectionOptions};
 use hair_core::{Camera, Level};
 use hair_render::ActiveSkeletons;
 
+use super::body_motion::{ShiftedCharacter, strand_root_shifts};
 use super::budget::FrameBudget;
 use super::character::{CharacterRun, CharacterWork, Shared, build_character};
 use super::checkpoint::Checkpoint;
@@ -306,6 +308,30 @@ impl WorldPipeline {
             run.append_drawn(active)?;
         }
         Ok(())
+    }
+
+    /// Each strand's shift [m, world] onto where its character's body carries its root, for the
+    /// skeletons `active` holds as [`append_drawn`](Self::append_drawn) laid them out: every
+    /// character's strands one after the other (zeros for a rigid head's), in the order their
+    /// grooms are uploaded ([`hair_render::Renderer::set_strand_root_shifts`]). `shifts` is
+    /// left empty where no head deforms.
+    pub(crate) fn strand_root_shifts(
+        &self,
+        world: &World,
+        active: &ActiveSkeletons,
+        shifts: &mut Vec<Vec3>,
+    ) {
+        let characters = world
+            .characters
+            .iter()
+            .zip(&self.characters)
+            .map(|(c, work)| ShiftedCharacter {
+                groom: &c.model.scene.groom,
+                ride: work.ride.as_ref(),
+                head: c.head_pose(),
+                time: c.time(),
+            });
+        strand_root_shifts(characters, active, shifts);
     }
 
     /// Chooses every character's levels within one frame budget [s] from the next frame on,

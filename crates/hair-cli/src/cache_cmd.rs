@@ -226,16 +226,21 @@ pub fn render(job: CacheRender<'_>) -> Result<()> {
         let cache = SimulationCache::open(job.cache, run_fingerprint(shot, &characters))?;
         let mut renderer = CrowdRenderer::new(&job.options, &model)?;
         renderer.set_style(job.style);
-        play(shot, &mut renderer, cache, frames, &views, &mut writer)?
+        let run = CachedRun::new(cache, &characters, shot.settings, frames.start)?;
+        play(shot, &mut renderer, run, frames, &views, &mut writer)?
     } else {
         let mut framed = shot.clone();
         let scene = crate::scene_build::build_scene(&mut framed)?;
         let shot = &framed;
-        let character = CharacterModel::new(Arc::new(scene.clone()), shot.environment.clone());
-        let cache = SimulationCache::open(job.cache, run_fingerprint(shot, &[character]))?;
+        let characters = [CharacterModel::new(
+            Arc::new(scene.clone()),
+            shot.environment.clone(),
+        )];
+        let cache = SimulationCache::open(job.cache, run_fingerprint(shot, &characters))?;
         let mut renderer = PipelineRenderer::new(&job.options, &scene)?;
         renderer.set_style(job.style);
-        play(shot, &mut renderer, cache, frames, &views, &mut writer)?
+        let run = CachedRun::new(cache, &characters, shot.settings, frames.start)?;
+        play(shot, &mut renderer, run, frames, &views, &mut writer)?
     };
     writer.finish()?;
     if let Some(path) = &job.json {
@@ -255,11 +260,12 @@ pub fn render(job: CacheRender<'_>) -> Result<()> {
     Ok(())
 }
 
-/// The frame loop over `frames` of the cache, drawn by `renderer` in `views` and written.
+/// The frame loop over `frames` of the cache's `run`, drawn by `renderer` in `views` and
+/// written.
 fn play<R: hairlod::run::FrameRenderer>(
     shot: &Shot,
     renderer: &mut R,
-    cache: SimulationCache,
+    run: CachedRun<R>,
     frames: Range<usize>,
     views: &[View],
     writer: &mut FrameWriter,
@@ -269,10 +275,9 @@ fn play<R: hairlod::run::FrameRenderer>(
         frames.start,
         frames.end,
         shot.frames,
-        cache.dir().display()
+        run.cache_dir().display()
     );
     let bar = progress_bar(frames.len(), shot.settings.lod.column_name());
-    let run = CachedRun::<R>::new(cache, shot.settings, frames.start);
     let mut read = 0.0;
     let result = run_frames(shot, run, frames, None, Some((renderer, views)), |frame| {
         writer.write(frame.report.frame, frame.images)?;

@@ -17,8 +17,11 @@ use crate::target::{COLOR_FORMAT, DEPTH_FORMAT};
 /// Name of the environment variable that picks the backend.
 pub const BACKEND_ENV_VAR: &str = "HAIRLOD_BACKEND";
 
-/// Storage buffers the strand shaders bind in one stage (nodes, chain offsets, strands, output).
-pub(crate) const REQUIRED_STORAGE_BUFFERS_PER_STAGE: u32 = 4;
+/// Storage buffers the evaluation pass binds in its one stage, the most of any pipeline: nodes
+/// and chains (group 0); strands, chain-curve samples, residual profiles, strands drawn and
+/// strand shifts (group 1); its output (group 2). WebGPU's default limit, which the CPU
+/// drivers exceed.
+pub(crate) const REQUIRED_STORAGE_BUFFERS_PER_STAGE: u32 = 8;
 
 /// Which wgpu backend to search for adapters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

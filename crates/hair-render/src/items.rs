@@ -4,7 +4,7 @@
 use crate::batches::{Batch, ChainOrder, GpuChain};
 use crate::buffers::{GrowableBuffer, check_binding_size};
 use crate::device::GpuContext;
-use crate::error::Result;
+use crate::error::{Result, invalid};
 use crate::inputs::{GpuStrand, StrandSet, pack_strands};
 use crate::pipelines::Pipelines;
 use crate::scopes::ErrorScopes;
@@ -83,6 +83,13 @@ pub(crate) struct HairItems {
     strand_profiles: GrowableBuffer,
     /// The strands this frame draws, by sorted position (binding 3 of the strand items).
     drawn_strands: GrowableBuffer,
+    /// Each strand's shift [m] (`vec4`, w unused) by sorted position (binding 4 of the strand
+    /// items): zeros unless [`HairItems::set_strand_root_shifts`] set some.
+    strand_shifts: GrowableBuffer,
+    /// Whether `strand_shifts` holds shifts (not all zeros).
+    shifted: bool,
+    /// Sorted-order scratch of the shifts.
+    shift_scratch: Vec<[f32; 4]>,
     /// Largest cluster ring radius [m] per chain (0 without clusters), from the cluster upload.
     chain_ring_radii: Vec<f32>,
     /// Strand count and width per chain, from the strand upload (for strand thinning).
@@ -103,6 +110,9 @@ impl HairItems {
             patches: Items::new(device, "hair-render patches"),
             strand_profiles: GrowableBuffer::new(device, "hair-render strand profiles", storage),
             drawn_strands: GrowableBuffer::new(device, "hair-render drawn strands", storage),
+            strand_shifts: GrowableBuffer::new(device, "hair-render strand shifts", storage),
+            shifted: false,
+            shift_scratch: Vec::new(),
             chain_ring_radii: Vec::new(),
             chain_strand_spans: Vec::new(),
             drawn_scratch: Vec::new(),
@@ -199,7 +209,77 @@ impl HairItems {
         {
             self.strands.bind_group = None;
         }
+        self.write_zero_shifts(gpu);
         scope.pop("uploading strands")
+    }
+
+    /// Moves each uploaded strand by `shifts[s]` [m, world] in the frames drawn from now on
+    /// (`shifts` in upload order, one per strand), or by nothing when `shifts` is empty. The
+    /// whole strand moves, so a strand whose root is carried somewhere its skeleton's rest
+    /// offsets do not put it (a stretching skin) is drawn from there. Refuses a count that is
+    /// not the strand count and a shift that is not finite; the shifts set before stay.
+    pub fn set_strand_root_shifts(
+        &mut self,
+        gpu: &GpuContext,
+        shifts: &[glam::Vec3],
+    ) -> Result<()> {
+        if shifts.is_empty() {
+            if self.shifted {
+                self.write_zero_shifts(gpu);
+            }
+            return Ok(());
+        }
+        let strands = self.strands.order.item_count();
+        if shifts.len() != strands {
+            return Err(invalid(format!(
+                "{} strand root shifts for {strands} uploaded strands",
+                shifts.len()
+            )));
+        }
+        if let Some(strand) = shifts.iter().position(|s| !s.is_finite()) {
+            return Err(invalid(format!(
+                "strand {strand}'s root shift {} is not finite",
+                shifts[strand]
+            )));
+        }
+        self.shift_scratch.clear();
+        self.shift_scratch.extend(
+            self.strands
+                .order
+                .sorted_to_input
+                .iter()
+                .map(|&i| shifts[i as usize].extend(0.0).to_array()),
+        );
+        let scope = ErrorScopes::push(&gpu.device);
+        if self.strand_shifts.write(
+            &gpu.device,
+            &gpu.queue,
+            bytemuck::cast_slice(&self.shift_scratch),
+        ) {
+            self.strands.bind_group = None;
+        }
+        self.shifted = true;
+        scope.pop("uploading strand root shifts")
+    }
+
+    /// Whether the strands are drawn shifted ([`HairItems::set_strand_root_shifts`]).
+    pub fn strands_shifted(&self) -> bool {
+        self.shifted
+    }
+
+    /// Zero shifts for every uploaded strand.
+    fn write_zero_shifts(&mut self, gpu: &GpuContext) {
+        self.shift_scratch.clear();
+        self.shift_scratch
+            .resize(self.strands.order.item_count(), [0.0; 4]);
+        if self.strand_shifts.write(
+            &gpu.device,
+            &gpu.queue,
+            bytemuck::cast_slice(&self.shift_scratch),
+        ) {
+            self.strands.bind_group = None;
+        }
+        self.shifted = false;
     }
 
     /// Uploads the static cluster data, replacing any earlier set.
@@ -263,6 +343,10 @@ impl HairItems {
                     wgpu::BindGroupEntry {
                         binding: 3,
                         resource: self.drawn_strands.buffer().as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: self.strand_shifts.buffer().as_entire_binding(),
                     },
                 ],
             })

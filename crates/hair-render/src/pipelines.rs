@@ -36,7 +36,8 @@ pub(crate) const HEAD_VERTEX_STRIDE: u64 = 24;
 pub(crate) struct Pipelines {
     /// Group 0: globals (binding 0), nodes (1), chain table (2).
     pub scene_layout: wgpu::BindGroupLayout,
-    /// Group 1 of strands: the strands (binding 0) and this frame's chain-curve samples (1).
+    /// Group 1 of strands: the strands (binding 0), this frame's chain-curve samples (1), the
+    /// residual profiles (2), the strands drawn (3) and the strands' root shifts (4).
     pub strand_items_layout: wgpu::BindGroupLayout,
     /// Group 1 of clusters and patches: their static records (binding 0).
     pub items_layout: wgpu::BindGroupLayout,
@@ -144,6 +145,7 @@ impl Pipelines {
                     storage_entry(1, true, geometry_stages),
                     storage_entry(2, true, geometry_stages),
                     storage_entry(3, true, geometry_stages),
+                    storage_entry(4, true, geometry_stages),
                 ],
             });
         let chain_curves_layout =

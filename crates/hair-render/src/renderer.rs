@@ -169,6 +169,25 @@ impl Renderer {
         self.items.upload_strands(&self.gpu, strands, shapes)
     }
 
+    /// Moves each uploaded strand by `shifts[s]` [m, world] in the frames drawn from now on,
+    /// `shifts` in upload order (one per strand; empty: no shifts, the default after every
+    /// upload). The whole strand moves, its shape kept: a body that stretches carries each
+    /// strand's root on its own triangle, which the skeleton's rest offsets do not follow, so
+    /// the frame loop shifts each strand from where its skeleton draws its root
+    /// ([`hair_core::representation::drawn::drawn_strand_root`]) to where the body carries it.
+    /// The evaluation pass ([`Renderer::evaluate_strands`]) reads the B-splines unshifted.
+    ///
+    /// Errors: a count that is neither 0 nor the strand count, a shift that is not finite (the
+    /// shifts set before stay).
+    pub fn set_strand_root_shifts(&mut self, shifts: &[Vec3]) -> Result<()> {
+        self.items.set_strand_root_shifts(&self.gpu, shifts)
+    }
+
+    /// Whether the strands are drawn shifted ([`Renderer::set_strand_root_shifts`]).
+    pub fn strands_shifted(&self) -> bool {
+        self.items.strands_shifted()
+    }
+
     /// Uploads the static cluster data, replacing any earlier set.
     pub fn upload_clusters(&mut self, clusters: &ClusterSet<'_>) -> Result<()> {
         self.items.upload_clusters(&self.gpu, clusters)

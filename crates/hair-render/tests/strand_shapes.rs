@@ -40,16 +40,7 @@ fn drawn_with(
             },
         )
         .unwrap();
-    let mut settings = settings(200, 200, 3.0);
-    settings.shadows = hair_render::SelfShadowing::off();
-    let image = renderer.render(&chains.frame(), &settings).unwrap();
-    points
-        .iter()
-        .map(|&p| {
-            let (x, y) = pixel_of(&settings, p).unwrap();
-            is_lit(image.get_pixel(x, y))
-        })
-        .collect()
+    lit_at(&mut renderer, &chains.frame(), points)
 }
 
 #[test]

@@ -143,6 +143,42 @@ pub fn drawn_strand_point(
     }
 }
 
+/// The start of a skeleton chain as its strands' roots read it: a clamped B-spline starts at
+/// its first control point, so at `u = 0` the curve is the first node, its normal and binormal
+/// curves the first node's, and its tangent runs towards the second node.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ChainStart {
+    /// The first node [m].
+    pub first: Vec3,
+    /// The second node [m].
+    pub second: Vec3,
+    /// The first node's normal (unit).
+    pub normal: Vec3,
+    /// The first node's binormal (unit).
+    pub binormal: Vec3,
+}
+
+impl ChainStart {
+    /// The chain point at `u = 0`, its derivative `second − first` (the true `dC/du` is that
+    /// times a positive factor of the knots; only its direction is read at the root).
+    pub fn chain_point(&self) -> ChainPoint {
+        ChainPoint {
+            position: self.first,
+            normal: self.normal,
+            binormal: self.binormal,
+            derivative: self.second - self.first,
+        }
+    }
+}
+
+/// The root (`u = 0`) of a strand drawn on the chain starting at `start`, with root offset
+/// `root_offset` [m] and residual `profile`: `P(0) = C(0) + o.x·N(0) + o.y·B(0) + (N̂, B̂, T̂)·r(0)`
+/// (the tip scale and the length do not reach the root). The point [`drawn_strand_point`] and
+/// `strands.wgsl` draw at `u = 0`.
+pub fn drawn_strand_root(start: &ChainStart, root_offset: Vec2, profile: Option<&[Vec3]>) -> Vec3 {
+    drawn_strand_point(&start.chain_point(), 0.0, 1.0, root_offset, 1.0, profile)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -68,19 +68,7 @@ pub fn strand_polylines(
     node_frames: &[Frame],
     samples_per_segment: usize,
 ) -> Result<Polylines> {
-    let node_count = groom.skeletons.node_count();
-    for (what, actual) in [
-        ("node positions", node_positions.len()),
-        ("node frames", node_frames.len()),
-    ] {
-        if actual < node_count {
-            return Err(HairError::SizeMismatch {
-                what,
-                actual,
-                expected: node_count,
-            });
-        }
-    }
+    check_node_arrays(groom, node_positions, node_frames)?;
     groom.strands.check_profiles()?;
     let group_chains = groom.level_chains(Level::StrandGroup);
     let strands = &groom.strands;
@@ -131,6 +119,29 @@ pub fn strand_polylines(
         }
     }
     Ok(lines)
+}
+
+/// Checks that node positions and frames cover every node of `groom` (a size mismatch naming
+/// the array that falls short).
+pub(crate) fn check_node_arrays(
+    groom: &Groom,
+    node_positions: &[Vec3],
+    node_frames: &[Frame],
+) -> Result<()> {
+    let node_count = groom.skeletons.node_count();
+    for (what, actual) in [
+        ("node positions", node_positions.len()),
+        ("node frames", node_frames.len()),
+    ] {
+        if actual < node_count {
+            return Err(HairError::SizeMismatch {
+                what,
+                actual,
+                expected: node_count,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// A skeleton's curve and frame curves at the sampler's parameters, from its nodes' positions

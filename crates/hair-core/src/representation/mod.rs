@@ -8,6 +8,7 @@ mod cluster;
 pub mod drawn;
 pub mod geometry;
 mod patch;
+pub mod roots;
 mod strand;
 
 pub use cluster::{CLUSTER_POINTS_PER_NODE, cluster_control_points, cluster_radius_at};

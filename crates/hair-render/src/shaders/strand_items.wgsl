@@ -25,3 +25,14 @@ const NO_PROFILE: u32 = 0xffffffffu;
 // The strands' residual profiles: xyz the offset [m] in the chain's orthonormal (N̂, B̂, T̂) frame at fraction
 // j / (PROFILE_SAMPLES − 1) of the strand's run (`StrandSet::profiles` in hair-core).
 @group(1) @binding(2) var<storage, read> strand_profiles: array<vec4<f32>>;
+// Each strand's shift [m] (xyz; w unused), by sorted position: where its root is carried off
+// the place its skeleton's rest offsets draw it (a stretching skin); zeros otherwise.
+@group(1) @binding(4) var<storage, read> strand_shifts: array<vec4<f32>>;
+
+// The shift of the strand at sorted position `index` (none past the buffer's end).
+fn strand_shift(index: u32) -> vec3<f32> {
+    if (index >= arrayLength(&strand_shifts)) {
+        return vec3<f32>(0.0);
+    }
+    return strand_shifts[index].xyz;
+}

@@ -140,6 +140,8 @@ fn strand_vertex(strand_index: u32, point_index: u32, side: f32) -> StrandVertex
         position += frame * r;
         tangent += frame * dr;
     }
+    // The whole strand moved onto its carried root (`HairItems::set_strand_root_shifts`).
+    position += strand_shift(strand_index);
     if (dot(tangent, tangent) < 1e-20) {
         tangent = vec3<f32>(0.0, 1.0, 0.0);
     }

@@ -232,6 +232,21 @@ pub fn is_lit(pixel: &image::Rgba<u8>) -> bool {
     pixel.0[..3].iter().any(|&c| c > 0)
 }
 
+/// Whether each of `points` is drawn by `renderer` in `frame`: unshadowed, 200×200, ribbons
+/// 3 pixels wide, through the test camera ([`settings`]).
+pub fn lit_at(renderer: &mut Renderer, frame: &SkeletonFrame<'_>, points: &[Vec3]) -> Vec<bool> {
+    let mut settings = settings(200, 200, 3.0);
+    settings.shadows = hair_render::SelfShadowing::off();
+    let image = renderer.render(frame, &settings).unwrap();
+    points
+        .iter()
+        .map(|&p| {
+            let (x, y) = pixel_of(&settings, p).unwrap();
+            is_lit(image.get_pixel(x, y))
+        })
+        .collect()
+}
+
 /// Rec. 709 luma of an 8-bit pixel.
 pub fn luma(pixel: &image::Rgba<u8>) -> f32 {
     let [r, g, b, _] = pixel.0;
