@@ -27,6 +27,9 @@ pub(crate) struct BodyRide {
     pub(crate) strand_roots: Vec<Vec3>,
     /// Where each strand's root rides (its closest point on the rest mesh).
     pub(crate) strand_attachments: Vec<SurfaceAttachment>,
+    /// Each strand's rest root as its offset in its triangle's rest frame
+    /// ([`DeformingBody::rest_offset`]; `None` on a triangle of zero area).
+    pub(crate) strand_offsets: Vec<Option<Vec3>>,
     /// The rest mesh's distance field that the collision bodies read (field contacts), if any.
     pub(crate) rest_field: Option<RestField>,
     /// The head's occluder boxes prepared on the rest field, to follow the body.
@@ -63,10 +66,18 @@ impl BodyRide {
         let groom = &scene.groom;
         let (positions, frames) = groom.skeletons.rest_pose(&RigidTransform::IDENTITY);
         let strand_roots = strand_roots(groom, &positions, &frames)?;
+        let body = DeformingBody::new(motion.clone());
+        let strand_attachments = surface(&strand_roots)?;
+        let strand_offsets = strand_attachments
+            .iter()
+            .zip(&strand_roots)
+            .map(|(attachment, &root)| body.rest_offset(attachment, root))
+            .collect();
         Ok(Some(BodyRide {
-            body: Arc::new(DeformingBody::new(motion.clone())),
+            body: Arc::new(body),
             attachments: surface(&groom.skeletons.root_positions)?,
-            strand_attachments: surface(&strand_roots)?,
+            strand_attachments,
+            strand_offsets,
             strand_roots,
             rest_field: None,
             rest_occluders: None,
@@ -85,12 +96,13 @@ impl BodyRide {
         points: &mut [Vec3],
         offsets: &[u32],
     ) {
+        let bracket = self.body.sequence().bracket(time);
         for (strand, range) in offsets.windows(2).enumerate() {
             let strand_points = &mut points[range[0] as usize..range[1] as usize];
             let Some(&root) = strand_points.first() else {
                 continue;
             };
-            let Some(carried) = self.carried_strand_root(head, time, strand) else {
+            let Some(carried) = self.carried_strand_root(head, bracket, strand) else {
                 return;
             };
             let shift = carried - root;
@@ -100,15 +112,27 @@ impl BodyRide {
         }
     }
 
-    /// Where the body carries strand `strand`'s root at `time` [s] with the head at `head` [m,
-    /// world]: its rest root turned and moved with its triangle. `None` past the groom's strands.
-    fn carried_strand_root(&self, head: &RigidTransform, time: f64, strand: usize) -> Option<Vec3> {
+    /// Where the body carries strand `strand`'s root at the time between the samples
+    /// `bracket` ([`hair_core::MeshSequence::bracket`]) with the head at `head` [m, world]: its
+    /// rest root turned and moved with its triangle ([`DeformingBody::carry_offset`], the
+    /// carry itself where that declines). `None` past the groom's strands.
+    fn carried_strand_root(
+        &self,
+        head: &RigidTransform,
+        bracket: (usize, usize, f32),
+        strand: usize,
+    ) -> Option<Vec3> {
         let attachment = self.strand_attachments.get(strand)?;
         let rest = self.strand_roots.get(strand)?;
-        Some(
-            head.after(&self.body.carry(attachment, time))
-                .transform_point(*rest),
-        )
+        let offset = *self.strand_offsets.get(strand)?;
+        let carried = offset
+            .and_then(|offset| self.body.carry_offset(attachment, offset, bracket))
+            .unwrap_or_else(|| {
+                self.body
+                    .carry_between(attachment, bracket)
+                    .transform_point(*rest)
+            });
+        Some(head.transform_point(carried))
     }
 
     /// Appends to `shifts` one shift [m, world] per strand of `groom` (the groom this ride was
@@ -139,8 +163,9 @@ impl BodyRide {
                 binormal: frame.node_binormals[start],
             })
         };
+        let bracket = self.body.sequence().bracket(time);
         for_each_strand_root(groom, chain_start, |strand, root| {
-            if let Some(carried) = self.carried_strand_root(head, time, strand) {
+            if let Some(carried) = self.carried_strand_root(head, bracket, strand) {
                 shifts[base + strand] = carried - root;
             }
         });
