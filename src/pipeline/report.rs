@@ -81,6 +81,11 @@ pub struct FrameReport {
     /// [`hair_collide::STRETCH_WARNING`] the step is too coarse for the hair's motion near the head.
     #[serde(default)]
     pub max_stretch: f32,
+    /// The most substeps a simulated block's dynamics took this frame (0 when nothing was
+    /// simulated): the settings' count, or more where their adaptive substeps met fast hair
+    /// ([`hair_core::dynamics::SimulationSettings::adaptive`]).
+    #[serde(default)]
+    pub max_substeps: u32,
     /// Strands the renderer drew (the first view; 0 when not drawn): after strand thinning and
     /// dissolves, which [`drawn_segments`](Self::drawn_segments) does not see.
     #[serde(default)]
@@ -130,6 +135,7 @@ impl FrameReport {
         self.drawn_segments += other.drawn_segments;
         self.contacts += other.contacts;
         self.max_stretch = self.max_stretch.max(other.max_stretch);
+        self.max_substeps = self.max_substeps.max(other.max_substeps);
         self.body_update += other.body_update;
         self.times.add(&other.times);
     }

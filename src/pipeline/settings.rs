@@ -111,7 +111,8 @@ impl PipelineSettings {
 
 impl Default for PipelineSettings {
     /// Automatic levels with default settings, each drawn as itself, the default integrator
-    /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz × 16 substeps, collision on
+    /// ([`IntegratorKind::DEFAULT`], XPBD) at its recommended 60 Hz settings (8 substeps, up to
+    /// 32 where the hair moves fast), collision on
     /// with contacts from the head's distance field.
     fn default() -> Self {
         PipelineSettings {

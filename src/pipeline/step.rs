@@ -45,7 +45,8 @@ pub(crate) struct StepInputs<'a> {
 }
 
 /// What stepping one block did: its level, the wall-clock time of its dynamics and collision
-/// [s], the segments in contact and the largest stretch the projection left.
+/// [s], the segments in contact, the largest stretch the projection left and the substeps its
+/// dynamics took.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct BlockStepped {
     pub(crate) level: Level,
@@ -53,6 +54,7 @@ pub(crate) struct BlockStepped {
     pub(crate) collision: f64,
     pub(crate) contacts: usize,
     pub(crate) max_stretch: f32,
+    pub(crate) substeps: u32,
 }
 
 impl BlockStepped {
@@ -62,6 +64,7 @@ impl BlockStepped {
         report.times.collision += self.collision;
         report.contacts += self.contacts;
         report.max_stretch = report.max_stretch.max(self.max_stretch);
+        report.max_substeps = report.max_substeps.max(self.substeps);
         report.level_seconds[self.level as usize] += self.dynamics + self.collision;
         report.level_dynamics[self.level as usize] += self.dynamics;
         report.level_collision[self.level as usize] += self.collision;
@@ -127,6 +130,7 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
         collision: 0.0,
         contacts: 0,
         max_stretch: 0.0,
+        substeps: 0,
     };
     let Some(simulation) = work.simulation.as_mut() else {
         return Ok(stepped);
@@ -146,7 +150,7 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
             stepped.contacts = contacts.contact_segments;
             stepped.collision += started.elapsed().as_secs_f64();
             let started = Instant::now();
-            simulation.step(&mut block.state, environment)?;
+            stepped.substeps = simulation.step(&mut block.state, environment)?.substeps;
             stepped.dynamics += started.elapsed().as_secs_f64();
             let started = Instant::now();
             if let Some((end, moved)) = body_at_end {
@@ -164,7 +168,7 @@ fn step_block(step: BlockStep<'_>) -> Result<BlockStepped> {
         }
         None => {
             let started = Instant::now();
-            simulation.step(&mut block.state, environment)?;
+            stepped.substeps = simulation.step(&mut block.state, environment)?.substeps;
             stepped.dynamics += started.elapsed().as_secs_f64();
         }
     }

@@ -384,6 +384,11 @@ pub struct DynamicsTable {
     /// Substeps per frame, 1..=10000 (default: the integrator's recommended substeps per 1/60 s,
     /// scaled to the frame time).
     pub substeps: Option<u32>,
+    /// Most substeps per frame where the hair moves fast, 1..=10000: a frame starts at
+    /// `substeps` and doubles them while a node would move more than 0.2 of its segment in one
+    /// (XPBD's default: 32 per 1/60 s, scaled to the frame time; the other integrators' and any
+    /// value not above `substeps`: a fixed count).
+    pub max_substeps: Option<u32>,
     /// Hair–head collision on (default true).
     pub collision: Option<bool>,
     /// How collision finds the hair near the head: `field-contacts` (the default: contacts from

@@ -3,7 +3,8 @@
 
 use glam::{EulerRot, Quat};
 use hair_core::dynamics::{
-    Environment, HeadKeyframe, HeadMotion, IntegratorKind, SimulationSettings, WindField,
+    AdaptiveSubsteps, Environment, HeadKeyframe, HeadMotion, IntegratorKind, SimulationSettings,
+    WindField, XPBD_MAX_COURANT,
 };
 use hair_core::lod::{BudgetSettings, LodSettings};
 use hair_core::{GroomParams, GroomPreset, HeadParams, RigidTransform};
@@ -546,7 +547,20 @@ impl SceneFile {
             1,
             10_000,
         )? as u32;
-        let settings = SimulationSettings::new(integrator, 1.0 / fps, substeps);
+        let mut settings = SimulationSettings::new(integrator, 1.0 / fps, substeps);
+        let recommended_max = SimulationSettings::recommended(integrator)
+            .adaptive
+            .map(|adaptive| ((adaptive.max_substeps as f32) * 60.0 / fps).ceil() as u32);
+        let max_substeps = match table.max_substeps {
+            Some(max) => Some(count("dynamics.max_substeps", max as usize, 1, 10_000)? as u32),
+            None => recommended_max,
+        };
+        if let Some(max_substeps) = max_substeps.filter(|&max| max > substeps) {
+            settings.adaptive = Some(AdaptiveSubsteps {
+                max_substeps,
+                max_courant: XPBD_MAX_COURANT,
+            });
+        }
         settings
             .validate()
             .map_err(|error| SceneFileError::new(format!("[dynamics]: {error}")))?;

@@ -36,10 +36,10 @@ use hairlod::core::GroomPreset;
 use sweep::{Group, Point, mark_pareto};
 
 /// The integrator sweep: each integrator at a coarser and a finer step around its recommended
-/// substeps per 60 Hz frame (16, 4, 4, 16), and linear-implicit (the default until 2026-11-28)
-/// and XPBD at the old recommendation (×8) too. XPBD ×16, the default, is the `Strands` point
-/// itself.
-const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 11] = [
+/// substeps per 60 Hz frame (16, 4, 4, 8), linear-implicit (the default until 2026-11-28) at its
+/// own, and XPBD fixed at 8 and at 16 (the default until 2026-12-06). XPBD ×8–32 adaptive, the
+/// default, is the `Strands` point itself.
+const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 12] = [
     (IntegratorKind::SemiImplicitEuler, 4),
     (IntegratorKind::SemiImplicitEuler, 16),
     (IntegratorKind::SemiImplicitEuler, 64),
@@ -50,8 +50,17 @@ const INTEGRATOR_SWEEP: [(IntegratorKind, u32); 11] = [
     (IntegratorKind::LinearImplicit, 16),
     (IntegratorKind::Xpbd, 2),
     (IntegratorKind::Xpbd, 8),
+    (IntegratorKind::Xpbd, 16),
     (IntegratorKind::Xpbd, 32),
 ];
+
+/// The dynamics of the levels: `--substeps` fixed, else the integrator's recommended settings.
+fn levels_dynamics(args: &AccuracyArgs) -> SimulationSettings {
+    match args.substeps {
+        Some(substeps) => SimulationSettings::new(args.integrator, 1.0 / 60.0, substeps),
+        None => SimulationSettings::recommended(args.integrator),
+    }
+}
 
 /// The issue's accuracy target: the mean SSIM a cheap configuration must keep.
 const TARGET_SSIM: f64 = 0.95;
@@ -99,9 +108,10 @@ pub struct AccuracyArgs {
     /// Integrator of the fixed levels and the LODs (the integrator sweep tries the others).
     #[arg(long, default_value_t = IntegratorKind::DEFAULT)]
     pub integrator: IntegratorKind,
-    /// Substeps per 60 Hz frame of that integrator.
-    #[arg(long, default_value_t = SimulationSettings::recommended(IntegratorKind::DEFAULT).substeps)]
-    pub substeps: u32,
+    /// Substeps per 60 Hz frame of that integrator, fixed (default: the integrator's recommended
+    /// settings, XPBD's adaptive substeps included).
+    #[arg(long)]
+    pub substeps: Option<u32>,
     /// Leave out the integrator sweep (each integrator at several steps, at strand level).
     #[arg(long)]
     pub no_integrators: bool,
@@ -127,7 +137,7 @@ pub(crate) struct Configuration {
 
 /// The sweep's configurations, the reference first.
 fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>> {
-    let dynamics = SimulationSettings::new(args.integrator, 1.0 / 60.0, args.substeps);
+    let dynamics = levels_dynamics(args);
     dynamics.validate()?;
     let fixed = |label: &str, level: Level| Configuration {
         label: label.to_string(),
@@ -196,8 +206,11 @@ fn configurations(args: &AccuracyArgs, shot: &Shot) -> Result<Vec<Configuration>
     }
     if !args.no_integrators {
         // The Strands point already runs the levels' own integrator and substeps.
-        let own = (args.integrator, args.substeps);
-        for (integrator, substeps) in INTEGRATOR_SWEEP.into_iter().filter(|&pair| pair != own) {
+        let own = args.substeps.map(|substeps| (args.integrator, substeps));
+        for (integrator, substeps) in INTEGRATOR_SWEEP
+            .into_iter()
+            .filter(|&pair| Some(pair) != own)
+        {
             list.push(Configuration {
                 label: format!("{integrator} ×{substeps}"),
                 group: Group::Integrator,
@@ -290,7 +303,8 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
             "reference": "Reference",
             "reference_settings": reference_settings().dynamics,
             "levels_integrator": args.integrator.name(),
-            "levels_substeps": args.substeps,
+            "levels_substeps": levels_dynamics(args).substeps,
+            "levels_max_substeps": levels_dynamics(args).max_substeps(),
             "points": points,
         });
         write_json(path, &report)?;
@@ -306,13 +320,13 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
             group_colours: &GROUP_COLOURS,
             title: format!(
                 "Error against cost, {} ({}), {} frames at {width}x{height}; levels and LODs \
-                 with {} ×{}: fixed levels (blue), LODs (red), strands with other integrators \
+                 with {} {}: fixed levels (blue), LODs (red), strands with other integrators \
                  (green)",
                 args.preset.name(),
                 if args.wind { "wind" } else { "calm" },
                 args.frames,
                 args.integrator,
-                args.substeps
+                levels_dynamics(args).substeps_label()
             ),
             points: &scatter,
         };

@@ -498,7 +498,8 @@ fn print_where_lods_sit(
 }
 
 /// Prints each mode's mean strands and strand segments drawn per frame, as the renderer drew them
-/// (after thinning and dissolves), beside its mean nodes simulated.
+/// (after thinning and dissolves), beside its mean nodes simulated and the substeps its dynamics
+/// took (the most of any block, which the adaptive substeps raise where the hair moves fast).
 fn print_drawn(modes: &[ModeRun]) {
     let mean = |run: &ModeRun, of: fn(&hairlod::pipeline::FrameReport) -> usize| {
         run.frames.iter().map(of).sum::<usize>() as f64 / run.frames.len().max(1) as f64
@@ -507,16 +508,17 @@ fn print_drawn(modes: &[ModeRun]) {
         .iter()
         .map(|run| {
             format!(
-                "{} {:.0} strands, {:.0} segments, {:.0} nodes",
+                "{} {:.0} strands, {:.0} segments, {:.0} nodes, {:.1} substeps",
                 run.mode,
                 mean(run, |f| f.rendered_strands),
                 mean(run, |f| f.rendered_strand_segments),
-                mean(run, |f| f.simulated_nodes)
+                mean(run, |f| f.simulated_nodes),
+                mean(run, |f| f.max_substeps as usize)
             )
         })
         .collect();
     println!(
-        "drawn per frame, mean (after thinning), beside the nodes simulated: {}",
+        "drawn per frame, mean (after thinning), beside the nodes simulated and their substeps: {}",
         parts.join("; ")
     );
 }

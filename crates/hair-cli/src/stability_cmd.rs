@@ -9,6 +9,7 @@ use crate::charts::{register_chart_font, write_atomically, write_png_through};
 use anyhow::{Context, Result};
 use clap::Args;
 use hairlod::core::dynamics::IntegratorKind;
+use hairlod::core::dynamics::SimulationSettings;
 use hairlod::core::dynamics::stability::{Outcome, StabilityReport, SweepConfig, run_sweep};
 use plotters::prelude::*;
 
@@ -118,6 +119,52 @@ fn print_substep_table(report: &StabilityReport) {
             .map(|c| format!("  ×{}: {:.1}", c.substeps, c.nanoseconds_per_node_substep))
             .collect();
         println!("{:>20}{costs}", summary.integrator.name());
+    }
+    print_recommended(report);
+}
+
+/// The recommended settings of each integrator at 60 Hz (XPBD's adaptive substeps included):
+/// how many of the chains and scenarios they hold, and the substeps they took.
+fn print_recommended(report: &StabilityReport) {
+    if report.recommended_runs.is_empty() {
+        return;
+    }
+    println!(
+        "
+the recommended settings at 60 Hz (SimulationSettings::recommended):"
+    );
+    for summary in &report.summaries {
+        let integrator = summary.integrator;
+        let settings = SimulationSettings::recommended(integrator);
+        let runs: Vec<_> = report
+            .recommended_runs
+            .iter()
+            .filter(|r| r.integrator == integrator)
+            .collect();
+        let stable = runs.iter().filter(|r| r.outcome == Outcome::Stable).count();
+        let unstable = runs
+            .iter()
+            .filter(|r| r.outcome == Outcome::Unstable)
+            .count();
+        let worst = runs
+            .iter()
+            .filter_map(|r| r.position_error)
+            .fold(0.0f32, f32::max);
+        let substeps = runs
+            .iter()
+            .filter_map(|r| r.mean_substeps)
+            .fold(None, |most: Option<f32>, n| {
+                Some(most.map_or(n, |m| m.max(n)))
+            });
+        let count = settings.substeps_label();
+        println!(
+            "{:>20} {count:>16}: stable in {stable} of {}, unstable in {unstable}; largest early \
+             error {:.1}%; substeps per frame, the largest run's mean: {}",
+            integrator.name(),
+            runs.len(),
+            100.0 * worst,
+            substeps.map_or("?".to_string(), |n| format!("{n:.1}"))
+        );
     }
 }
 

@@ -27,6 +27,34 @@ fn an_empty_file_is_the_defaults() {
 }
 
 #[test]
+fn substeps_adapt_up_to_max_substeps_scaled_to_the_frame_rate() {
+    let dynamics = |text: &str| {
+        SceneFile::parse(text)
+            .unwrap()
+            .resolve()
+            .unwrap()
+            .settings
+            .dynamics
+    };
+    // XPBD by default: 8 substeps per 1/60 s, doubled up to 32 where the hair moves fast.
+    let default = dynamics("");
+    assert_eq!((default.substeps, default.max_substeps()), (8, 32));
+    // At 120 Hz the substep stays as long: 4 per frame, up to 16.
+    let fast = dynamics("[frames]\nfps = 120");
+    assert_eq!((fast.substeps, fast.max_substeps()), (4, 16));
+    // A limit not above the substeps is a fixed count.
+    let fixed = dynamics("[dynamics]\nsubsteps = 16\nmax_substeps = 16");
+    assert_eq!((fixed.substeps, fixed.adaptive), (16, None));
+    let raised = dynamics("[dynamics]\nsubsteps = 16");
+    assert_eq!((raised.substeps, raised.max_substeps()), (16, 32));
+    // The other integrators take a fixed count unless a limit is given.
+    let implicit = dynamics("[dynamics]\nintegrator = \"linear-implicit\"");
+    assert_eq!((implicit.substeps, implicit.adaptive), (4, None));
+    let adaptive = dynamics("[dynamics]\nintegrator = \"linear-implicit\"\nmax_substeps = 16");
+    assert_eq!(adaptive.max_substeps(), 16);
+}
+
+#[test]
 fn strand_thinning_is_off_unless_asked_for_and_only_in_automatic_mode() {
     let shot = |text: &str| SceneFile::parse(text).unwrap().resolve().unwrap();
     assert_eq!(
@@ -92,6 +120,11 @@ fn bad_values_name_the_field_and_the_range() {
             "position-based",
         ),
         ("[dynamics]\nsubsteps = 0", "dynamics.substeps", "1..=10000"),
+        (
+            "[dynamics]\nmax_substeps = 0",
+            "dynamics.max_substeps",
+            "1..=10000",
+        ),
         ("[motion]\nkind = \"dance\"", "motion.kind", "shake"),
         (
             "[motion]\nkind = \"keyframes\"",

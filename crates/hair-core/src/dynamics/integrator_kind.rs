@@ -22,7 +22,8 @@ crate::named_enum! {
 }
 
 impl IntegratorKind {
-    /// The default integrator, XPBD at 16 substeps per 60 Hz frame: on the stability map
+    /// The default integrator, XPBD at 8 substeps per 60 Hz frame, doubled up to 32 where the hair
+    /// moves fast ([`SimulationSettings::recommended`](crate::dynamics::SimulationSettings::recommended)): on the stability map
     /// (`hairlod stability`, `docs/dynamics.md`) it has the most stable runs of the four and no
     /// unstable one from 1/1000 s to 1/15 s up to 100× the styles' stiffness; at 60 Hz its
     /// recommended substeps are stable in all 20 scenarios; on paper-curly in the seeded wind it

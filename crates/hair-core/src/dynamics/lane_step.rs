@@ -22,7 +22,9 @@ use crate::dynamics::xpbd::{MAX_ADAPTIVE_HALVINGS, step_xpbd};
 const SHRINKING_MOVE: f32 = 0.75;
 
 /// The state of a run: its chains' nodes at the step's start, where the new state goes (same
-/// length, chain-major from the run's first node), and one failure and halving count per chain.
+/// length, chain-major from the run's first node), and one failure and halving count per chain
+/// (in: the adaptive substeps' doublings each chain starts from; out: the halvings it took
+/// beyond them).
 pub(crate) struct RunState<'a> {
     pub positions: &'a [Vec3],
     pub velocities: &'a [Vec3],
@@ -44,7 +46,8 @@ pub(crate) struct RunState<'a> {
 /// [`SHRINKING_MOVE`] of the last one, else (a fold) redone at the same count without adapting; a
 /// chain that failed the check is redone with half the substep while its policy allows. Each try
 /// steps the run's lanes at the smallest halving count still pending and keeps the lanes at that
-/// count.
+/// count. A chain starts at the doublings its adaptive substeps chose ([`RunState::halvings`]);
+/// the limits of both retries count from there.
 pub(crate) fn step_run_with_retries(step: &BatchStep, run: &LaneRun, state: RunState) {
     let settings = step.settings;
     let chains = run.end_chain - run.first_chain;
@@ -53,7 +56,9 @@ pub(crate) fn step_run_with_retries(step: &BatchStep, run: &LaneRun, state: RunS
         FailurePolicy::HalveSubstep { max_halvings } => max_halvings,
     };
     let xpbd = settings.integrator == IntegratorKind::Xpbd;
-    let mut halvings = [0u32; LANES];
+    let mut seeds = [0u32; LANES];
+    seeds[..chains].copy_from_slice(&state.halvings[..chains]);
+    let mut halvings = seeds;
     let mut adapting = [true; LANES];
     let mut last_move = [f32::INFINITY; LANES];
     let mut pending: u32 = (1 << chains) - 1;
@@ -68,7 +73,7 @@ pub(crate) fn step_run_with_retries(step: &BatchStep, run: &LaneRun, state: RunS
         let mut adaptive = Lanes::splat(0.0);
         for lane in (0..chains).filter(|&lane| waiting(lane) && halvings[lane] == current) {
             write |= 1 << lane;
-            if xpbd && adapting[lane] && current < MAX_ADAPTIVE_HALVINGS {
+            if xpbd && adapting[lane] && current - seeds[lane] < MAX_ADAPTIVE_HALVINGS {
                 adaptive.0[lane] = 1.0;
             }
         }
@@ -104,7 +109,7 @@ pub(crate) fn step_run_with_retries(step: &BatchStep, run: &LaneRun, state: RunS
                 continue;
             }
             let failure = match outcome.failures[lane] {
-                Some(_) if halvings[lane] < max_halvings => {
+                Some(_) if halvings[lane] - seeds[lane] < max_halvings => {
                     halvings[lane] += 1;
                     continue;
                 }
@@ -121,7 +126,7 @@ pub(crate) fn step_run_with_retries(step: &BatchStep, run: &LaneRun, state: RunS
             };
             pending &= !(1 << lane);
             state.failures[lane] = failure;
-            state.halvings[lane] = halvings[lane];
+            state.halvings[lane] = halvings[lane] - seeds[lane];
         }
     }
 }

@@ -66,6 +66,8 @@ mod xpbd;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_adaptive;
+#[cfg(test)]
 mod tests_lanes;
 #[cfg(test)]
 pub(crate) mod tests_root_motion;
@@ -87,8 +89,8 @@ pub use head_motion::{HeadKeyframe, HeadMotion, NECK_PIVOT, angular_velocity};
 pub use lane_model::MAX_CHAIN_NODES;
 pub use model::DynamicsModel;
 pub use params::{
-    DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind, RootMode,
-    SimulationSettings,
+    AdaptiveSubsteps, DEFAULT_LINEAR_DENSITY, DynamicsParams, FailurePolicy, IntegratorKind,
+    RootMode, SimulationSettings, XPBD_MAX_COURANT, XPBD_MAX_SUBSTEPS,
 };
 pub use root_motion::{ChainRoots, DeformingBody, RootCarrier, SurfaceAttachment, triangle_frame};
 pub use sag_free::{

@@ -11,7 +11,7 @@ use crate::dynamics::integrators::{ChainArrays, ImplicitArrays};
 use crate::dynamics::lanes::LANES;
 
 /// Below this many nodes a run of chains is processed as one task. A node's step costs 0.3–1 µs
-/// at 16 substeps (XPBD), so a task of 256 nodes is 0.1–0.3 ms of work, far above a task's
+/// at 8–16 substeps (XPBD), so a task of 256 nodes is 0.1–0.3 ms of work, far above a task's
 /// hand-over (about a microsecond), while a patch-level model (91 chains, 1,183 nodes) still
 /// splits into six tasks (at 2,048 it ran on one core while the other waited).
 const NODES_PER_TASK: u32 = 256;

@@ -69,6 +69,13 @@ impl DynamicsParams {
     }
 }
 
+/// The recommended XPBD settings' most substeps per 1/60 s step (their base is 8).
+pub const XPBD_MAX_SUBSTEPS: u32 = 32;
+
+/// The recommended XPBD settings' largest move of a node per substep relative to its root, as a
+/// fraction of its segment's length (see [`AdaptiveSubsteps`]).
+pub const XPBD_MAX_COURANT: f32 = 0.2;
+
 /// What a step does when a chain becomes unstable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", tag = "policy")]
@@ -112,6 +119,44 @@ pub struct SimulationSettings {
     /// Dynamic follow-the-leader velocity correction `s_damping` of the position-based integrator,
     /// `0..=1` (Müller et al. 2012 use 0.9 to 1).
     pub follow_the_leader_damping: f32,
+    /// More substeps in a step where the hair moves fast (`None`: always `substeps`).
+    #[serde(default)]
+    pub adaptive: Option<AdaptiveSubsteps>,
+}
+
+/// Substeps that follow the motion, chain by chain: a chain's step starts at
+/// [`SimulationSettings::substeps`] and doubles them until none of its nodes would move more
+/// than `max_courant` of its segment's rest length in one substep, measured relative to the
+/// chain's root at the start of the step (so a head carried fast but rigidly costs nothing), up
+/// to `max_substeps`.
+///
+/// The count is chosen from the chain's state alone, so a chain moves as it would alone, a run
+/// resumed from a saved state steps as the original run did, and nothing depends on the thread
+/// count.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AdaptiveSubsteps {
+    /// Most substeps one step may take (a power-of-two multiple of `substeps`).
+    pub max_substeps: u32,
+    /// Largest move per substep of a node relative to its root, as a fraction of its segment's
+    /// rest length (a Courant number, > 0).
+    pub max_courant: f32,
+}
+
+impl AdaptiveSubsteps {
+    /// How many times a step of `time_step` [s] in `substeps` substeps doubles them for nodes
+    /// that move at most `relative_speed` segment lengths per second [1/s] relative to their
+    /// roots.
+    pub fn doublings(&self, time_step: f32, substeps: u32, relative_speed: f32) -> u32 {
+        let mut doublings = 0;
+        let mut count = substeps;
+        while count < self.max_substeps
+            && relative_speed * time_step / count as f32 > self.max_courant
+        {
+            count *= 2;
+            doublings += 1;
+        }
+        doublings
+    }
 }
 
 impl Default for SimulationSettings {
@@ -133,20 +178,55 @@ impl SimulationSettings {
             on_failure: FailurePolicy::Error,
             max_speed: 50.0,
             follow_the_leader_damping: 0.9,
+            adaptive: None,
         }
     }
 
     /// The recommended settings of each integrator for a 60 Hz frame, from the stability map
     /// (`hairlod stability`): the substep each needs to stay stable and accurate on the styles'
     /// stiffness range with the default damping.
+    ///
+    /// XPBD starts at 8 substeps and doubles them, up to [`XPBD_MAX_SUBSTEPS`], where the hair
+    /// moves fast ([`XPBD_MAX_COURANT`]); the others take a fixed count.
     pub fn recommended(integrator: IntegratorKind) -> Self {
         let substeps = match integrator {
             IntegratorKind::SemiImplicitEuler => 16,
             IntegratorKind::PositionBased => 4,
             IntegratorKind::LinearImplicit => 4,
-            IntegratorKind::Xpbd => 16,
+            IntegratorKind::Xpbd => 8,
         };
-        SimulationSettings::new(integrator, 1.0 / 60.0, substeps)
+        let mut settings = SimulationSettings::new(integrator, 1.0 / 60.0, substeps);
+        if integrator == IntegratorKind::Xpbd {
+            settings.adaptive = Some(AdaptiveSubsteps {
+                max_substeps: XPBD_MAX_SUBSTEPS,
+                max_courant: XPBD_MAX_COURANT,
+            });
+        }
+        settings
+    }
+
+    /// The substeps of a chain's step whose fastest node moves `relative_speed` segment lengths
+    /// per second [1/s] relative to its root: `substeps`, doubled as [`Self::adaptive`] asks.
+    pub fn substeps_for(&self, relative_speed: f32) -> u32 {
+        match &self.adaptive {
+            None => self.substeps,
+            Some(adaptive) => {
+                self.substeps << adaptive.doublings(self.time_step, self.substeps, relative_speed)
+            }
+        }
+    }
+
+    /// `×8`, or `×8–32` where the substeps adapt to the motion (for tables and charts).
+    pub fn substeps_label(&self) -> String {
+        match self.max_substeps() {
+            max if max > self.substeps => format!("×{}–{max}", self.substeps),
+            _ => format!("×{}", self.substeps),
+        }
+    }
+
+    /// The most substeps a step can take: `substeps`, or the adaptive limit when that is larger.
+    pub fn max_substeps(&self) -> u32 {
+        self.substeps_for(f32::INFINITY)
     }
 
     /// The integrator's step `time_step / substeps` [s].
@@ -172,6 +252,16 @@ impl SimulationSettings {
                     "0..=16",
                 ));
             }
+        }
+        if let Some(adaptive) = &self.adaptive {
+            if adaptive.max_substeps == 0 || adaptive.max_substeps > 1 << 16 {
+                return Err(DynamicsError::invalid(
+                    "adaptive.max_substeps",
+                    adaptive.max_substeps,
+                    "1..=65536",
+                ));
+            }
+            positive("adaptive.max_courant", adaptive.max_courant)?;
         }
         positive("max_speed (m/s)", self.max_speed)?;
         let s = self.follow_the_leader_damping;

@@ -31,6 +31,10 @@ pub struct StepReport {
     pub halved_chains: usize,
     /// The most halvings any chain needed.
     pub max_halvings: u32,
+    /// The most substeps a chain's step started with: [`SimulationSettings::substeps`], or more
+    /// where [`SimulationSettings::adaptive`] asked for them (halvings after a failure or a too
+    /// long move not counted).
+    pub substeps: u32,
 }
 
 /// Per-node and per-chain scratch, allocated once (never inside a step).
@@ -73,6 +77,9 @@ pub struct Simulation {
     lane_model: Option<LaneModel>,
     /// What carries the roots besides the head (a deforming body), if anything.
     carrier: Option<RootCarrier>,
+    /// Each node's `1 / l` for its segment's rest length `l` [1/m] (0 at roots), which the
+    /// adaptive substeps read.
+    inverse_lengths: Vec<f32>,
 }
 
 impl Simulation {
@@ -84,7 +91,15 @@ impl Simulation {
             scratch: Scratch::default(),
             lane_model: None,
             carrier: None,
+            inverse_lengths: Vec::new(),
         };
+        simulation.inverse_lengths = simulation
+            .model
+            .rest
+            .segment_rest_lengths
+            .iter()
+            .map(|&length| if length > 0.0 { 1.0 / length } else { 0.0 })
+            .collect();
         simulation.set_settings(settings)?;
         Ok(simulation)
     }
@@ -225,7 +240,8 @@ impl Simulation {
     }
 
     /// Advances `state` by one step of `settings.time_step` seconds (in `settings.substeps`
-    /// substeps, in parallel over chains; the result does not depend on the thread count).
+    /// substeps, more for a chain whose nodes move fast where `settings.adaptive` asks; in
+    /// parallel over chains; the result does not depend on the thread count).
     ///
     /// After each chain's step its positions and velocities are checked: a non-finite value or a
     /// kinetic energy per unit mass above `½·max_speed²` is a failure. With
@@ -244,6 +260,7 @@ impl Simulation {
     ) -> Result<StepReport, DynamicsError> {
         self.check_state(state)?;
         let settings = self.settings;
+        let most_doublings = self.seed_doublings(state);
         let substeps = settings.substeps as usize;
         let h = settings.substep();
         for (k, pose) in self.scratch.head_poses.iter_mut().enumerate() {
@@ -338,6 +355,7 @@ impl Simulation {
                 environment,
                 &roots,
                 time,
+                *chain_slices.halvings,
             );
             *chain_slices.failure = failure;
             *chain_slices.halvings = halvings;
@@ -404,12 +422,54 @@ impl Simulation {
             std::mem::swap(&mut state.node_velocities, &mut scratch.backup_velocities);
         }
         state.time += settings.time_step as f64;
-        let mut report = StepReport::default();
+        let mut report = StepReport {
+            substeps: settings.substeps << most_doublings,
+            ..StepReport::default()
+        };
         for &halvings in &scratch.halvings {
             report.halved_chains += usize::from(halvings > 0);
             report.max_halvings = report.max_halvings.max(halvings);
         }
         Ok(report)
+    }
+
+    /// Chain `chain`'s fastest node's speed relative to the chain's root, in rest lengths of its
+    /// segment per second [1/s]: what [`SimulationSettings::adaptive`] measures at a step's start.
+    /// `None` for a chain the model lacks or a state of another node count.
+    pub fn relative_speed(&self, state: &SimulationState, chain: usize) -> Option<f32> {
+        let fits = chain < self.model.chain_count()
+            && state.node_velocities.len() == self.model.node_count();
+        fits.then(|| {
+            chain_relative_speed(
+                &self.model.rest,
+                &self.inverse_lengths,
+                &state.node_velocities,
+                chain,
+            )
+        })
+    }
+
+    /// Writes each chain's adaptive doublings for this step into the halvings scratch (the
+    /// steps start there; zeros without adaptive substeps) and returns the most of them.
+    fn seed_doublings(&mut self, state: &SimulationState) -> u32 {
+        let seeds = &mut self.scratch.halvings;
+        let Some(adaptive) = self.settings.adaptive else {
+            seeds.fill(0);
+            return 0;
+        };
+        let (time_step, substeps) = (self.settings.time_step, self.settings.substeps);
+        let (rest, inverse) = (&self.model.rest, &self.inverse_lengths);
+        // A task takes 512 chains (about 7,000 nodes, a few microseconds), so a small model is
+        // measured on one thread.
+        seeds
+            .par_iter_mut()
+            .with_min_len(512)
+            .enumerate()
+            .for_each(|(chain, seed)| {
+                let speed = chain_relative_speed(rest, inverse, &state.node_velocities, chain);
+                *seed = adaptive.doublings(time_step, substeps, speed);
+            });
+        seeds.iter().copied().max().unwrap_or(0)
     }
 
     /// Runs `steps` steps, stopping at the first error.
@@ -426,9 +486,28 @@ impl Simulation {
     }
 }
 
+/// Chain `chain`'s fastest node's speed relative to its root over its segment's rest length
+/// [1/s] (`inverse`: each node's `1 / l`, 0 at roots). Squared until the end: one square root.
+fn chain_relative_speed(
+    rest: &crate::skeleton::SkeletonRest,
+    inverse: &[f32],
+    velocities: &[Vec3],
+    chain: usize,
+) -> f32 {
+    let nodes = rest.nodes(chain);
+    let root = velocities[nodes.start];
+    nodes
+        .fold(0.0f32, |fastest, node| {
+            let inverse = inverse[node];
+            fastest.max((velocities[node] - root).length_squared() * (inverse * inverse))
+        })
+        .sqrt()
+}
+
 /// Steps one chain through all its substeps with the semi-implicit Euler or linear-implicit
 /// integrator, halving on failure where allowed; returns the failure that remains (the chain
-/// restored to its start) and the halvings used.
+/// restored to its start) and the halvings used beyond the adaptive substeps' `doublings`, which
+/// the step starts from.
 #[allow(clippy::too_many_arguments)]
 fn step_chain(
     chain: usize,
@@ -441,6 +520,7 @@ fn step_chain(
     environment: &Environment,
     roots: &RootPoses,
     time: f64,
+    doublings: u32,
 ) -> (Option<ChainFailure>, u32) {
     backup_positions.copy_from_slice(arrays.positions);
     backup_velocities.copy_from_slice(arrays.velocities);
@@ -452,7 +532,8 @@ fn step_chain(
         FailurePolicy::Error => 0,
         FailurePolicy::HalveSubstep { max_halvings } => max_halvings,
     };
-    let mut halvings = 0;
+    // The adaptive substeps' doublings come first; the failure policy's halvings follow them.
+    let mut halvings = doublings;
     loop {
         let substeps = (settings.substeps as usize) << halvings;
         let h = settings.time_step / substeps as f32;
@@ -499,11 +580,11 @@ fn step_chain(
             Some((FailedQuantity::NonFiniteVelocity, None))
         };
         let Some((quantity, node)) = quantity else {
-            return (None, halvings);
+            return (None, halvings - doublings);
         };
         arrays.positions.copy_from_slice(backup_positions);
         arrays.velocities.copy_from_slice(backup_velocities);
-        if halvings < max_halvings {
+        if halvings - doublings < max_halvings {
             halvings += 1;
             continue;
         }
@@ -517,7 +598,7 @@ fn step_chain(
                 node,
                 quantity,
             }),
-            halvings,
+            halvings - doublings,
         );
     }
 }

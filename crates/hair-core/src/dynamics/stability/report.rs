@@ -52,6 +52,10 @@ pub struct RunResult {
     pub max_length_error: Option<f32>,
     /// The error message, when it failed.
     pub failure: Option<String>,
+    /// Substeps per step, mean over the run's steps, when it finished (above `substeps` where
+    /// the settings' adaptive substeps added some).
+    #[serde(default)]
+    pub mean_substeps: Option<f32>,
 }
 
 /// Per-integrator summary.
@@ -87,6 +91,12 @@ pub struct StabilityReport {
     pub frame_runs: Vec<RunResult>,
     /// What each integrator needs at [`SweepConfig::frame_step`], per chain and scenario.
     pub frame_needs: Vec<SubstepNeed>,
+    /// With the substep study: every integrator, chain and scenario at
+    /// [`SweepConfig::frame_step`] with the integrator's recommended settings
+    /// ([`SimulationSettings::recommended`](crate::dynamics::SimulationSettings::recommended),
+    /// adaptive substeps included).
+    #[serde(default)]
+    pub recommended_runs: Vec<RunResult>,
     /// The measured cost of each integrator and substep count.
     pub costs: Vec<StepCost>,
 }

@@ -19,6 +19,8 @@ use crate::dynamics::state::SimulationState;
 struct Trajectory {
     samples: Vec<Vec<Vec3>>,
     max_length_error: f32,
+    /// Substeps per step, mean over the run.
+    mean_substeps: f32,
 }
 
 /// Runs one chain in one scenario with `settings`, recording the positions every
@@ -40,14 +42,19 @@ fn simulate(
     let sample_count = (config.duration / config.sample_interval).round() as usize;
     let mut samples = Vec::with_capacity(sample_count);
     let mut max_length_error = 0.0f32;
+    let mut substeps = 0u64;
     for _ in 0..sample_count {
-        simulation.run(&mut state, &environment, steps_per_sample)?;
+        for _ in 0..steps_per_sample {
+            substeps += u64::from(simulation.step(&mut state, &environment)?.substeps);
+        }
         max_length_error = max_length_error.max(state.max_length_error(&simulation.model().rest));
         samples.push(state.node_positions.clone());
     }
+    let steps = (sample_count * steps_per_sample).max(1);
     Ok(Trajectory {
         samples,
         max_length_error,
+        mean_substeps: (substeps as f64 / steps as f64) as f32,
     })
 }
 
@@ -125,6 +132,7 @@ fn classify(
         motion_ratio: None,
         max_length_error: None,
         failure: None,
+        mean_substeps: None,
     };
     match simulate(chain, scenario, settings, config) {
         Err(error) => result.failure = Some(error.to_string()),
@@ -155,6 +163,7 @@ fn classify(
             result.position_error = Some(error);
             result.motion_ratio = Some(ratio);
             result.max_length_error = Some(trajectory.max_length_error);
+            result.mean_substeps = Some(trajectory.mean_substeps);
             let (low, high) = config.motion_ratio_range;
             result.outcome = if ratio > config.blow_up_ratio {
                 Outcome::Unstable
@@ -220,26 +229,43 @@ pub fn run_sweep(config: &SweepConfig) -> Result<StabilityReport, DynamicsError>
         .collect::<Result<_, DynamicsError>>()?;
     let mut jobs = Vec::new();
     let mut frame_jobs = Vec::new();
+    let mut recommended_jobs = Vec::new();
     for &integrator in &config.integrators {
         for (case, &(chain, s)) in cases.iter().enumerate() {
             for &time_step in &config.time_steps {
-                jobs.push((integrator, case, chain, s, time_step, 1));
+                let settings = SimulationSettings::new(integrator, time_step, 1);
+                jobs.push((case, chain, s, settings));
             }
             for &substeps in &config.frame_substeps {
-                frame_jobs.push((integrator, case, chain, s, config.frame_step, substeps));
+                let settings = SimulationSettings::new(integrator, config.frame_step, substeps);
+                frame_jobs.push((case, chain, s, settings));
+            }
+            if !config.frame_substeps.is_empty() {
+                let settings = SimulationSettings {
+                    time_step: config.frame_step,
+                    ..SimulationSettings::recommended(integrator)
+                };
+                recommended_jobs.push((case, chain, s, settings));
             }
         }
     }
-    let run_jobs = |jobs: &[(IntegratorKind, usize, TestChain, usize, f32, u32)]| {
+    let run_jobs = |jobs: &[(usize, TestChain, usize, SimulationSettings)]| {
         jobs.par_iter()
-            .map(|&(integrator, case, chain, s, time_step, substeps)| {
-                let settings = SimulationSettings::new(integrator, time_step, substeps);
-                classify(integrator, chain, s, settings, &references[case], config)
+            .map(|&(case, chain, s, settings)| {
+                classify(
+                    settings.integrator,
+                    chain,
+                    s,
+                    settings,
+                    &references[case],
+                    config,
+                )
             })
             .collect::<Vec<RunResult>>()
     };
     let runs = run_jobs(&jobs);
     let frame_runs = run_jobs(&frame_jobs);
+    let recommended_runs = run_jobs(&recommended_jobs);
     let summaries: Vec<IntegratorSummary> = config
         .integrators
         .iter()
@@ -299,6 +325,7 @@ pub fn run_sweep(config: &SweepConfig) -> Result<StabilityReport, DynamicsError>
         widest_stable_region,
         frame_runs,
         frame_needs,
+        recommended_runs,
         costs,
     })
 }
