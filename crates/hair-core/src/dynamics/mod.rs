@@ -33,6 +33,7 @@
 //! ```
 
 mod banded;
+mod chain_step;
 mod constraints;
 mod environment;
 mod error;
@@ -79,6 +80,7 @@ mod tests_stability;
 mod tests_xpbd;
 
 pub use banded::solve_block_pentadiagonal;
+pub use chain_step::kinetic_energy_per_mass;
 pub use constraints::{follow_the_leader, remove_stretch_velocity};
 pub use error::{ChainFailure, DynamicsError, FailedQuantity};
 pub use forces::{
@@ -97,7 +99,7 @@ pub use sag_free::{
     MAX_NATURAL_TURN, SAG_FREE_MAX_ITERATIONS, SAG_FREE_TOLERANCE, SagFreeReport, TurnLimit,
     make_sag_free,
 };
-pub use simulation::{Environment, Simulation, StepReport, kinetic_energy_per_mass};
+pub use simulation::{Environment, Simulation, StepReport};
 pub use state::SimulationState;
 pub use strands::{level_skeletons, strand_skeletons};
 pub use wind::{GUST_WAVE_COUNT, GustWave, WindField};
