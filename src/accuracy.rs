@@ -13,7 +13,7 @@
 //!   correspondence), over the samples the viewer sees of the reference
 //!   ([`geometric_error_of_visible`], [`visible_samples`]: hair behind the head does not count);
 //! - **physical**: [`segment_length_error`] (relative, max over every simulated segment) and
-//!   [`penetration_depth`] [m] (max over every simulated node) against a collision body.
+//!   [`penetration_depth`] [m] (max over every free simulated node) against a collision body.
 //!
 //! ```
 //! use hairlod::accuracy::{geometric_error, sample_skeletons, strand_skeletons};
@@ -295,16 +295,52 @@ pub fn segment_length_error(pipeline: &Pipeline) -> f32 {
     worst
 }
 
-/// Deepest penetration [m] of any simulated node of `pipeline` into `body` (the depth of the
-/// deepest node inside, 0 when none is inside). `body` must be posed where the pipeline's head is
-/// (for a moving head: `body.set_pose` with the head transform at [`Pipeline::time`]).
+/// Deepest penetration [m] of any free simulated node of `pipeline` into `body` (the depth of
+/// the deepest node inside, 0 when none is inside). `body` must be posed where the pipeline's head
+/// is (for a moving head: `body.set_pose` with the head transform at [`Pipeline::time`]).
+///
+/// Attached roots ([`RootMode::Attached`](hair_core::dynamics::RootMode)) are left out, as the
+/// collision stage's guarantee leaves them out: they are not simulated but pinned to the scalp
+/// where the groom put them, which for the built-in heads is the analytic surface, and the
+/// tessellated mesh cuts under it by up to its sagitta (see [`root_penetration_depth`]).
 pub fn penetration_depth(pipeline: &Pipeline, body: &CollisionBody) -> f32 {
+    let attached = roots_attached(pipeline);
+    deepest_inside(pipeline, body, |k| k > 0 || !attached)
+}
+
+/// Deepest penetration [m] of any attached root of `pipeline` into `body` (0 when roots are free
+/// or none is inside): how far the groom's roots lie under the body's mesh.
+pub fn root_penetration_depth(pipeline: &Pipeline, body: &CollisionBody) -> f32 {
+    let attached = roots_attached(pipeline);
+    deepest_inside(pipeline, body, |k| k == 0 && attached)
+}
+
+fn roots_attached(pipeline: &Pipeline) -> bool {
+    pipeline.settings().dynamics.roots == hair_core::dynamics::RootMode::Attached
+}
+
+/// The deepest of the simulated nodes inside `body` whose index along its chain `counts`.
+fn deepest_inside(
+    pipeline: &Pipeline,
+    body: &CollisionBody,
+    counts: impl Fn(usize) -> bool,
+) -> f32 {
+    let rest = &pipeline.scene().groom.skeletons;
     let mut deepest = 0.0f32;
     for level in Level::ALL {
-        for &p in &pipeline.block(level).state.node_positions {
-            if let Some(distance) = body.signed_distance(p) {
-                deepest = deepest.max(-distance);
+        let block = pipeline.block(level);
+        let mut first = 0;
+        for &chain in &block.chains {
+            let count = rest.nodes(chain).len();
+            let nodes = &block.state.node_positions[first..first + count];
+            for (k, &p) in nodes.iter().enumerate() {
+                if counts(k)
+                    && let Some(distance) = body.signed_distance(p)
+                {
+                    deepest = deepest.max(-distance);
+                }
             }
+            first += count;
         }
     }
     deepest
@@ -315,8 +351,11 @@ pub fn penetration_depth(pipeline: &Pipeline, body: &CollisionBody) -> f32 {
 pub struct PhysicalError {
     /// Largest relative segment-length error (see [`segment_length_error`]).
     pub segment_length: f32,
-    /// Deepest penetration into the head [m] (see [`penetration_depth`]).
+    /// Deepest penetration of a free node into the head [m] (see [`penetration_depth`]).
     pub penetration: f32,
+    /// Deepest attached root under the head's mesh [m] (see [`root_penetration_depth`]).
+    #[serde(default)]
+    pub root_penetration: f32,
 }
 
 impl PhysicalError {
@@ -325,6 +364,7 @@ impl PhysicalError {
         PhysicalError {
             segment_length: segment_length_error(pipeline),
             penetration: penetration_depth(pipeline, body),
+            root_penetration: root_penetration_depth(pipeline, body),
         }
     }
 
@@ -333,6 +373,7 @@ impl PhysicalError {
         PhysicalError {
             segment_length: self.segment_length.max(other.segment_length),
             penetration: self.penetration.max(other.penetration),
+            root_penetration: self.root_penetration.max(other.root_penetration),
         }
     }
 }

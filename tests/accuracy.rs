@@ -4,8 +4,10 @@
 use glam::Vec3;
 use hairlod::accuracy::{
     PhysicalError, SIGHT_MARGIN, geometric_error, geometric_error_of_visible, head_body,
-    head_sight, image_error, psnr, sample_skeletons, ssim, strand_skeletons, visible_samples,
+    head_sight, image_error, penetration_depth, psnr, root_penetration_depth, sample_skeletons,
+    ssim, strand_skeletons, visible_samples,
 };
+use hairlod::collide::PENETRATION_TOLERANCE;
 use hairlod::core::dynamics::{Environment, WindField};
 use hairlod::pipeline::{LodMode, Pipeline, PipelineRenderer, PipelineSettings};
 use hairlod::render::{RendererOptions, ShadingMode};
@@ -182,6 +184,38 @@ fn physical_error_is_small_after_a_frame() {
     let deep = hairlod::accuracy::penetration_depth(&pipeline, &lifted);
     assert!(deep > 0.5 * lift, "depth {deep} m");
     assert!(deep <= lift + error.penetration + 1e-4, "depth {deep} m");
+}
+
+#[test]
+fn free_nodes_stay_out_of_the_head_and_attached_roots_are_measured_apart() {
+    // The collision stage leaves no free node more than PENETRATION_TOLERANCE (0.1 mm) inside a
+    // closed body. Attached roots are pinned where the groom put them, on the analytic scalp,
+    // which the head's mesh cuts by at most its chord error (under 1.5 mm at the default
+    // resolution: hair-core's head tests), so they are measured apart.
+    for level in Level::ALL {
+        let mut pipeline = fixed(level);
+        for _ in 0..3 {
+            pipeline.advance(&camera()).unwrap();
+        }
+        let body = head_body(&pipeline).unwrap();
+        let free = penetration_depth(&pipeline, &body);
+        let roots = root_penetration_depth(&pipeline, &body);
+        assert!(
+            free <= PENETRATION_TOLERANCE,
+            "{level:?}: free nodes {free} m deep"
+        );
+        assert!(
+            (0.0..1.5e-3).contains(&roots),
+            "{level:?}: roots {roots} m deep"
+        );
+        // Brute force: the two together are the deepest of every simulated node.
+        let every = Level::ALL
+            .iter()
+            .flat_map(|&l| pipeline.block(l).state.node_positions.iter())
+            .filter_map(|&p| body.signed_distance(p))
+            .fold(0.0f32, |deepest, d| deepest.max(-d));
+        assert_eq!(free.max(roots), every, "{level:?}");
+    }
 }
 
 #[test]

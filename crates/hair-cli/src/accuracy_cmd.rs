@@ -341,14 +341,15 @@ fn print_point(point: &Point) {
         Some(reason) => println!("{:>26}: failed: {reason}", point.label),
         None => println!(
             "{:>26}: {:8.2} ms/frame  SSIM {:.4}  pixel error {:.2} (p95 {:.2})  length error \
-             {:.1e}  penetration {:.2} mm",
+             {:.1e}  penetration {:.2} mm (roots {:.2} mm)",
             point.label,
             1e3 * point.median_cost,
             1.0 - point.ssim_loss,
             point.mean_pixel_error,
             point.mean_p95_pixel_error,
             point.physical.segment_length,
-            1e3 * point.physical.penetration
+            1e3 * point.physical.penetration,
+            1e3 * point.physical.root_penetration
         ),
     }
 }
