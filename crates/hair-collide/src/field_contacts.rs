@@ -19,6 +19,11 @@
 //! bound does not clear it, a radius above about 8 mm, or an unsigned field on an open mesh), the
 //! segment takes the exact path: the triangles its volume touches, and their mean normal, as
 //! [`crate::query_body_volumes`] finds them. [`FieldContacts::exact_fallbacks`] counts those.
+//!
+//! **Far segments cost nothing** (a rigid body's field): a segment the samples found clear is
+//! certified by the field's bound where it lies far enough, and stays clear without a sample
+//! until it has moved that far (`field_memory.rs`); [`FieldContacts::remembered`] counts those.
+//! The contacts found are the ones the samples would find.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -26,6 +31,7 @@ use rayon::prelude::*;
 use crate::body::CollisionBody;
 use crate::bvh::aabb_padding;
 use crate::distance_field::DistanceField;
+use crate::field_memory::{BodyMemory, Remembered, memory_of};
 use crate::moving_field::MovedField;
 use crate::query::{CHUNK, aabb_touches_ball, ball_padding, for_each_touched};
 use crate::volume::SweptSphere;
@@ -44,11 +50,18 @@ pub struct FieldContacts {
     /// Segments of the last query that the field could not decide and the exact triangle tests
     /// did (see the module documentation).
     pub exact_fallbacks: usize,
+    /// Segments of the last query that a certified clearance remembered from an earlier one
+    /// cleared without a sample (a rigid body's field; see the module documentation).
+    pub remembered: usize,
     /// Per chunk of volumes: what it found, side by side.
     chunks: Vec<ChunkContacts>,
     /// Per segment, the carrier triangle a moving field last found for it (`moving_field.rs`):
     /// where its next samples start. A stale one (the segments renumbered) only costs lookups.
     carriers: Vec<Option<u32>>,
+    /// Per rigid body's field, the clearances certified per segment (`field_memory.rs`).
+    memories: Vec<BodyMemory>,
+    /// What a deforming body's query zips its volumes with instead (never read).
+    spare: Vec<Remembered>,
 }
 
 /// How much farther from the surface than a volume's radius \[m\] its sample points are
@@ -63,6 +76,7 @@ struct ChunkContacts {
     contacts: Vec<(u32, Vec3)>,
     velocities: Vec<Vec3>,
     fallbacks: usize,
+    remembered: usize,
 }
 
 impl FieldContacts {
@@ -321,6 +335,7 @@ pub fn query_body_field(
     contacts.contacts.clear();
     contacts.velocities.clear();
     contacts.exact_fallbacks = 0;
+    contacts.remembered = 0;
     if body.triangle_count() == 0 {
         return;
     }
@@ -336,14 +351,23 @@ pub fn query_body_field(
     contacts.chunks.resize_with(chunks, Default::default);
     // Each segment's last carrier (a moving field's), where the next frame's samples start.
     contacts.carriers.resize(volumes.len(), None);
+    // A rigid body's remembered clearances (none are kept for a deforming one, whose surface
+    // moves under them).
+    let memory = match rigid {
+        Some(_) => memory_of(&mut contacts.memories, body, volumes.len()),
+        None => &mut contacts.spare,
+    };
+    memory.resize(volumes.len(), Remembered::default());
     contacts.chunks[..chunks]
         .par_iter_mut()
         .zip(contacts.carriers.par_chunks_mut(CHUNK))
+        .zip(memory.par_chunks_mut(CHUNK))
         .enumerate()
-        .for_each(|(chunk, (found, carriers))| {
+        .for_each(|(chunk, ((found, carriers), memory))| {
             found.contacts.clear();
             found.velocities.clear();
             found.fallbacks = 0;
+            found.remembered = 0;
             let first = chunk * CHUNK;
             let end = (first + CHUNK).min(volumes.len());
             // The last segment's end and its sample, which the next segment of a chain starts
@@ -358,7 +382,19 @@ pub fn query_body_field(
                 }
                 let carrier = &mut carriers[segment - first];
                 let said = match (rigid, &moved) {
-                    (Some(field), _) => verdict(field, volume, carrier, &mut shared),
+                    (Some(field), _) => {
+                        let remembered = &mut memory[segment - first];
+                        if remembered.clears(volume) {
+                            found.remembered += 1;
+                            shared = None;
+                            continue;
+                        }
+                        let said = verdict(field, volume, carrier, &mut shared);
+                        if matches!(said, Verdict::Clear) {
+                            remembered.try_certify(field, volume);
+                        }
+                        said
+                    }
                     (None, Some(moved)) => verdict(moved, volume, carrier, &mut shared),
                     (None, None) => Verdict::Undecided,
                 };
@@ -399,6 +435,7 @@ pub fn query_body_field(
         contacts.contacts.extend_from_slice(&found.contacts);
         contacts.velocities.extend_from_slice(&found.velocities);
         contacts.exact_fallbacks += found.fallbacks;
+        contacts.remembered += found.remembered;
     }
 }
 

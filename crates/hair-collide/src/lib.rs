@@ -31,6 +31,7 @@ pub mod error;
 mod field_bricks;
 pub mod field_contacts;
 mod field_map;
+mod field_memory;
 pub mod fit;
 mod gather;
 pub mod geometry;
@@ -48,6 +49,8 @@ pub mod sight;
 pub mod solver;
 mod solver_settings;
 pub mod surface;
+#[cfg(test)]
+mod tests_field_memory;
 mod triangle_groups;
 pub mod volume;
 

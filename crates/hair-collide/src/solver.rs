@@ -286,6 +286,7 @@ impl CollisionSolver {
                 query_body_field(hierarchy.volumes(), body, &mut self.field_contacts);
                 report.contact_segments += self.field_contacts.contacts.len();
                 report.exact_fallbacks += self.field_contacts.exact_fallbacks;
+                report.remembered += self.field_contacts.remembered;
                 self.segment_normals
                     .extend_from_slice(&self.field_contacts.contacts);
                 self.segment_surface

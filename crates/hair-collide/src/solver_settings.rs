@@ -84,6 +84,9 @@ pub struct ContactReport {
     /// Segments that the distance field could not decide and the exact triangle tests did
     /// ([`BroadPhase::FieldContacts`] only).
     pub exact_fallbacks: usize,
+    /// Segments a certified clearance remembered from an earlier step cleared without a field
+    /// sample ([`FieldContacts::remembered`](crate::FieldContacts::remembered)).
+    pub remembered: usize,
     /// Nodes that received a response or friction force.
     pub contact_nodes: usize,
     /// Overlapping segment pairs of different sections (0 when hair–hair is off).
