@@ -181,9 +181,12 @@ fn physical_error_is_small_after_a_frame() {
     lifted
         .set_pose(glam::Quat::IDENTITY, Vec3::new(0.0, lift, 0.0))
         .unwrap();
-    let deep = hairlod::accuracy::penetration_depth(&pipeline, &lifted);
+    // The roots are measured apart from the free nodes; together they are every node.
+    let deep =
+        penetration_depth(&pipeline, &lifted).max(root_penetration_depth(&pipeline, &lifted));
+    let before = error.penetration.max(error.root_penetration);
     assert!(deep > 0.5 * lift, "depth {deep} m");
-    assert!(deep <= lift + error.penetration + 1e-4, "depth {deep} m");
+    assert!(deep <= lift + before + 1e-4, "depth {deep} m");
 }
 
 #[test]
